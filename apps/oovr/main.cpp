@@ -1,0 +1,184 @@
+// oovr: the command-line tool (DESIGN.md, "Commands").
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "oovr/core/error.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/load.h"
+#include "oovr/scene/scene_info.h"
+
+namespace {
+
+using namespace oovr;
+
+std::string human_bytes(uint64_t b) {
+  if (b >= (1ull << 30)) return fmt::format("{:.2f} GiB", double(b) / double(1ull << 30));
+  if (b >= (1ull << 20)) return fmt::format("{:.2f} MiB", double(b) / double(1ull << 20));
+  if (b >= (1ull << 10)) return fmt::format("{:.1f} KiB", double(b) / double(1ull << 10));
+  return fmt::format("{} B", b);
+}
+
+int cmd_scenes() {
+  const auto scenes = list_scenes();
+  size_t w = 4;
+  for (const auto& s : scenes) w = std::max(w, s.name.size());
+  fmt::print("{:<{}}  {:<9}  {}\n", "name", w, "kind", "description");
+  for (const auto& s : scenes) fmt::print("{:<{}}  {:<9}  {}\n", s.name, w, s.kind, s.description);
+  fmt::print("\nAny OBJ, glTF (.gltf/.glb), PLY or AC3D (.ac) file path is also a scene.\n");
+  return 0;
+}
+
+struct SceneInfoArgs {
+  std::string scene;
+  bool json = false;
+};
+
+int cmd_scene_info(const SceneInfoArgs& a) {
+  const Scene scene = load_scene(a.scene);
+  const SceneInfo i = scene_info(scene);
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["scene"] = i.name;
+    j["draws"] = i.draws;
+    j["triangles"] = i.triangles;
+    j["vertices"] = i.vertices;
+    j["meshes"] = i.meshes;
+    j["materials"] = i.materials;
+    j["textures"] = i.textures;
+    j["texture_bytes"] = i.texture_bytes;
+    j["camera_frames"] = i.camera_frames;
+    j["max_objects_sharing_a_texture"] = i.max_sharing;
+    nlohmann::ordered_json hist = nlohmann::ordered_json::object();
+    for (const auto& [objects, textures] : i.sharing_histogram) hist[std::to_string(objects)] = textures;
+    j["sharing_histogram"] = hist;
+    nlohmann::ordered_json tex = nlohmann::ordered_json::array();
+    for (const auto& t : i.texture_use)
+      tex.push_back({{"name", t.name}, {"width", t.width}, {"height", t.height}, {"levels", t.levels},
+                     {"bytes", t.bytes}, {"objects", t.objects}});
+    j["texture_list"] = tex;
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  fmt::print("scene          {}\n", i.name);
+  fmt::print("draws          {}\n", i.draws);
+  fmt::print("triangles      {}\n", i.triangles);
+  fmt::print("vertices       {}\n", i.vertices);
+  fmt::print("textures       {} ({} with mip chains)\n", i.textures, human_bytes(i.texture_bytes));
+  fmt::print("camera frames  {}\n", i.camera_frames);
+  fmt::print("\nobjects sharing each texture:\n");
+  fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", "texture", "size", "bytes", "objects");
+  for (const auto& t : i.texture_use)
+    fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", t.name.substr(0, 28), fmt::format("{}x{}", t.width, t.height),
+               human_bytes(t.bytes), t.objects);
+  fmt::print("\nsharing histogram (objects per texture: textures):");
+  for (const auto& [objects, textures] : i.sharing_histogram) fmt::print(" {}:{}", objects, textures);
+  fmt::print("\n");
+  return 0;
+}
+
+struct RenderArgs {
+  std::string scene;
+  int frame = 0;
+  std::string resolution = "1280x1024";
+  std::string eye_resolution;
+  std::string out;
+  int aniso = 16;
+  unsigned threads = 0;
+};
+
+int cmd_render(const RenderArgs& a) {
+  PipelineSettings settings;
+  settings.max_anisotropy = a.aniso;
+  settings.threads = a.threads;
+  settings.validate();
+  const StereoRig rig = a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
+                                                 : parse_eye_resolution(a.eye_resolution);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene scene = load_scene(a.scene);
+  const StereoView view = make_stereo_view(scene.camera, a.frame, rig);
+  const auto t1 = std::chrono::steady_clock::now();
+  const FrameOutput out = render_frame(scene, view, settings, a.frame);
+  const auto t2 = std::chrono::steady_clock::now();
+  write_png(out.colour, a.out);
+
+  const FrameTrace& tr = out.trace;
+  uint64_t setup[2] = {0, 0}, culled = 0, quads = 0, shaded = 0;
+  for (const auto& o : tr.objects) {
+    setup[0] += o.setup[0];
+    setup[1] += o.setup[1];
+    culled += o.culled[0] + o.culled[1];
+  }
+  for (const auto& t : tr.tiles) {
+    quads += t.quads;
+    shaded += t.shaded;
+  }
+  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  fmt::print("{}: frame {} of {}, {}x{} stereo ({}x{} per eye) -> {}\n", scene.name, a.frame,
+             scene.camera.frames.size(), view.frame_width, view.frame_height, rig.eye_width, rig.eye_height, a.out);
+  fmt::print("  draws {}, triangles {}, set up left {} right {}, culled or clipped away {}\n", scene.objects.size(),
+             scene.triangle_count(), setup[0], setup[1], culled);
+  fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", tr.total_covered(), shaded,
+             tr.total_passed(), quads);
+  fmt::print("  trace: {} (object, eye, tile) records, {} texture line reads ({}-byte lines)\n", tr.tiles.size(),
+             tr.tex_lines.size(), tr.line_bytes);
+  fmt::print("  time: scene {:.0f} ms, render {:.0f} ms\n", ms(t1 - t0), ms(t2 - t1));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"oovr: stereo VR rendering on NUMA multi-GPU systems (OO-VR, ISCA 2019)"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Help for every command");
+
+  app.add_subcommand("scenes", "List built-in and installed scenes");
+
+  SceneInfoArgs info;
+  auto* info_cmd = app.add_subcommand("scene-info", "Draws, triangles, textures and texture sharing of a scene");
+  info_cmd->add_option("--scene", info.scene, "Scene name or model file")->required();
+  info_cmd->add_flag("--json", info.json, "Print JSON instead of text");
+
+  RenderArgs render;
+  auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to a PNG");
+  render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
+  render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
+  render_cmd->add_option("--resolution", render.resolution, "Whole stereo frame WxH (both eyes side by side)")
+      ->capture_default_str();
+  render_cmd->add_option("--eye-resolution", render.eye_resolution, "Resolution of one eye WxH (instead of --resolution)");
+  render_cmd->add_option("--out", render.out, "Output PNG")->required();
+  render_cmd->add_option("--aniso", render.aniso, "Maximum anisotropic filtering taps (1 = off)")
+      ->capture_default_str()->check(CLI::Range(1, 16));
+  render_cmd->add_option("--threads", render.threads, "Worker threads (0 = all cores)")->capture_default_str();
+
+  try {
+    // CLI11 would report an unknown command as a missing one; name it.
+    if (argc > 1 && argv[1][0] != '-') {
+      bool known = false;
+      for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
+      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render; see --help)");
+    }
+    app.parse(argc, argv);
+    if (render_cmd->count("--resolution") && render_cmd->count("--eye-resolution"))
+      throw Error("give --resolution or --eye-resolution, not both");
+    if (app.got_subcommand("scenes")) return cmd_scenes();
+    if (app.got_subcommand(info_cmd)) return cmd_scene_info(info);
+    if (app.got_subcommand(render_cmd)) return cmd_render(render);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    return 2;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,89 @@
+// FrameTrace: what the functional pipeline did for one stereo frame, recorded
+// so that every parallel-rendering scheme can replay the same work through
+// its own distribution, memory system and timing model without rendering
+// again (DESIGN.md, "render once, replay per scheme").
+//
+// Granularity is (object, eye, screen tile): a scheme that sends an object to
+// a GPM, an eye to a group of GPMs or a tile to its owner finds the work of
+// that piece here. Geometry work is per object (SMP: transformed once for
+// both eyes); triangles set up are per (object, eye).
+//
+// Addresses are not absolute: texture lines are (texture, line index in the
+// texture's tiled layout) and framebuffer lines are bits of a mask within one
+// tile. The memory system gives them homes and addresses.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace oovr {
+
+// Texture line: texture index in the high 32 bits, line index in the low 32.
+// The line's byte offset in the texture is line_index * line_bytes; lines of
+// level n follow those of level n-1; within a level, a line holds a
+// block_w x block_h block of texels and blocks are in row-major order.
+using TexLine = uint64_t;
+constexpr TexLine make_tex_line(uint32_t texture, uint32_t line) {
+  return (uint64_t(texture) << 32) | line;
+}
+constexpr uint32_t tex_line_texture(TexLine l) { return uint32_t(l >> 32); }
+constexpr uint32_t tex_line_index(TexLine l) { return uint32_t(l); }
+
+// Work of one object for one eye in one 16x16 screen tile.
+struct TileWork {
+  uint32_t object = 0;
+  uint16_t eye = 0;
+  uint16_t tile_x = 0, tile_y = 0;  // tile coordinates; y counts up from the frame's bottom row
+  uint32_t triangles = 0;           // triangles binned to this tile (after clip and cull)
+  uint32_t vertices = 0;            // distinct mesh vertices of those triangles
+  uint32_t quads = 0;    // 2x2 quads shaded (at least one fragment shaded)
+  uint32_t covered = 0;  // fragments inside the triangles and the eye's viewport
+  // Fragments shaded: with an early depth test (materials without alpha test)
+  // only those that passed it; otherwise every covered fragment.
+  uint32_t shaded = 0;
+  uint32_t passed = 0;   // fragments that passed the alpha and depth tests
+  // Framebuffer lines of this tile (bit i = line i of the tile's colour or
+  // depth block): depth lines read by covered fragments; colour and depth
+  // lines written by passed fragments.
+  uint32_t depth_read_mask = 0;
+  uint32_t write_mask = 0;
+  // Range in FrameTrace::tex_lines: the texture lines sampled, in shading
+  // order; repeats within one 2x2 quad are merged (a texture unit coalesces
+  // the requests of a quad), repeats across quads are kept.
+  uint64_t tex_begin = 0;
+  uint32_t tex_count = 0;
+
+  bool operator==(const TileWork&) const = default;
+};
+
+// Geometry work of one object (SMP: vertices are transformed once and
+// projected into both eyes).
+struct ObjectWork {
+  uint32_t vertices = 0;          // vertices transformed
+  uint32_t triangles = 0;         // triangles assembled
+  uint32_t setup[2] = {0, 0};     // triangles set up per eye (after clip and cull)
+  uint32_t culled[2] = {0, 0};    // back-facing or empty triangles per eye
+  uint32_t clipped[2] = {0, 0};   // triangles that needed clipping per eye
+  uint64_t vertex_bytes = 0;      // bytes of the vertex buffer
+  uint64_t index_bytes = 0;       // bytes of the index buffer
+
+  bool operator==(const ObjectWork&) const = default;
+};
+
+struct FrameTrace {
+  int frame = 0;
+  int frame_width = 0, frame_height = 0;
+  int tile_size = 16;
+  int tiles_x = 0, tiles_y = 0;
+  uint32_t line_bytes = 128;
+  int block_w = 8, block_h = 4;  // texels / pixels per line (RGBA8)
+  std::vector<ObjectWork> objects;  // indexed by object
+  // Sorted by (object, eye, tile_y, tile_x): draw order, then eye, then tile.
+  std::vector<TileWork> tiles;
+  std::vector<TexLine> tex_lines;
+
+  uint64_t total_covered() const;
+  uint64_t total_passed() const;
+};
+
+}  // namespace oovr

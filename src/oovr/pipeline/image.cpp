@@ -1,0 +1,49 @@
+#include "oovr/pipeline/image.h"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "oovr/core/error.h"
+
+namespace oovr {
+
+void write_png(const Image& img, const std::string& path) {
+  const int stride = img.width * 4;
+  // Point at the last row with a negative stride: PNG rows go top-down.
+  const uint8_t* last = img.rgba.data() + size_t(img.height - 1) * stride;
+  if (img.width <= 0 || img.height <= 0 ||
+      !stbi_write_png(path.c_str(), img.width, img.height, 4, last, -stride))
+    throw Error("cannot write PNG '" + path + "'");
+}
+
+Image read_png(const std::string& path) {
+  int w = 0, h = 0, n = 0;
+  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+  if (!data) throw Error("cannot read image '" + path + "'");
+  Image img(w, h);
+  for (int y = 0; y < h; ++y)
+    std::memcpy(img.pixel(0, h - 1 - y), data + size_t(y) * w * 4, size_t(w) * 4);
+  stbi_image_free(data);
+  return img;
+}
+
+double psnr_rgb(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height)
+    throw Error("cannot compare images of different sizes");
+  double sum = 0;
+  const size_t n = size_t(a.width) * a.height;
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(a.rgba[i * 4 + c]) - double(b.rgba[i * 4 + c]);
+      sum += d * d;
+    }
+  if (sum == 0) return std::numeric_limits<double>::infinity();
+  const double mse = sum / double(n * 3);
+  return 10.0 * std::log10(255.0 * 255.0 / mse);
+}
+
+}  // namespace oovr

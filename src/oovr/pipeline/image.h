@@ -1,0 +1,31 @@
+// RGBA8 images. Rows are stored bottom-up (row 0 is the bottom of the frame),
+// the convention of OpenGL window coordinates and glReadPixels; PNG files are
+// written top-down.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace oovr {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4, 0) {}
+  uint8_t* pixel(int x, int y) { return &rgba[(size_t(y) * width + x) * 4]; }
+  const uint8_t* pixel(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
+};
+
+// Writes a PNG (top row first). Throws Error naming the file on failure.
+void write_png(const Image& img, const std::string& path);
+// Reads a PNG written by write_png (or any 8-bit image stb_image decodes).
+Image read_png(const std::string& path);
+
+// Peak signal-to-noise ratio over the RGB channels, in dB (infinite when
+// identical). Images must have the same size.
+double psnr_rgb(const Image& a, const Image& b);
+
+}  // namespace oovr

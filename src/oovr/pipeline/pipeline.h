@@ -1,0 +1,55 @@
+// The functional stereo pipeline (DESIGN.md, "Data flow"):
+//
+//   vertex transform (once per object) -> SMP projection into both eyes ->
+//   clip (near/far, guard band) and back-face cull -> 16x16 tile binning ->
+//   fixed-point rasterisation -> texture sampling -> alpha and depth test ->
+//   colour write
+//
+// It produces the stereo image and the FrameTrace that schemes replay. It
+// knows nothing of GPMs or time.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oovr/pipeline/frame_trace.h"
+#include "oovr/pipeline/image.h"
+#include "oovr/scene/scene.h"
+#include "oovr/scene/stereo.h"
+
+namespace oovr {
+
+struct PipelineSettings {
+  // Maximum anisotropic filtering taps (1 = isotropic trilinear, as the
+  // reference comparison uses; 16 = the paper's Table 1).
+  int max_anisotropy = 16;
+  // Cache line size used for texture and framebuffer line addresses in the
+  // trace: a power of two from 32 to 1024 bytes.
+  uint32_t line_bytes = 128;
+  // Worker threads for rasterisation (0 = automatic). Results do not depend
+  // on it.
+  unsigned threads = 0;
+  // Record texture lines in the trace (the largest part of it).
+  bool record_texture_lines = true;
+
+  // Throws Error naming the bad setting.
+  void validate() const;
+};
+
+constexpr int kTileSize = 16;
+constexpr uint32_t kNoObject = 0xffffffffu;
+
+struct FrameOutput {
+  Image colour;  // frame_width x frame_height, bottom row first; cleared to opaque black
+  std::vector<uint32_t> object_id; // per pixel: object that last wrote it, or kNoObject
+  FrameTrace trace;
+};
+
+// Renders frame `frame` of the scene's camera path through `view`.
+FrameOutput render_frame(const Scene& scene, const StereoView& view,
+                         const PipelineSettings& settings, int frame = 0);
+
+// Texel block that one cache line of RGBA8 data holds (e.g. 128 B -> 8x4).
+void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h);
+
+}  // namespace oovr

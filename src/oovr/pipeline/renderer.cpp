@@ -1,0 +1,592 @@
+// The functional stereo pipeline. Structure follows llvmpipe's split
+// (STYLE.md): triangle setup and binning into 16x16 tiles, then
+// rasterisation of each tile's bin in draw order, tiles in parallel. Each tile
+// owns its framebuffer pixels and its part of the trace, so the result is the
+// same for any number of threads.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include "oovr/core/error.h"
+#include "oovr/core/parallel.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/pipeline/sampler.h"
+
+namespace oovr {
+
+void PipelineSettings::validate() const {
+  if (max_anisotropy < 1 || max_anisotropy > 16)
+    throw Error("max_anisotropy must be from 1 to 16, not " + std::to_string(max_anisotropy));
+  if (line_bytes < 32 || line_bytes > 1024 || (line_bytes & (line_bytes - 1)) != 0)
+    throw Error("line_bytes must be a power of two from 32 to 1024, not " +
+                std::to_string(line_bytes));
+}
+
+void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h) {
+  const int n = int(line_bytes / 4);  // RGBA8 texels or pixels per line
+  const int log2n = __builtin_ctz(unsigned(n));
+  block_w = 1 << ((log2n + 1) / 2);
+  block_h = n / block_w;
+}
+
+uint64_t FrameTrace::total_covered() const {
+  uint64_t n = 0;
+  for (const auto& t : tiles) n += t.covered;
+  return n;
+}
+
+uint64_t FrameTrace::total_passed() const {
+  uint64_t n = 0;
+  for (const auto& t : tiles) n += t.passed;
+  return n;
+}
+
+namespace {
+
+constexpr int kSubpixelBits = 8;  // llvmpipe's FIXED_ORDER: 1/256 pixel
+constexpr float kSubpixelScale = float(1 << kSubpixelBits);
+
+struct ClipVertex {
+  Vec4 pos;
+  float u, v, lu, lv;
+  bool generated;  // made by the clipper (its window position is computed without FMA)
+};
+
+// A triangle after clipping, projection and snapping, ready to rasterise.
+// Edge i runs from vertex i+1 to vertex i+2; E_i(px, py) = a*px + b*py + c at
+// the centre of pixel (px, py), positive inside (counter-clockwise winding).
+struct SetupTri {
+  uint32_t object;
+  uint32_t eye;
+  int32_t minx, maxx, miny, maxy;  // covered pixels lie in this box (inclusive)
+  int64_t a[3], b[3], c[3];
+  int64_t bias[3];  // 0 on fill-rule edges (pixels on them are inside), -1 otherwise
+  float inv_area;
+  // Depth plane z(px, py) = fma(dzdy, py, fma(dzdx, px, z0)) at pixel centres.
+  float dzdx, dzdy, z0;
+  float iw[3], uw[3], vw[3], luw[3], lvw[3];
+  uint32_t vid[3];  // mesh vertices of the source triangle
+};
+
+ClipVertex lerp_vertex(const ClipVertex& p, const ClipVertex& q, float t) {
+  ClipVertex r;
+  r.pos = {p.pos.x + (q.pos.x - p.pos.x) * t, p.pos.y + (q.pos.y - p.pos.y) * t,
+           p.pos.z + (q.pos.z - p.pos.z) * t, p.pos.w + (q.pos.w - p.pos.w) * t};
+  r.u = p.u + (q.u - p.u) * t;
+  r.v = p.v + (q.v - p.v) * t;
+  r.lu = p.lu + (q.lu - p.lu) * t;
+  r.lv = p.lv + (q.lv - p.lv) * t;
+  r.generated = true;
+  return r;
+}
+
+// Plane distances (inside >= 0) of the view volume: near, far, left, right,
+// bottom, top. Triangles are clipped against all six, as OpenGL specifies
+// and as llvmpipe does whenever a depth buffer is bound; pixels outside the
+// eye's viewport are also scissored.
+float plane_distance(int plane, const Vec4& p) {
+  switch (plane) {
+    case 0: return p.z + p.w;
+    case 1: return p.w - p.z;
+    case 2: return p.x + p.w;
+    case 3: return p.w - p.x;
+    case 4: return p.y + p.w;
+    default: return p.w - p.y;
+  }
+}
+
+uint32_t outcode(const Vec4& p) {
+  uint32_t c = 0;
+  for (int i = 0; i < 6; ++i)
+    if (plane_distance(i, p) < 0) c |= 1u << i;
+  return c;
+}
+
+class GeometryStage {
+ public:
+  GeometryStage(const Scene& scene, const StereoView& view) : m_scene(scene), m_view(view) {}
+
+  // Transforms object o once (SMP: world-space positions shared by both
+  // eyes), projects into each eye and appends set-up triangles.
+  void run(uint32_t o, std::vector<SetupTri>& out, ObjectWork& work) {
+    const Object& obj = m_scene.objects[o];
+    const Mesh& mesh = m_scene.meshes[size_t(obj.mesh)];
+    const Material& mat = m_scene.materials[size_t(obj.material)];
+    work.vertices = uint32_t(mesh.vertices.size());
+    work.triangles = uint32_t(mesh.triangle_count());
+    work.vertex_bytes = mesh.vertices.size() * sizeof(Vertex);
+    work.index_bytes = mesh.indices.size() * sizeof(uint32_t);
+    m_world.resize(mesh.vertices.size());
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+      m_world[i] = transform_point3(obj.world_from_object, mesh.vertices[i].position);
+    for (int e = 0; e < m_view.eyes; ++e) {
+      const Mat4& clip_from_world = m_view.clip_from_world[e];
+      m_clip.resize(mesh.vertices.size());
+      m_codes.resize(mesh.vertices.size());
+      for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+        m_clip[i] = transform_point(clip_from_world, m_world[i]);
+        m_codes[i] = outcode(m_clip[i]);
+      }
+      for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+        const uint32_t c0 = m_codes[i0], c1 = m_codes[i1], c2 = m_codes[i2];
+        if (c0 & c1 & c2) {  // wholly outside one plane of the view volume
+          ++work.culled[e];
+          continue;
+        }
+        const uint32_t vid[3] = {i0, i1, i2};
+        ClipVertex v[3];
+        for (int k = 0; k < 3; ++k) {
+          const Vertex& src = mesh.vertices[vid[k]];
+          v[k] = {m_clip[vid[k]], src.uv.x, src.uv.y, src.lm_uv.x, src.lm_uv.y, false};
+        }
+        const uint32_t clip_planes = c0 | c1 | c2;
+        if (!clip_planes) {
+          if (!setup(o, e, mat, v[0], v[1], v[2], vid, out)) ++work.culled[e];
+          else ++work.setup[e];
+          continue;
+        }
+        ++work.clipped[e];
+        const int produced = clip_and_setup(o, e, mat, v, vid, clip_planes, out);
+        work.setup[e] += uint32_t(produced);
+        if (produced == 0) ++work.culled[e];
+      }
+    }
+  }
+
+ private:
+  int clip_and_setup(uint32_t o, int e, const Material& mat, const ClipVertex (&tri)[3],
+                     const uint32_t (&vid)[3], uint32_t planes, std::vector<SetupTri>& out) {
+    // Sutherland-Hodgman in homogeneous clip space; attributes are linear
+    // there, so plain interpolation is exact.
+    std::array<ClipVertex, 12> a, b;
+    int n = 3;
+    std::copy(tri, tri + 3, a.begin());
+    for (int p = 0; p < 6 && n >= 3; ++p) {
+      if (!(planes & (1u << p))) continue;
+      int m = 0;
+      for (int i = 0; i < n; ++i) {
+        const ClipVertex& cur = a[size_t(i)];
+        const ClipVertex& nxt = a[size_t((i + 1) % n)];
+        const float dc = plane_distance(p, cur.pos);
+        const float dn = plane_distance(p, nxt.pos);
+        if (dc >= 0) b[size_t(m++)] = cur;
+        if ((dc >= 0) != (dn >= 0)) b[size_t(m++)] = lerp_vertex(cur, nxt, dc / (dc - dn));
+      }
+      n = m;
+      std::swap(a, b);
+    }
+    int produced = 0;
+    for (int i = 1; i + 1 < n; ++i)
+      produced += setup(o, e, mat, a[0], a[size_t(i)], a[size_t(i + 1)], vid, out) ? 1 : 0;
+    return produced;
+  }
+
+  // Projects, snaps and sets up one triangle; false when it is culled
+  // (back-facing, empty, or outside the eye's viewport).
+  bool setup(uint32_t o, int e, const Material& mat, ClipVertex v0, ClipVertex v1, ClipVertex v2,
+             const uint32_t (&vid_in)[3], std::vector<SetupTri>& out) {
+    const Viewport& vp = m_view.viewport[e];
+    // Viewport transform as OpenGL specifies it (GL 4.5 Section 13.6.1):
+    // x_w = x_d * (w / 2) + (x + w / 2), z_w = z_d / 2 + 1 / 2.
+    const float sx = float(vp.width) * 0.5f, tx = float(vp.x) + float(vp.width) * 0.5f;
+    const float sy = float(vp.height) * 0.5f, ty = float(vp.y) + float(vp.height) * 0.5f;
+    ClipVertex* v[3] = {&v0, &v1, &v2};
+    uint32_t vid[3] = {vid_in[0], vid_in[1], vid_in[2]};
+    int64_t X[3], Y[3];
+    float xw[3], yw[3], zw[3], iw[3];
+    for (int k = 0; k < 3; ++k) {
+      iw[k] = 1.0f / v[k]->pos.w;
+      if (v[k]->generated) {
+        // Clipper-made vertices: plain multiply-add, as llvmpipe's clipper.
+        xw[k] = v[k]->pos.x * iw[k] * sx + tx;
+        yw[k] = v[k]->pos.y * iw[k] * sy + ty;
+        zw[k] = v[k]->pos.z * iw[k] * 0.5f + 0.5f;
+      } else {
+        // Vertex-stage positions: llvmpipe's draw module fuses the viewport
+        // scale and translation (llvm.fmuladd, an FMA on x86-64 with FMA).
+        xw[k] = std::fma(v[k]->pos.x * iw[k], sx, tx);
+        yw[k] = std::fma(v[k]->pos.y * iw[k], sy, ty);
+        zw[k] = std::fma(v[k]->pos.z * iw[k], 0.5f, 0.5f);
+      }
+      // Snap to 1/256 pixel, with pixel centres at integer positions.
+      X[k] = std::lrint((xw[k] - 0.5f) * kSubpixelScale);
+      Y[k] = std::lrint((yw[k] - 0.5f) * kSubpixelScale);
+    }
+    // llvmpipe orders the vertices by the sign of this area before computing
+    // interpolation planes relative to the first one; doing the same makes
+    // depth values bit-identical, so depth-test ties resolve the same way.
+    const int64_t lp_area = (X[0] - X[1]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[0] - Y[1]);
+    if (lp_area == 0) return false;
+    const int r0 = lp_area < 0 ? 1 : 0, r1 = lp_area < 0 ? 0 : 1;
+    const float dx01 = xw[r0] - xw[r1], dy01 = yw[r0] - yw[r1];
+    const float dx20 = xw[2] - xw[r0], dy20 = yw[2] - yw[r0];
+    const float ooa = 1.0f / (dx01 * dy20 - dy01 * dx20);
+    const float dz01 = zw[r0] - zw[r1], dz20 = zw[2] - zw[r0];
+    const float dzdx = dz01 * (dy20 * ooa) - dz20 * (dy01 * ooa);
+    const float dzdy = dz20 * (dx01 * ooa) - dz01 * (dx20 * ooa);
+    const float z0 = zw[r0] - (dzdx * (xw[r0] - 0.5f) + dzdy * (yw[r0] - 0.5f));
+
+    int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area < 0) {
+      if (!mat.two_sided) return false;  // back face (front = counter-clockwise)
+      std::swap(X[1], X[2]);
+      std::swap(Y[1], Y[2]);
+      std::swap(iw[1], iw[2]);
+      std::swap(v[1], v[2]);
+      std::swap(vid[1], vid[2]);
+      area = -area;
+    }
+    const int64_t minX = std::min({X[0], X[1], X[2]}), maxX = std::max({X[0], X[1], X[2]});
+    const int64_t minY = std::min({Y[0], Y[1], Y[2]}), maxY = std::max({Y[0], Y[1], Y[2]});
+    auto ceil_div = [](int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); };
+    auto floor_div = [](int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
+    SetupTri t;
+    t.minx = int32_t(std::max<int64_t>(ceil_div(minX, 1 << kSubpixelBits), vp.x));
+    t.maxx = int32_t(std::min<int64_t>(floor_div(maxX, 1 << kSubpixelBits), vp.x + vp.width - 1));
+    t.miny = int32_t(std::max<int64_t>(ceil_div(minY, 1 << kSubpixelBits), vp.y));
+    t.maxy = int32_t(std::min<int64_t>(floor_div(maxY, 1 << kSubpixelBits), vp.y + vp.height - 1));
+    if (t.minx > t.maxx || t.miny > t.maxy) return false;
+    t.object = o;
+    t.eye = uint32_t(e);
+    t.dzdx = dzdx;
+    t.dzdy = dzdy;
+    t.z0 = z0;
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      const int64_t dx = X[k] - X[j], dy = Y[k] - Y[j];
+      // E(P) = dx * (Py - Yj) - dy * (Px - Xj), with P = 256 * pixel index.
+      t.a[i] = -dy * (1 << kSubpixelBits);
+      t.b[i] = dx * (1 << kSubpixelBits);
+      t.c[i] = dy * X[j] - dx * Y[j];
+      // Fill rule for pixel centres exactly on an edge. llvmpipe applies the
+      // top-left rule in its own y-down view of memory, where row 0 is
+      // OpenGL's bottom row; in OpenGL window coordinates (y up) that is a
+      // bottom-left rule. With counter-clockwise winding the interior lies
+      // left of each edge: a left edge runs downwards (dy < 0), a bottom edge
+      // runs rightwards (dy == 0, dx > 0). Pixels on those edges are inside.
+      const bool top_left = dy < 0 || (dy == 0 && dx > 0);
+      t.bias[i] = top_left ? 0 : -1;
+      t.iw[i] = iw[i];
+      t.uw[i] = v[i]->u * iw[i];
+      t.vw[i] = v[i]->v * iw[i];
+      t.luw[i] = v[i]->lu * iw[i];
+      t.lvw[i] = v[i]->lv * iw[i];
+      t.vid[i] = vid[i];
+    }
+    t.inv_area = float(1.0 / double(area));
+    out.push_back(t);
+    return true;
+  }
+
+  const Scene& m_scene;
+  const StereoView& m_view;
+  std::vector<Vec3> m_world;
+  std::vector<Vec4> m_clip;
+  std::vector<uint32_t> m_codes;
+};
+
+// Per-tile rasterisation and shading. Writes only the tile's own pixels.
+class TileRasterizer {
+ public:
+  TileRasterizer(const Scene& scene, const std::vector<SetupTri>& tris,
+                 const std::vector<detail::SamplerTexture>& textures,
+                 const PipelineSettings& settings, int block_w, int block_h, int frame_w,
+                 uint8_t* colour, float* depth, uint32_t* ids)
+      : m_scene(scene), m_tris(tris), m_textures(textures), m_settings(settings),
+        m_block_w(block_w), m_block_h(block_h), m_frame_w(frame_w), m_colour(colour),
+        m_depth(depth), m_ids(ids) {}
+
+  struct Output {
+    std::vector<TileWork> work;
+    std::vector<TexLine> lines;
+  };
+
+  void run(int tx, int ty, const std::vector<uint32_t>& bin, Output& out) {
+    m_tx = tx;
+    m_ty = ty;
+    m_out = &out;
+    m_open = false;
+    for (uint32_t id : bin) {
+      const SetupTri& t = m_tris[id];
+      if (!m_open || t.object != m_cur.object || t.eye != m_cur.eye) {
+        close();
+        open(t);
+      }
+      ++m_cur.triangles;
+      m_vids.insert(m_vids.end(), t.vid, t.vid + 3);
+      raster(t);
+    }
+    close();
+  }
+
+ private:
+  void open(const SetupTri& t) {
+    m_cur = TileWork{};
+    m_cur.object = t.object;
+    m_cur.eye = uint16_t(t.eye);
+    m_cur.tile_x = uint16_t(m_tx);
+    m_cur.tile_y = uint16_t(m_ty);
+    m_cur.tex_begin = m_out->lines.size();
+    m_vids.clear();
+    m_open = true;
+  }
+
+  void close() {
+    if (!m_open) return;
+    std::sort(m_vids.begin(), m_vids.end());
+    m_cur.vertices = uint32_t(std::unique(m_vids.begin(), m_vids.end()) - m_vids.begin());
+    m_cur.tex_count = uint32_t(m_out->lines.size() - m_cur.tex_begin);
+    m_out->work.push_back(m_cur);
+    m_open = false;
+  }
+
+  uint32_t line_of_pixel(int x, int y) const {
+    const int lx = x - m_tx * kTileSize, ly = y - m_ty * kTileSize;
+    return uint32_t((ly / m_block_h) * (kTileSize / m_block_w) + lx / m_block_w);
+  }
+
+  void raster(const SetupTri& t) {
+    const int x0 = std::max(t.minx, m_tx * kTileSize), x1 = std::min(t.maxx, m_tx * kTileSize + kTileSize - 1);
+    const int y0 = std::max(t.miny, m_ty * kTileSize), y1 = std::min(t.maxy, m_ty * kTileSize + kTileSize - 1);
+    if (x0 > x1 || y0 > y1) return;
+    const Object& obj = m_scene.objects[t.object];
+    const Material& mat = m_scene.materials[size_t(obj.material)];
+    const detail::SamplerTexture* diffuse = mat.diffuse >= 0 ? &m_textures[size_t(mat.diffuse)] : nullptr;
+    const detail::SamplerTexture* lightmap = mat.lightmap >= 0 ? &m_textures[size_t(mat.lightmap)] : nullptr;
+    const bool early_z = !mat.alpha_test;
+    const float cr = mat.colour.x, cg = mat.colour.y, cb = mat.colour.z, ca = mat.colour.w;
+    const float cutoff255 = mat.alpha_cutoff * 255.0f;
+    const bool record = m_settings.record_texture_lines;
+    const int qx0 = x0 & ~1, qy0 = y0 & ~1;
+
+    for (int qy = qy0; qy <= y1; qy += 2) {
+      for (int qx = qx0; qx <= x1; qx += 2) {
+        // Edge values at the quad's four pixels: (qx,qy) (qx+1,qy) (qx,qy+1) (qx+1,qy+1).
+        int64_t e[3][4];
+        unsigned mask = 0xf;
+        for (int i = 0; i < 3; ++i) {
+          const int64_t base = t.a[i] * qx + t.b[i] * qy + t.c[i];
+          e[i][0] = base;
+          e[i][1] = base + t.a[i];
+          e[i][2] = base + t.b[i];
+          e[i][3] = base + t.a[i] + t.b[i];
+          for (int p = 0; p < 4; ++p)
+            if (e[i][p] + t.bias[i] < 0) mask &= ~(1u << p);
+        }
+        if (qx < x0) mask &= ~0x5u;
+        if (qx + 1 > x1) mask &= ~0xau;
+        if (qy < y0) mask &= ~0x3u;
+        if (qy + 1 > y1) mask &= ~0xcu;
+        if (!mask) continue;
+        m_cur.covered += uint32_t(__builtin_popcount(mask));
+
+        // Barycentrics and interpolated values at all four pixels (helpers
+        // included: they provide the derivatives).
+        float z[4], u[4], v[4], lu[4], lv[4];
+        for (int p = 0; p < 4; ++p) {
+          const float b0 = float(e[0][p]) * t.inv_area;
+          const float b1 = float(e[1][p]) * t.inv_area;
+          const float b2 = float(e[2][p]) * t.inv_area;
+          // Depth from the plane, evaluated and clamped as llvmpipe does.
+          const float zp = std::fma(t.dzdy, float(qy + (p >> 1)), std::fma(t.dzdx, float(qx + (p & 1)), t.z0));
+          z[p] = std::max(std::min(zp, 1.0f), 0.0f);
+          const float w = 1.0f / (b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2]);
+          u[p] = (b0 * t.uw[0] + b1 * t.uw[1] + b2 * t.uw[2]) * w;
+          v[p] = (b0 * t.vw[0] + b1 * t.vw[1] + b2 * t.vw[2]) * w;
+          if (lightmap) {
+            lu[p] = (b0 * t.luw[0] + b1 * t.luw[1] + b2 * t.luw[2]) * w;
+            lv[p] = (b0 * t.lvw[0] + b1 * t.lvw[1] + b2 * t.lvw[2]) * w;
+          }
+        }
+
+        // Early depth test when the shader cannot discard: occluded
+        // fragments are never shaded and fetch no texels.
+        unsigned live = mask;
+        if (early_z) {
+          for (int p = 0; p < 4; ++p) {
+            if (!(live & (1u << p))) continue;
+            const int x = qx + (p & 1), y = qy + (p >> 1);
+            const uint32_t line = line_of_pixel(x, y);
+            m_cur.depth_read_mask |= 1u << line;
+            if (z[p] >= m_depth[size_t(y) * m_frame_w + x]) live &= ~(1u << p);
+          }
+          if (!live) continue;
+        }
+        ++m_cur.quads;
+        m_cur.shaded += uint32_t(__builtin_popcount(live));
+
+        const detail::Derivs dd{u[1] - u[0], v[1] - v[0], u[2] - u[0], v[2] - v[0]};
+        const detail::Derivs dl = lightmap ? detail::Derivs{lu[1] - lu[0], lv[1] - lv[0], lu[2] - lu[0], lv[2] - lv[0]}
+                                           : detail::Derivs{0, 0, 0, 0};
+        m_quad_lines.clear();
+        detail::QuadLines* lines = record ? &m_quad_lines : nullptr;
+        for (int p = 0; p < 4; ++p) {
+          if (!(live & (1u << p))) continue;
+          const int x = qx + (p & 1), y = qy + (p >> 1);
+          detail::Rgba c{255, 255, 255, 255};
+          if (diffuse) c = detail::sample(*diffuse, u[p], v[p], dd, m_settings.max_anisotropy, lines);
+          c.r *= cr;
+          c.g *= cg;
+          c.b *= cb;
+          c.a *= ca;
+          if (lightmap) {
+            const detail::Rgba l = detail::sample(*lightmap, lu[p], lv[p], dl, m_settings.max_anisotropy, lines);
+            const float k = mat.lightmap_scale / 255.0f;
+            c.r *= l.r * k;
+            c.g *= l.g * k;
+            c.b *= l.b * k;
+          }
+          if (mat.alpha_test && c.a < cutoff255) continue;  // discard
+          const size_t pix = size_t(y) * m_frame_w + x;
+          const uint32_t line = line_of_pixel(x, y);
+          if (!early_z) {
+            m_cur.depth_read_mask |= 1u << line;
+            if (z[p] >= m_depth[pix]) continue;
+          }
+          m_depth[pix] = z[p];
+          uint8_t* out = m_colour + pix * 4;
+          out[0] = quantize(c.r);
+          out[1] = quantize(c.g);
+          out[2] = quantize(c.b);
+          out[3] = quantize(c.a);
+          m_ids[pix] = t.object;
+          m_cur.write_mask |= 1u << line;
+          ++m_cur.passed;
+        }
+        if (record) m_quad_lines.flush(m_out->lines);
+      }
+    }
+  }
+
+  static uint8_t quantize(float c255) {
+    // Float to unsigned normalised: clamp, then round to nearest.
+    const float c = std::clamp(c255, 0.0f, 255.0f);
+    return uint8_t(c + 0.5f);
+  }
+
+  const Scene& m_scene;
+  const std::vector<SetupTri>& m_tris;
+  const std::vector<detail::SamplerTexture>& m_textures;
+  const PipelineSettings& m_settings;
+  int m_block_w, m_block_h, m_frame_w;
+  uint8_t* m_colour;
+  float* m_depth;
+  uint32_t* m_ids;
+  int m_tx = 0, m_ty = 0;
+  Output* m_out = nullptr;
+  TileWork m_cur;
+  bool m_open = false;
+  std::vector<uint32_t> m_vids;
+  detail::QuadLines m_quad_lines;
+};
+
+}  // namespace
+
+FrameOutput render_frame(const Scene& scene, const StereoView& view,
+                         const PipelineSettings& settings, int frame) {
+  settings.validate();
+  FrameOutput result;
+  FrameTrace& trace = result.trace;
+  trace.frame = frame;
+  trace.frame_width = view.frame_width;
+  trace.frame_height = view.frame_height;
+  trace.tile_size = kTileSize;
+  trace.tiles_x = (view.frame_width + kTileSize - 1) / kTileSize;
+  trace.tiles_y = (view.frame_height + kTileSize - 1) / kTileSize;
+  trace.line_bytes = settings.line_bytes;
+  line_block_shape(settings.line_bytes, trace.block_w, trace.block_h);
+  trace.objects.resize(scene.objects.size());
+
+  // Geometry: objects in parallel, each into its own list, then concatenated
+  // in draw order so that bins keep draw order.
+  std::vector<std::vector<SetupTri>> per_object(scene.objects.size());
+  const unsigned threads = settings.threads ? settings.threads : default_thread_count();
+  {
+    const size_t chunks = std::min<size_t>(scene.objects.size(), size_t(threads) * 8);
+    parallel_for(chunks, threads, [&](size_t c) {
+      GeometryStage stage(scene, view);
+      const size_t begin = scene.objects.size() * c / chunks, end = scene.objects.size() * (c + 1) / chunks;
+      for (size_t o = begin; o < end; ++o) stage.run(uint32_t(o), per_object[o], trace.objects[o]);
+    });
+  }
+  std::vector<SetupTri> tris;
+  {
+    size_t n = 0;
+    for (const auto& v : per_object) n += v.size();
+    tris.reserve(n);
+    for (auto& v : per_object) {
+      tris.insert(tris.end(), v.begin(), v.end());
+      std::vector<SetupTri>().swap(v);
+    }
+  }
+
+  // Binning: a triangle goes to every tile its box overlaps unless one of its
+  // edges has the whole tile outside.
+  const int tiles_x = trace.tiles_x, tiles_y = trace.tiles_y;
+  std::vector<std::vector<uint32_t>> bins(size_t(tiles_x) * tiles_y);
+  for (uint32_t id = 0; id < tris.size(); ++id) {
+    const SetupTri& t = tris[id];
+    for (int ty = t.miny / kTileSize; ty <= t.maxy / kTileSize; ++ty)
+      for (int tx = t.minx / kTileSize; tx <= t.maxx / kTileSize; ++tx) {
+        const int px0 = std::max(t.minx, tx * kTileSize), px1 = std::min(t.maxx, tx * kTileSize + kTileSize - 1);
+        const int py0 = std::max(t.miny, ty * kTileSize), py1 = std::min(t.maxy, ty * kTileSize + kTileSize - 1);
+        bool outside = false;
+        for (int i = 0; i < 3 && !outside; ++i) {
+          const int64_t ex = t.a[i] > 0 ? px1 : px0, ey = t.b[i] > 0 ? py1 : py0;
+          outside = t.a[i] * ex + t.b[i] * ey + t.c[i] + t.bias[i] < 0;
+        }
+        if (!outside) bins[size_t(ty) * tiles_x + tx].push_back(id);
+      }
+  }
+
+  // Rasterisation: tiles in parallel.
+  result.colour = Image(view.frame_width, view.frame_height);
+  for (size_t i = 3; i < result.colour.rgba.size(); i += 4) result.colour.rgba[i] = 255;  // clear to opaque black
+  std::vector<float> depth(size_t(view.frame_width) * view.frame_height, 1.0f);
+  result.object_id.assign(depth.size(), kNoObject);
+  std::vector<detail::SamplerTexture> textures;
+  textures.reserve(scene.textures.size());
+  for (size_t i = 0; i < scene.textures.size(); ++i)
+    textures.emplace_back(uint32_t(i), scene.textures[i], trace.block_w, trace.block_h);
+  std::vector<TileRasterizer::Output> outputs(bins.size());
+  parallel_for(bins.size(), threads, [&](size_t i) {
+    if (bins[i].empty()) return;
+    TileRasterizer r(scene, tris, textures, settings, trace.block_w, trace.block_h,
+                     view.frame_width, result.colour.rgba.data(), depth.data(),
+                     result.object_id.data());
+    r.run(int(i % size_t(tiles_x)), int(i / size_t(tiles_x)), bins[i], outputs[i]);
+  });
+
+  // Merge the tiles' records into (object, eye, tile) order.
+  struct Ref {
+    uint32_t tile;
+    uint32_t index;
+  };
+  std::vector<Ref> refs;
+  for (uint32_t i = 0; i < outputs.size(); ++i)
+    for (uint32_t k = 0; k < outputs[i].work.size(); ++k) refs.push_back({i, k});
+  auto key = [&](const Ref& r) {
+    const TileWork& w = outputs[r.tile].work[r.index];
+    return std::make_tuple(w.object, w.eye, r.tile);
+  };
+  std::sort(refs.begin(), refs.end(), [&](const Ref& a, const Ref& b) { return key(a) < key(b); });
+  trace.tiles.reserve(refs.size());
+  size_t total_lines = 0;
+  for (const auto& o : outputs) total_lines += o.lines.size();
+  trace.tex_lines.reserve(total_lines);
+  for (const Ref& r : refs) {
+    TileWork w = outputs[r.tile].work[r.index];
+    const auto& src = outputs[r.tile].lines;
+    const uint64_t begin = trace.tex_lines.size();
+    trace.tex_lines.insert(trace.tex_lines.end(), src.begin() + long(w.tex_begin),
+                           src.begin() + long(w.tex_begin + w.tex_count));
+    w.tex_begin = begin;
+    trace.tiles.push_back(w);
+  }
+  return result;
+}
+
+}  // namespace oovr

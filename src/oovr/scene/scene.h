@@ -1,0 +1,87 @@
+// The scene model: what every loader produces and every later stage reads.
+//
+// An Object is one draw call (the paper's unit of work, Section 3.3): a mesh,
+// a transform and a material (texture set), issued in the order of
+// Scene::objects. Textures are shared by index, never copied, so texture
+// sharing between objects (the basis of OO-VR's batching, Section 5.1) is
+// visible in the model: many materials may name the same texture.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oovr/core/math.h"
+#include "oovr/scene/texture.h"
+
+namespace oovr {
+
+struct Vertex {
+  Vec3 position;
+  Vec2 uv;     // diffuse texture coordinates
+  Vec2 lm_uv;  // lightmap coordinates (unused when the material has no lightmap)
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;  // triangle list
+
+  uint64_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Material {
+  std::string name;
+  int diffuse = -1;   // index into Scene::textures, -1 = none (white)
+  int lightmap = -1;  // index into Scene::textures, -1 = none
+  // Colour multiplier applied to every fragment (RGBA, linear 0..1).
+  Vec4 colour{1, 1, 1, 1};
+  // Lightmap texels are multiplied by this before modulating (Quake 3 maps
+  // use overbright lightmaps, i.e. a scale of 2 or 4).
+  float lightmap_scale = 1.0f;
+  bool alpha_test = false;    // discard fragments whose alpha < alpha_cutoff
+  float alpha_cutoff = 0.5f;  // OpenGL-style alpha test reference
+  bool two_sided = false;     // no back-face culling
+};
+
+struct Object {
+  std::string name;
+  int mesh = 0;
+  int material = 0;
+  Mat4 world_from_object;
+};
+
+// One camera pose of a path: the head (centre between the eyes).
+struct CameraPose {
+  Vec3 position;
+  Vec3 target;
+  Vec3 up{0, 1, 0};
+};
+
+struct CameraPath {
+  std::vector<CameraPose> frames;
+  float fov_y_degrees = 90.0f;  // vertical field of view of each eye
+  float z_near = 0.05f;
+  float z_far = 500.0f;
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::vector<Texture> textures;
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+  std::vector<Object> objects;  // draw order
+  CameraPath camera;
+
+  uint64_t triangle_count() const;
+  uint64_t vertex_count() const;
+  uint64_t texture_bytes() const;
+  // Texture indices an object samples (diffuse, then lightmap when present).
+  std::vector<int> textures_of(const Object& o) const;
+  // Throws Error when an index is out of range or a mesh is malformed, so a
+  // loader bug or a bad file cannot crash the pipeline later.
+  void validate() const;
+};
+
+}  // namespace oovr

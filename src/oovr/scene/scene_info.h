@@ -1,0 +1,33 @@
+// Summary numbers of a scene, as `oovr scene-info` prints them.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "oovr/scene/scene.h"
+
+namespace oovr {
+
+struct TextureUse {
+  std::string name;
+  int width = 0, height = 0, levels = 0;
+  uint64_t bytes = 0;  // all mip levels
+  int objects = 0;     // draws that sample it
+};
+
+struct SceneInfo {
+  std::string name;
+  uint64_t draws = 0, triangles = 0, vertices = 0, meshes = 0, materials = 0;
+  uint64_t textures = 0, texture_bytes = 0;
+  uint64_t camera_frames = 0;
+  std::vector<TextureUse> texture_use;  // in texture order
+  // objects-per-texture -> number of textures shared by that many objects
+  std::map<int, int> sharing_histogram;
+  int max_sharing = 0;  // most objects sharing one texture
+};
+
+SceneInfo scene_info(const Scene& s);
+
+}  // namespace oovr

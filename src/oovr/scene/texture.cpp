@@ -1,0 +1,81 @@
+#include "oovr/scene/texture.h"
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+
+#include "oovr/core/error.h"
+
+namespace oovr {
+
+uint64_t Texture::bytes() const {
+  uint64_t b = 0;
+  for (const auto& l : levels) b += uint64_t(l.width) * l.height * 4;
+  return b;
+}
+
+static MipLevel downsample(const MipLevel& src) {
+  MipLevel dst;
+  dst.width = src.width > 1 ? src.width / 2 : 1;
+  dst.height = src.height > 1 ? src.height / 2 : 1;
+  dst.rgba.resize(size_t(dst.width) * dst.height * 4);
+  for (int y = 0; y < dst.height; ++y)
+    for (int x = 0; x < dst.width; ++x) {
+      const int x0 = std::min(2 * x, src.width - 1), x1 = std::min(2 * x + 1, src.width - 1);
+      const int y0 = std::min(2 * y, src.height - 1), y1 = std::min(2 * y + 1, src.height - 1);
+      const uint8_t* a = &src.rgba[(size_t(y0) * src.width + x0) * 4];
+      const uint8_t* b = &src.rgba[(size_t(y0) * src.width + x1) * 4];
+      const uint8_t* c = &src.rgba[(size_t(y1) * src.width + x0) * 4];
+      const uint8_t* d = &src.rgba[(size_t(y1) * src.width + x1) * 4];
+      uint8_t* o = &dst.rgba[(size_t(y) * dst.width + x) * 4];
+      for (int k = 0; k < 4; ++k) o[k] = uint8_t((a[k] + b[k] + c[k] + d[k] + 2) / 4);
+    }
+  return dst;
+}
+
+void build_mip_chain(Texture& t) {
+  if (t.levels.empty()) return;
+  t.levels.resize(1);
+  while (t.levels.back().width > 1 || t.levels.back().height > 1)
+    t.levels.push_back(downsample(t.levels.back()));
+}
+
+Texture make_texture(std::string name, std::string source, int width, int height,
+                     std::vector<uint8_t> rgba, Wrap wrap, bool mipmapped) {
+  Texture t;
+  t.name = std::move(name);
+  t.source = std::move(source);
+  t.wrap = wrap;
+  t.mipmapped = mipmapped;
+  MipLevel base;
+  base.width = width;
+  base.height = height;
+  base.rgba = std::move(rgba);
+  t.levels.push_back(std::move(base));
+  if (mipmapped) build_mip_chain(t);
+  return t;
+}
+
+MipLevel load_image_file(const std::string& path) {
+  int w = 0, h = 0, n = 0;
+  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+  if (!data) {
+    const char* why = stbi_failure_reason();
+    throw Error("cannot decode image '" + path + "': " + (why ? why : "unknown error"));
+  }
+  MipLevel l;
+  l.width = w;
+  l.height = h;
+  // Image files store the top row first; textures keep OpenGL's convention
+  // (row 0 at t = 0, the bottom of the image), so rows are flipped here.
+  const size_t row = size_t(w) * 4;
+  l.rgba.resize(row * h);
+  for (int y = 0; y < h; ++y)
+    std::memcpy(&l.rgba[row * (h - 1 - y)], data + row * y, row);
+  stbi_image_free(data);
+  return l;
+}
+
+}  // namespace oovr

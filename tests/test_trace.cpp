@@ -1,0 +1,130 @@
+// The FrameTrace against the image it describes, its ordering and ranges,
+// and determinism across thread counts.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include <map>
+#include <tuple>
+
+#include "oovr/scene/builtin.h"
+#include "test_util.h"
+
+namespace oovr {
+namespace {
+
+struct Rendered {
+  Scene scene;
+  StereoView view;
+  FrameOutput out;
+};
+
+Rendered render_builtin(const std::string& name, int frame, unsigned threads, int eye_w = 160, int eye_h = 128) {
+  Rendered r{BuiltinScenes::find(name)->make(), {}, {}};
+  StereoRig rig;
+  rig.eye_width = eye_w;
+  rig.eye_height = eye_h;
+  r.view = make_stereo_view(r.scene.camera, frame, rig);
+  PipelineSettings p;
+  p.threads = threads;
+  r.out = render_frame(r.scene, r.view, p, frame);
+  return r;
+}
+
+TEST(Trace, CountsMatchTheImage) {
+  const Rendered r = render_builtin("courtyard", 10, 2);
+  const FrameTrace& t = r.out.trace;
+  // Pixels finally showing object o were written by one of o's passed
+  // fragments, so they never outnumber them.
+  std::vector<uint64_t> shown(r.scene.objects.size(), 0), passed(r.scene.objects.size(), 0),
+      covered(r.scene.objects.size(), 0);
+  for (uint32_t id : r.out.object_id)
+    if (id != kNoObject) ++shown[id];
+  for (const auto& w : t.tiles) {
+    passed[w.object] += w.passed;
+    covered[w.object] += w.covered;
+    EXPECT_LE(w.passed, w.shaded);
+    EXPECT_LE(w.shaded, w.covered);
+    EXPECT_LE(w.quads, w.shaded);  // a shaded quad has at least one shaded fragment
+    EXPECT_LE(w.shaded, 4u * w.quads);
+    EXPECT_GT(w.triangles, 0u);
+    EXPECT_LE(w.vertices, 3u * w.triangles);
+  }
+  uint64_t shown_total = 0;
+  for (size_t o = 0; o < shown.size(); ++o) {
+    EXPECT_LE(shown[o], passed[o]) << r.scene.objects[o].name;
+    shown_total += shown[o];
+  }
+  // The ground is drawn first over an empty frame: every fragment it covers passes.
+  ASSERT_EQ(r.scene.objects[0].name, "ground");
+  EXPECT_EQ(passed[0], covered[0]);
+  EXPECT_GT(shown_total, 0u);
+  EXPECT_LE(shown_total, uint64_t(r.view.frame_width) * r.view.frame_height);
+}
+
+TEST(Trace, WriteMasksCoverEveryWrittenPixel) {
+  const Rendered r = render_builtin("crowd", 3, 2);
+  const FrameTrace& t = r.out.trace;
+  std::map<std::tuple<uint32_t, int, int>, uint32_t> masks;  // (object, tile x, tile y) -> lines written
+  for (const auto& w : t.tiles) masks[{w.object, w.tile_x, w.tile_y}] |= w.write_mask;
+  const int per_row = kTileSize / t.block_w;
+  for (int y = 0; y < t.frame_height; ++y)
+    for (int x = 0; x < t.frame_width; ++x) {
+      const uint32_t id = r.out.object_id[size_t(y) * t.frame_width + x];
+      if (id == kNoObject) continue;
+      const int lx = x % kTileSize, ly = y % kTileSize;
+      const uint32_t line = uint32_t((ly / t.block_h) * per_row + lx / t.block_w);
+      const auto it = masks.find({id, x / kTileSize, y / kTileSize});
+      ASSERT_NE(it, masks.end());
+      EXPECT_TRUE(it->second & (1u << line)) << x << "," << y;
+    }
+}
+
+TEST(Trace, SortedWithContiguousTextureRanges) {
+  const Rendered r = render_builtin("courtyard", 0, 2);
+  const FrameTrace& t = r.out.trace;
+  ASSERT_FALSE(t.tiles.empty());
+  uint64_t next = 0;
+  for (size_t i = 0; i < t.tiles.size(); ++i) {
+    const TileWork& w = t.tiles[i];
+    EXPECT_EQ(w.tex_begin, next);
+    next += w.tex_count;
+    if (i > 0) {
+      const TileWork& p = t.tiles[i - 1];
+      EXPECT_LT(std::make_tuple(p.object, p.eye, p.tile_y, p.tile_x), std::make_tuple(w.object, w.eye, w.tile_y, w.tile_x));
+    }
+    EXPECT_LT(w.tile_x, t.tiles_x);
+    EXPECT_LT(w.tile_y, t.tiles_y);
+  }
+  EXPECT_EQ(next, t.tex_lines.size());
+  for (TexLine l : t.tex_lines) EXPECT_LT(tex_line_texture(l), r.scene.textures.size());
+}
+
+bool same_trace(const FrameTrace& a, const FrameTrace& b) {
+  return a.tiles == b.tiles && a.objects == b.objects && a.tex_lines == b.tex_lines;
+}
+
+TEST(Trace, IdenticalWhateverTheThreadCount) {
+  const Rendered one = render_builtin("courtyard", 20, 1, 320, 256);
+  for (unsigned threads : {2u, 3u, 8u}) {
+    const Rendered many = render_builtin("courtyard", 20, threads, 320, 256);
+    EXPECT_EQ(one.out.colour.rgba, many.out.colour.rgba) << threads << " threads";
+    EXPECT_EQ(one.out.object_id, many.out.object_id) << threads << " threads";
+    EXPECT_TRUE(same_trace(one.out.trace, many.out.trace)) << threads << " threads";
+  }
+}
+
+TEST(Trace, LineBlockShapes) {
+  int w = 0, h = 0;
+  line_block_shape(128, w, h);
+  EXPECT_EQ(w * 10 + h, 84);
+  line_block_shape(64, w, h);
+  EXPECT_EQ(w * 10 + h, 44);
+  line_block_shape(32, w, h);
+  EXPECT_EQ(w * 10 + h, 42);
+  line_block_shape(1024, w, h);
+  EXPECT_EQ(w * 100 + h, 1616);
+}
+
+}  // namespace
+}  // namespace oovr

@@ -1,0 +1,58 @@
+// Helpers shared by the tests: exact orthographic views and tiny scenes.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/scene.h"
+#include "oovr/scene/stereo.h"
+
+namespace oovr::test {
+
+// A one-eye view of a w x h frame (powers of two) in which world (x, y)
+// lands exactly on window (x, y) and world z in [-1, 1] is the depth.
+inline StereoView ortho_view(int w, int h) {
+  StereoView v;
+  v.eyes = 1;
+  v.frame_width = w;
+  v.frame_height = h;
+  v.viewport[0] = {0, 0, w, h};
+  Mat4 m;
+  m.at(0, 0) = 2.0f / float(w);
+  m.at(0, 3) = -1.0f;
+  m.at(1, 1) = 2.0f / float(h);
+  m.at(1, 3) = -1.0f;
+  v.clip_from_world[0] = m;
+  return v;
+}
+
+// A scene holding one untextured white object made of the given triangles
+// (world-space xy, z = 0), two-sided, plus a one-frame camera path.
+inline Scene triangle_scene(const std::vector<Vec2>& points, const std::vector<uint32_t>& indices) {
+  Scene s;
+  s.name = "triangles";
+  Mesh m;
+  for (const auto& p : points) {
+    Vertex v;
+    v.position = {p.x, p.y, 0.0f};
+    m.vertices.push_back(v);
+  }
+  m.indices = indices;
+  s.meshes.push_back(m);
+  Material mat;
+  mat.two_sided = true;
+  s.materials.push_back(mat);
+  s.objects.push_back({"triangles", 0, 0, Mat4::identity()});
+  s.camera.frames.push_back({});
+  return s;
+}
+
+inline PipelineSettings exact_settings(unsigned threads = 1) {
+  PipelineSettings p;
+  p.max_anisotropy = 1;
+  p.threads = threads;
+  return p;
+}
+
+}  // namespace oovr::test

@@ -1,0 +1,176 @@
+// oovr-reference: renders a scene with Mesa's llvmpipe and, with --compare,
+// compares it with oovr's pipeline: image PSNR and per-draw fragment counts.
+//
+// Exit status: 0 when the comparison passes (or nothing was compared), 1 when
+// it fails its thresholds or something goes wrong, 2 for a bad argument, and
+// 77 (reported by CTest as "skipped") when no OpenGL context can be made.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "gl_renderer.h"
+#include "oovr/core/error.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/load.h"
+
+namespace {
+
+using namespace oovr;
+
+struct Args {
+  std::string scene;
+  int frame = 0;
+  std::string resolution = "640x480";
+  std::string out, oovr_out, diff_out;
+  bool compare = false;
+  double min_psnr = 35.0;
+  double max_draw_diff_percent = 0.5;
+  int isolate = -1;
+};
+
+struct CountStats {
+  uint64_t oovr = 0, gl = 0;
+  int draws = 0, exact = 0, over = 0;
+  double worst = 0;
+  std::string worst_name;
+  uint64_t worst_oovr = 0, worst_gl = 0;
+};
+
+void accumulate(CountStats& s, uint64_t a, uint64_t b, const std::string& name, double limit) {
+  s.oovr += a;
+  s.gl += b;
+  if (a == 0 && b == 0) return;
+  ++s.draws;
+  if (a == b) ++s.exact;
+  const double rel = double(a > b ? a - b : b - a) / double(std::max<uint64_t>(b, 1)) * 100.0;
+  if (rel > limit) ++s.over;
+  if (rel > s.worst) {
+    s.worst = rel;
+    s.worst_name = name;
+    s.worst_oovr = a;
+    s.worst_gl = b;
+  }
+}
+
+void print_counts(const char* what, const CountStats& s, double limit) {
+  const double total = s.gl ? (double(s.oovr) - double(s.gl)) / double(s.gl) * 100.0 : 0.0;
+  fmt::print("  {} fragments: oovr {} GL {} ({:+.4f}%); {} draws (object x eye), {} exact, {} over {}%", what, s.oovr,
+             s.gl, total, s.draws, s.exact, s.over, limit);
+  if (s.worst > 0)
+    fmt::print("; worst '{}' {:.3f}% ({} vs {})", s.worst_name, s.worst, s.worst_oovr, s.worst_gl);
+  fmt::print("\n");
+}
+
+Image diff_image(const Image& a, const Image& b) {
+  Image d(a.width, a.height);
+  for (size_t i = 0; i < a.rgba.size(); i += 4) {
+    int m = 0;
+    for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])));
+    const uint8_t v = uint8_t(std::min(255, m * 8));
+    d.rgba[i] = v;
+    d.rgba[i + 1] = v;
+    d.rgba[i + 2] = v;
+    d.rgba[i + 3] = 255;
+  }
+  return d;
+}
+
+int run(const Args& a) {
+  const StereoRig rig = parse_frame_resolution(a.resolution);
+  Scene scene = load_scene(a.scene);
+  if (a.isolate >= 0) {
+    // Keep one draw, untextured and white, so that both images are its
+    // coverage mask and every differing pixel can be listed.
+    if (a.isolate >= int(scene.objects.size()))
+      throw Error("--isolate " + std::to_string(a.isolate) + ": the scene has " +
+                  std::to_string(scene.objects.size()) + " objects");
+    Object o = scene.objects[size_t(a.isolate)];
+    Material m = scene.materials[size_t(o.material)];
+    m.diffuse = m.lightmap = -1;
+    m.colour = {1, 1, 1, 1};
+    m.alpha_test = false;
+    scene.materials.push_back(m);
+    o.material = int(scene.materials.size()) - 1;
+    scene.objects = {o};
+  }
+  const StereoView view = make_stereo_view(scene.camera, a.frame, rig);
+  std::unique_ptr<reference::GlRenderer> gl;
+  try {
+    gl = std::make_unique<reference::GlRenderer>();
+  } catch (const reference::Unavailable& e) {
+    fmt::print("SKIPPED: no OpenGL 4.5 reference renderer: {}\n", e.what());
+    return 77;
+  }
+  const reference::GlFrame ref = gl->render(scene, view);
+  if (!a.out.empty()) write_png(ref.colour, a.out);
+  fmt::print("reference: {}\n", gl->renderer_name());
+  if (!a.compare) return 0;
+
+  PipelineSettings settings;
+  settings.max_anisotropy = 1;  // the reference samples isotropically
+  settings.record_texture_lines = false;
+  const FrameOutput ours = render_frame(scene, view, settings, a.frame);
+  if (!a.oovr_out.empty()) write_png(ours.colour, a.oovr_out);
+  if (!a.diff_out.empty()) write_png(diff_image(ours.colour, ref.colour), a.diff_out);
+
+  std::vector<uint64_t> covered(scene.objects.size() * 2, 0), passed(scene.objects.size() * 2, 0);
+  for (const auto& t : ours.trace.tiles) {
+    covered[t.object * 2 + t.eye] += t.covered;
+    passed[t.object * 2 + t.eye] += t.passed;
+  }
+  CountStats cov, pas;
+  for (size_t i = 0; i < covered.size(); ++i) {
+    const std::string name = scene.objects[i / 2].name + (i % 2 ? " right" : " left");
+    accumulate(cov, covered[i], ref.counts[i].covered, name, a.max_draw_diff_percent);
+    accumulate(pas, passed[i], ref.counts[i].passed, name, a.max_draw_diff_percent);
+  }
+  if (a.isolate >= 0) {
+    int listed = 0;
+    for (int y = 0; y < ours.colour.height; ++y)
+      for (int x = 0; x < ours.colour.width; ++x)
+        if (ours.colour.pixel(x, y)[0] != ref.colour.pixel(x, y)[0] && listed++ < 40)
+          fmt::print("  pixel ({}, {}): oovr {} GL {}\n", x, y, ours.colour.pixel(x, y)[0] ? "covered" : "empty",
+                     ref.colour.pixel(x, y)[0] ? "covered" : "empty");
+  }
+  const double psnr = psnr_rgb(ours.colour, ref.colour);
+  fmt::print("{} frame {} {}x{}: PSNR {:.2f} dB (threshold {:.1f})\n", scene.name, a.frame, view.frame_width,
+             view.frame_height, psnr, a.min_psnr);
+  print_counts("covered", cov, a.max_draw_diff_percent);
+  print_counts("passed ", pas, a.max_draw_diff_percent);
+  const bool ok = psnr >= a.min_psnr && cov.over == 0 && pas.over == 0;
+  fmt::print("{}\n", ok ? "PASS" : "FAIL");
+  return ok ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"oovr-reference: render with Mesa llvmpipe and compare with oovr's pipeline"};
+  Args a;
+  app.add_option("--scene", a.scene, "Scene name or model file")->required();
+  app.add_option("--frame", a.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
+  app.add_option("--resolution", a.resolution, "Whole stereo frame WxH")->capture_default_str();
+  app.add_option("--out", a.out, "Write llvmpipe's image here");
+  app.add_option("--oovr-out", a.oovr_out, "With --compare: write oovr's image here");
+  app.add_option("--diff", a.diff_out, "With --compare: write a difference image (x8) here");
+  app.add_flag("--compare", a.compare, "Render with oovr too and compare");
+  app.add_option("--isolate", a.isolate, "Keep only this object (index), untextured; list differing pixels")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--min-psnr", a.min_psnr, "Fail below this PSNR (dB)")->capture_default_str();
+  app.add_option("--max-draw-diff", a.max_draw_diff_percent, "Fail when a draw's fragment count differs by more (%)")
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+    return run(a);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "oovr-reference: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "oovr-reference: error: %s\n", e.what());
+    return 1;
+  }
+}
