@@ -14,6 +14,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # reference renderer: Mesa llvmpipe through EGL surfaceless
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  # test data: models in OBJ, glTF, PLY and AC3D for the loader tests
+  assimp-testmodels
 )
 
 missing=()

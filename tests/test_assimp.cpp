@@ -121,3 +121,23 @@ TEST(Assimp, DebianTestModels) {
 
 }  // namespace
 }  // namespace oovr
+
+namespace oovr {
+namespace {
+
+TEST(Assimp, InvalidDebianModelsAreRefused) {
+  if (!fs::exists(kModels)) GTEST_SKIP() << "assimp-testmodels is not installed (" << kModels << ")";
+  for (const char* path : {"invalid/empty.obj", "invalid/empty.ply", "invalid/malformed.obj",
+                           "glTF2/IndexOutOfRange/AllIndicesOutOfRange.gltf", "glTF2/MissingBin/BoxTextured.gltf",
+                           "glTF2/SchemaFailures/sceneWrongType.gltf",
+                           "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"}) {
+    SCOPED_TRACE(path);
+    EXPECT_THROW(load_scene((kModels / path).string()), Error);
+  }
+  // Partly bad files that assimp repairs load into a valid scene.
+  const Scene s = load_scene((kModels / "glTF2/IndexOutOfRange/IndexOutOfRange.gltf").string());
+  EXPECT_NO_THROW(s.validate());
+}
+
+}  // namespace
+}  // namespace oovr

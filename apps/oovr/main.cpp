@@ -120,7 +120,7 @@ int cmd_render(const RenderArgs& a) {
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
   fmt::print("{}: frame {} of {}, {}x{} stereo ({}x{} per eye) -> {}\n", scene.name, a.frame,
              scene.camera.frames.size(), view.frame_width, view.frame_height, rig.eye_width, rig.eye_height, a.out);
-  fmt::print("  draws {}, triangles {}, set up left {} right {}, culled or clipped away {}\n", scene.objects.size(),
+  fmt::print("  draws {}, triangles {}, set up left {} right {}, culled (back-facing or outside the view) {}\n", scene.objects.size(),
              scene.triangle_count(), setup[0], setup[1], culled);
   fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", tr.total_covered(), shaded,
              tr.total_passed(), quads);

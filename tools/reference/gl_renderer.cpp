@@ -5,6 +5,7 @@
 #include <EGL/eglext.h>
 #include <GL/glcorearb.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <string>
 
@@ -200,6 +201,8 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
   glCullFace(GL_BACK);
   // Pass 0 renders the image (depth test, alpha test); pass 1 counts the
   // coverage of every draw (depth test always passes, no discard, no writes).
+  glFinish();  // uploads done before timing starts
+  auto start = std::chrono::steady_clock::now();
   for (int pass = 0; pass < 2; ++pass) {
     glScissor(0, 0, W, H);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -243,6 +246,7 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
     if (pass == 0) {
       out.colour = Image(W, H);
       glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.rgba.data());
+      out.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
   }
   for (size_t i = 0; i < out.counts.size(); ++i) {

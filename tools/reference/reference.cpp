@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -112,7 +113,9 @@ int run(const Args& a) {
   PipelineSettings settings;
   settings.max_anisotropy = 1;  // the reference samples isotropically
   settings.record_texture_lines = false;
+  const auto t0 = std::chrono::steady_clock::now();
   const FrameOutput ours = render_frame(scene, view, settings, a.frame);
+  const double ours_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!a.oovr_out.empty()) write_png(ours.colour, a.oovr_out);
   if (!a.diff_out.empty()) write_png(diff_image(ours.colour, ref.colour), a.diff_out);
 
@@ -138,6 +141,8 @@ int run(const Args& a) {
   const double psnr = psnr_rgb(ours.colour, ref.colour);
   fmt::print("{} frame {} {}x{}: PSNR {:.2f} dB (threshold {:.1f})\n", scene.name, a.frame, view.frame_width,
              view.frame_height, psnr, a.min_psnr);
+  fmt::print("  time: llvmpipe {:.0f} ms, oovr {:.0f} ms (image and counts; oovr without texture-line recording)\n",
+             ref.render_ms, ours_ms);
   print_counts("covered", cov, a.max_draw_diff_percent);
   print_counts("passed ", pas, a.max_draw_diff_percent);
   const bool ok = psnr >= a.min_psnr && cov.over == 0 && pas.over == 0;

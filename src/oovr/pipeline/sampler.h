@@ -18,8 +18,13 @@ namespace oovr::detail {
 // requests for the same line.
 class QuadLines {
  public:
-  void clear() { m_count = 0; }
+  void clear() {
+    m_count = 0;
+    m_last = ~TexLine(0);
+  }
   void add(TexLine l) {
+    if (l == m_last) return;  // most repeats are of the line just added
+    m_last = l;
     for (int i = 0; i < m_count; ++i)
       if (m_lines[i] == l) return;
     if (m_count < kMax) {
@@ -38,18 +43,20 @@ class QuadLines {
         if (std::find(m_lines, m_lines + m_count, l) == m_lines + m_count) out.push_back(l);
       m_overflow.clear();
     }
-    m_count = 0;
+    clear();
   }
 
  private:
   static constexpr int kMax = 64;
   TexLine m_lines[kMax];
   int m_count = 0;
+  TexLine m_last = ~TexLine(0);
   std::vector<TexLine> m_overflow;
 };
 
 struct LevelView {
   int width, height;
+  int wrap_mask_x, wrap_mask_y;  // size - 1 for power-of-two sizes, else -1
   int blocks_x;
   uint32_t first_line;  // line index of the level's first block
   const uint8_t* rgba;
@@ -75,7 +82,8 @@ struct SamplerTexture {
     for (int i = 0; i <= max_level; ++i) {
       const MipLevel& l = t.levels[size_t(i)];
       const int bx = (l.width + bw - 1) / bw, by = (l.height + bh - 1) / bh;
-      levels.push_back({l.width, l.height, bx, line, l.rgba.data()});
+      const auto mask = [](int n) { return (n & (n - 1)) == 0 ? n - 1 : -1; };
+      levels.push_back({l.width, l.height, mask(l.width), mask(l.height), bx, line, l.rgba.data()});
       line += uint32_t(bx) * uint32_t(by);
     }
   }
@@ -85,8 +93,9 @@ struct Rgba {
   float r = 0, g = 0, b = 0, a = 0;  // 0..255
 };
 
-inline int wrap_coord(int i, int size, bool repeat) {
+inline int wrap_coord(int i, int size, int mask, bool repeat) {
   if (repeat) {
+    if (mask >= 0) return i & mask;  // two's complement: also right for negative i
     i %= size;
     return i < 0 ? i + size : i;
   }
@@ -94,7 +103,7 @@ inline int wrap_coord(int i, int size, bool repeat) {
 }
 
 // Bilinear filtering of one level (GL 4.5 equations 8.9-8.11).
-inline Rgba bilinear(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
+[[gnu::always_inline]] inline Rgba bilinear(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
   const LevelView& l = t.levels[size_t(level)];
   const float s = u * float(l.width) - 0.5f, tt = v * float(l.height) - 0.5f;
   const float fs = std::floor(s), ft = std::floor(tt);
@@ -103,8 +112,10 @@ inline Rgba bilinear(const SamplerTexture& t, int level, float u, float v, QuadL
   // overflow int (repeat wraps modulo the size, which keeps them exact).
   const float lim = 1 << 30;
   const int i0r = int(std::clamp(fs, -lim, lim)), j0r = int(std::clamp(ft, -lim, lim));
-  const int i0 = wrap_coord(i0r, l.width, t.repeat), i1 = wrap_coord(i0r + 1, l.width, t.repeat);
-  const int j0 = wrap_coord(j0r, l.height, t.repeat), j1 = wrap_coord(j0r + 1, l.height, t.repeat);
+  const int i0 = wrap_coord(i0r, l.width, l.wrap_mask_x, t.repeat);
+  const int i1 = wrap_coord(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
+  const int j0 = wrap_coord(j0r, l.height, l.wrap_mask_y, t.repeat);
+  const int j1 = wrap_coord(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
   const uint8_t* p00 = l.rgba + (size_t(j0) * l.width + i0) * 4;
   const uint8_t* p10 = l.rgba + (size_t(j0) * l.width + i1) * 4;
   const uint8_t* p01 = l.rgba + (size_t(j1) * l.width + i0) * 4;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "oovr/core/parallel.h"
 #include "oovr/core/rng.h"
 
 namespace oovr::procedural {
@@ -236,9 +237,11 @@ static uint8_t to8(float x) { return uint8_t(std::clamp(x, 0.0f, 1.0f) * 255.0f 
 
 Texture texture_from(const std::string& name, int size, const TexelFn& fn, Wrap wrap, bool mipmapped) {
   std::vector<uint8_t> rgba(size_t(size) * size * 4);
-  for (int y = 0; y < size; ++y)
+  // Rows are independent: generated in parallel, identical for any thread count.
+  parallel_for(size_t(size), 0, [&](size_t y) {
     for (int x = 0; x < size; ++x)
-      fn((float(x) + 0.5f) / float(size), (float(y) + 0.5f) / float(size), &rgba[(size_t(y) * size + x) * 4]);
+      fn((float(x) + 0.5f) / float(size), (float(y) + 0.5f) / float(size), &rgba[(y * size_t(size) + size_t(x)) * 4]);
+  });
   return make_texture(name, "procedural:" + name, size, size, std::move(rgba), wrap, mipmapped);
 }
 
