@@ -24,6 +24,7 @@ demo: build
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+	@scripts/validation-summary.sh $(BUILD)
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build, all tests.
 asan: deps

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "gl_renderer.h"
 #include "oovr/core/error.h"
@@ -139,7 +140,9 @@ int run(const Args& a) {
                      ref.colour.pixel(x, y)[0] ? "covered" : "empty");
   }
   const double psnr = psnr_rgb(ours.colour, ref.colour);
-  fmt::print("{} frame {} {}x{}: PSNR {:.2f} dB (threshold {:.1f})\n", scene.name, a.frame, view.frame_width,
+  // The file name tells models of the same name apart (Wuson.ac, Wuson.ply).
+  const std::string label = std::filesystem::path(a.scene).filename().string();
+  fmt::print("{} frame {} {}x{}: PSNR {:.2f} dB (threshold {:.1f})\n", label, a.frame, view.frame_width,
              view.frame_height, psnr, a.min_psnr);
   fmt::print("  time: llvmpipe {:.0f} ms, oovr {:.0f} ms (image and counts; oovr without texture-line recording)\n",
              ref.render_ms, ours_ms);
