@@ -62,7 +62,7 @@ struct ObjectWork {
   uint32_t vertices = 0;          // vertices transformed
   uint32_t triangles = 0;         // triangles assembled
   uint32_t setup[2] = {0, 0};     // triangles set up per eye (after clip and cull)
-  uint32_t culled[2] = {0, 0};    // back-facing or empty triangles per eye
+  uint32_t culled[2] = {0, 0};    // triangles dropped per eye: back-facing, empty, or outside the view
   uint32_t clipped[2] = {0, 0};   // triangles that needed clipping per eye
   uint64_t vertex_bytes = 0;      // bytes of the vertex buffer
   uint64_t index_bytes = 0;       // bytes of the index buffer

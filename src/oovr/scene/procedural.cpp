@@ -16,34 +16,18 @@ static void quad_indices(Mesh& m, uint32_t a, uint32_t b, uint32_t c, uint32_t d
   m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
 }
 
-Mesh grid(float sx, float sz, int nx, int nz, float rx, float rz) {
+// A rectangular patch of nx x ny cells: position(fu, fv) places the vertex at
+// parameters fu, fv in [0, 1]; uv repeats rx x ry times; the lightmap
+// coordinates span the patch once.
+template <class Position>
+static Mesh patch(const char* name, int nx, int ny, float rx, float ry, Position position) {
   Mesh m;
-  m.name = "grid";
-  for (int j = 0; j <= nz; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      const float fu = float(i) / float(nx), fv = float(j) / float(nz);
-      Vertex v;
-      v.position = {(fu - 0.5f) * sx, 0, (0.5f - fv) * sz};
-      v.uv = {fu * rx, fv * rz};
-      v.lm_uv = {fu, fv};
-      m.vertices.push_back(v);
-    }
-  for (int j = 0; j < nz; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const uint32_t a = uint32_t(j * (nx + 1) + i);
-      quad_indices(m, a, a + 1, a + 1 + uint32_t(nx + 1), a + uint32_t(nx + 1));
-    }
-  return m;
-}
-
-Mesh wall(float w, float h, int nx, int ny, float rx, float ry) {
-  Mesh m;
-  m.name = "wall";
+  m.name = name;
   for (int j = 0; j <= ny; ++j)
     for (int i = 0; i <= nx; ++i) {
       const float fu = float(i) / float(nx), fv = float(j) / float(ny);
       Vertex v;
-      v.position = {(fu - 0.5f) * w, fv * h, 0};
+      v.position = position(fu, fv);
       v.uv = {fu * rx, fv * ry};
       v.lm_uv = {fu, fv};
       m.vertices.push_back(v);
@@ -54,6 +38,14 @@ Mesh wall(float w, float h, int nx, int ny, float rx, float ry) {
       quad_indices(m, a, a + 1, a + 1 + uint32_t(nx + 1), a + uint32_t(nx + 1));
     }
   return m;
+}
+
+Mesh grid(float sx, float sz, int nx, int nz, float rx, float rz) {
+  return patch("grid", nx, nz, rx, rz, [=](float fu, float fv) { return Vec3{(fu - 0.5f) * sx, 0, (0.5f - fv) * sz}; });
+}
+
+Mesh wall(float w, float h, int nx, int ny, float rx, float ry) {
+  return patch("wall", nx, ny, rx, ry, [=](float fu, float fv) { return Vec3{(fu - 0.5f) * w, fv * h, 0}; });
 }
 
 Mesh box(Vec3 h, float k) {
