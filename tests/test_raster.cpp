@@ -138,5 +138,23 @@ TEST(Raster, NearPlaneClippingKeepsWhatIsInFront) {
     }
 }
 
+TEST(Raster, UnprojectableInputIsDroppedNotRasterised) {
+  // A vertex exactly at the eye (w = 0 after clipping) and a transform
+  // holding NaN: nothing to draw, and no overflow in the edge arithmetic
+  // (UBSan checks that in `make asan`).
+  Scene s = triangle_scene({{0, 0}, {1, 0}, {0, 1}}, {0, 1, 2});
+  for (auto& v : s.meshes[0].vertices) v.position = {v.position.x, v.position.y, -v.position.x};
+  s.meshes[0].vertices[0].position = {0, 0, 0};
+  s.camera.frames[0] = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}};
+  StereoRig rig;
+  rig.eye_width = 16;
+  rig.eye_height = 16;
+  const StereoView v = make_stereo_view(s.camera, 0, rig);
+  EXPECT_NO_THROW(render_frame(s, v, exact_settings()));
+  s.objects[0].world_from_object.at(0, 0) = std::nanf("");
+  const FrameOutput out = render_frame(s, v, exact_settings());
+  EXPECT_EQ(out.trace.total_covered(), 0u);
+}
+
 }  // namespace
 }  // namespace oovr

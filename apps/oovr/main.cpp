@@ -88,6 +88,7 @@ struct RenderArgs {
   std::string eye_resolution;
   std::string out;
   int aniso = 16;
+  float ipd_mm = 64.0f;
   unsigned threads = 0;
 };
 
@@ -96,8 +97,9 @@ int cmd_render(const RenderArgs& a) {
   settings.max_anisotropy = a.aniso;
   settings.threads = a.threads;
   settings.validate();
-  const StereoRig rig = a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
-                                                 : parse_eye_resolution(a.eye_resolution);
+  StereoRig rig = a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
+                                           : parse_eye_resolution(a.eye_resolution);
+  rig.ipd_m = a.ipd_mm / 1000.0f;
   const auto t0 = std::chrono::steady_clock::now();
   const Scene scene = load_scene(a.scene);
   const StereoView view = make_stereo_view(scene.camera, a.frame, rig);
@@ -154,6 +156,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--out", render.out, "Output PNG")->required();
   render_cmd->add_option("--aniso", render.aniso, "Maximum anisotropic filtering taps (1 = off)")
       ->capture_default_str()->check(CLI::Range(1, 16));
+  render_cmd->add_option("--ipd", render.ipd_mm, "Interpupillary distance in millimetres")
+      ->capture_default_str()->check(CLI::Range(0.0f, 1000.0f));
   render_cmd->add_option("--threads", render.threads, "Worker threads (0 = all cores)")->capture_default_str();
 
   try {

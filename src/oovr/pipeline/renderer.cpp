@@ -198,6 +198,10 @@ class GeometryStage {
     int64_t X[3], Y[3];
     float xw[3], yw[3], zw[3], iw[3];
     for (int k = 0; k < 3; ++k) {
+      // Clipping leaves w >= 0; w == 0 (a point at the eye) or a non-finite
+      // position cannot be projected, and would overflow the fixed-point
+      // edge arithmetic below.
+      if (!(v[k]->pos.w > 0.0f)) return false;
       iw[k] = 1.0f / v[k]->pos.w;
       if (v[k]->generated) {
         // Clipper-made vertices: plain multiply-add, as llvmpipe's clipper.
@@ -211,6 +215,7 @@ class GeometryStage {
         yw[k] = std::fma(v[k]->pos.y * iw[k], sy, ty);
         zw[k] = std::fma(v[k]->pos.z * iw[k], 0.5f, 0.5f);
       }
+      if (!(std::abs(xw[k]) < 1e6f && std::abs(yw[k]) < 1e6f)) return false;
       // Snap to 1/256 pixel, with pixel centres at integer positions.
       X[k] = std::lrint((xw[k] - 0.5f) * kSubpixelScale);
       Y[k] = std::lrint((yw[k] - 0.5f) * kSubpixelScale);
