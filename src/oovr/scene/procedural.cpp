@@ -16,11 +16,12 @@ static void quad_indices(Mesh& m, uint32_t a, uint32_t b, uint32_t c, uint32_t d
   m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
 }
 
-// A rectangular patch of nx x ny cells: position(fu, fv) places the vertex at
+// A parametric patch of nx x ny cells: position(fu, fv) places the vertex at
 // parameters fu, fv in [0, 1]; uv repeats rx x ry times; the lightmap
-// coordinates span the patch once.
+// coordinates span the patch once. Faces are counter-clockwise when +fu runs
+// right and +fv up as seen from the front; `inward` flips them.
 template <class Position>
-static Mesh patch(const char* name, int nx, int ny, float rx, float ry, Position position) {
+static Mesh patch(const char* name, int nx, int ny, float rx, float ry, Position position, bool inward = false) {
   Mesh m;
   m.name = name;
   for (int j = 0; j <= ny; ++j)
@@ -34,8 +35,9 @@ static Mesh patch(const char* name, int nx, int ny, float rx, float ry, Position
     }
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      const uint32_t a = uint32_t(j * (nx + 1) + i);
-      quad_indices(m, a, a + 1, a + 1 + uint32_t(nx + 1), a + uint32_t(nx + 1));
+      const uint32_t a = uint32_t(j * (nx + 1) + i), b = a + 1, c = b + uint32_t(nx + 1), d = a + uint32_t(nx + 1);
+      if (inward) quad_indices(m, a, d, c, b);
+      else quad_indices(m, a, b, c, d);
     }
   return m;
 }
@@ -80,22 +82,10 @@ Mesh box(Vec3 h, float k) {
 }
 
 Mesh cylinder(float r, float height, int seg, int rings, float ru, float rv, bool caps) {
-  Mesh m;
-  m.name = "cylinder";
-  for (int j = 0; j <= rings; ++j)
-    for (int i = 0; i <= seg; ++i) {
-      const float a = 2 * kPi * float(i) / float(seg);
-      Vertex v;
-      v.position = {r * std::sin(a), height * float(j) / float(rings), r * std::cos(a)};
-      v.uv = {ru * float(i) / float(seg), rv * float(j) / float(rings)};
-      v.lm_uv = {float(i) / float(seg), float(j) / float(rings)};
-      m.vertices.push_back(v);
-    }
-  for (int j = 0; j < rings; ++j)
-    for (int i = 0; i < seg; ++i) {
-      const uint32_t a = uint32_t(j * (seg + 1) + i);
-      quad_indices(m, a, a + 1, a + 1 + uint32_t(seg + 1), a + uint32_t(seg + 1));
-    }
+  Mesh m = patch("cylinder", seg, rings, ru, rv, [=](float fu, float fv) {
+    const float a = 2 * kPi * fu;
+    return Vec3{r * std::sin(a), height * fv, r * std::cos(a)};
+  });
   if (caps) {
     for (int top = 0; top < 2; ++top) {
       const float y = top ? height : 0;
@@ -146,49 +136,20 @@ Mesh sphere(float r, int seg, int rings, float ru, float rv) {
 }
 
 Mesh torus(float R, float r, int seg, int sides, float ru, float rv) {
-  Mesh m;
-  m.name = "torus";
-  for (int j = 0; j <= sides; ++j) {
-    const float b = 2 * kPi * float(j) / float(sides);
-    for (int i = 0; i <= seg; ++i) {
-      const float a = 2 * kPi * float(i) / float(seg);
-      const float rr = R + r * std::cos(b);
-      Vertex v;
-      v.position = {rr * std::sin(a), r * std::sin(b), rr * std::cos(a)};
-      v.uv = {ru * float(i) / float(seg), rv * float(j) / float(sides)};
-      v.lm_uv = {float(i) / float(seg), float(j) / float(sides)};
-      m.vertices.push_back(v);
-    }
-  }
-  for (int j = 0; j < sides; ++j)
-    for (int i = 0; i < seg; ++i) {
-      const uint32_t a = uint32_t(j * (seg + 1) + i);
-      quad_indices(m, a, a + 1, a + 1 + uint32_t(seg + 1), a + uint32_t(seg + 1));
-    }
-  return m;
+  return patch("torus", seg, sides, ru, rv, [=](float fu, float fv) {
+    const float a = 2 * kPi * fu, b = 2 * kPi * fv;
+    const float rr = R + r * std::cos(b);
+    return Vec3{rr * std::sin(a), r * std::sin(b), rr * std::cos(a)};
+  });
 }
 
 Mesh dome(float r, int seg, int rings) {
-  Mesh m;
-  m.name = "dome";
-  for (int j = 0; j <= rings; ++j) {
-    const float elev = 0.5f * kPi * float(j) / float(rings);
-    for (int i = 0; i <= seg; ++i) {
-      const float a = 2 * kPi * float(i) / float(seg);
-      Vertex v;
-      v.position = {r * std::cos(elev) * std::sin(a), r * std::sin(elev) - 0.1f * r, r * std::cos(elev) * std::cos(a)};
-      v.uv = {2.0f * float(i) / float(seg), float(j) / float(rings)};
-      v.lm_uv = v.uv;
-      m.vertices.push_back(v);
-    }
-  }
-  for (int j = 0; j < rings; ++j)
-    for (int i = 0; i < seg; ++i) {
-      const uint32_t a = uint32_t(j * (seg + 1) + i);
-      // Clockwise from outside = counter-clockwise from inside.
-      quad_indices(m, a, a + uint32_t(seg + 1), a + 1 + uint32_t(seg + 1), a + 1);
-    }
-  return m;
+  // Seen from inside; the rim sits 0.1 r below the horizon so that no gap
+  // shows between the ground's edge and the sky.
+  return patch("dome", seg, rings, 2, 1, [=](float fu, float fv) {
+    const float a = 2 * kPi * fu, elev = 0.5f * kPi * fv;
+    return Vec3{r * std::cos(elev) * std::sin(a), r * std::sin(elev) - 0.1f * r, r * std::cos(elev) * std::cos(a)};
+  }, /*inward=*/true);
 }
 
 Mesh crossed_quads(float w, float h, int count, uint64_t seed) {
