@@ -1,15 +1,24 @@
 #!/usr/bin/env bash
 # Installs oovr's build and test dependencies from Debian 12's archive.
 # Idempotent: asks dpkg what is missing and runs apt-get only for that.
-# Usage: scripts/install-deps.sh
+#
+# Usage: scripts/install-deps.sh [--game-data]
+#   --game-data  also install the real game levels used as workloads:
+#                OpenArena maps and textures (about 410 MB) and TORCS tracks
+#                (about 530 MB). Tests that need them report "skipped"
+#                without them; CI installs them.
 set -euo pipefail
 
 packages=(
   # build
-  build-essential pkg-config cmake ninja-build ccache clang
+  build-essential pkg-config cmake ninja-build ccache
+  # clang and its runtime for the libFuzzer targets
+  clang libclang-rt-14-dev
   # libraries
   libassimp-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-  libtomlplusplus-dev libpng-dev zlib1g-dev
+  libtomlplusplus-dev libpng-dev zlib1g-dev libpugixml-dev
+  # libzip's CMake files need its tools installed too
+  libzip-dev zipcmp zipmerge ziptool
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # reference renderer: Mesa llvmpipe through EGL surfaceless
@@ -17,6 +26,19 @@ packages=(
   # test data: models in OBJ, glTF, PLY and AC3D for the loader tests
   assimp-testmodels
 )
+
+game_data=(
+  openarena-081-maps openarena-081-textures openarena-085-data openarena-088-data openarena-data
+  torcs-data
+)
+
+for arg in "$@"; do
+  case "$arg" in
+    --game-data) packages+=("${game_data[@]}") ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    *) echo "install-deps: unknown option '$arg' (use --game-data or --help)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

@@ -61,6 +61,7 @@ int cmd_scene_info(const SceneInfoArgs& a) {
       tex.push_back({{"name", t.name}, {"width", t.width}, {"height", t.height}, {"levels", t.levels},
                      {"bytes", t.bytes}, {"objects", t.objects}});
     j["texture_list"] = tex;
+    j["notes"] = scene.notes;
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
@@ -72,12 +73,19 @@ int cmd_scene_info(const SceneInfoArgs& a) {
   fmt::print("camera frames  {}\n", i.camera_frames);
   fmt::print("\nobjects sharing each texture:\n");
   fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", "texture", "size", "bytes", "objects");
-  for (const auto& t : i.texture_use)
-    fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", t.name.substr(0, 28), fmt::format("{}x{}", t.width, t.height),
+  for (const auto& t : i.texture_use) {
+    // Long names (archive paths) keep their end, where the file name is.
+    const std::string name = t.name.size() > 28 ? "..." + t.name.substr(t.name.size() - 25) : t.name;
+    fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", name, fmt::format("{}x{}", t.width, t.height),
                human_bytes(t.bytes), t.objects);
+  }
   fmt::print("\nsharing histogram (objects per texture: textures):");
   for (const auto& [objects, textures] : i.sharing_histogram) fmt::print(" {}:{}", objects, textures);
   fmt::print("\n");
+  if (!scene.notes.empty()) {
+    fmt::print("\nloader notes:\n");
+    for (const auto& n : scene.notes) fmt::print("  {}\n", n);
+  }
   return 0;
 }
 

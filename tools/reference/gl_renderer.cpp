@@ -199,11 +199,18 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
   glEnable(GL_SCISSOR_TEST);
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
-  // Pass 0 renders the image (depth test, alpha test); pass 1 counts the
-  // coverage of every draw (depth test always passes, no discard, no writes).
+  // Pass 0 renders the image without queries and is timed. Pass 1 renders
+  // it again with a GL_SAMPLES_PASSED query per draw (fragments that passed
+  // the alpha and depth tests); pass 2 counts every draw's coverage (depth
+  // test always passes, no discard, no writes). Each query's result is read
+  // right after its draw: with thousands of queries outstanding, llvmpipe
+  // (Mesa 22.3) was seen to report counts of other draws, e.g. samples
+  // passed for a draw that covered nothing.
+  enum Pass { kTimed = 0, kPassed = 1, kCovered = 2 };
+  std::vector<GLuint64> results(queries.size(), 0);
   glFinish();  // uploads done before timing starts
-  auto start = std::chrono::steady_clock::now();
-  for (int pass = 0; pass < 2; ++pass) {
+  const auto start = std::chrono::steady_clock::now();
+  for (int pass = kTimed; pass <= kCovered; ++pass) {
     glScissor(0, 0, W, H);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
@@ -211,10 +218,10 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(pass == 0 ? GL_LESS : GL_ALWAYS);
-    glDepthMask(pass == 0 ? GL_TRUE : GL_FALSE);
-    if (pass == 1) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glUniform1i(u_coverage, pass == 1);
+    glDepthFunc(pass == kCovered ? GL_ALWAYS : GL_LESS);
+    glDepthMask(pass == kCovered ? GL_FALSE : GL_TRUE);
+    if (pass == kCovered) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glUniform1i(u_coverage, pass == kCovered);
     for (size_t o = 0; o < scene.objects.size(); ++o) {
       const Object& obj = scene.objects[o];
       const Material& mat = scene.materials[size_t(obj.material)];
@@ -238,23 +245,24 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
         glViewport(vp.x, vp.y, vp.width, vp.height);
         glScissor(vp.x, vp.y, vp.width, vp.height);
         glUniformMatrix4fv(u_clip, 1, GL_FALSE, &view.clip_from_world[e].m[0][0]);
-        glBeginQuery(GL_SAMPLES_PASSED, queries[(o * 2 + size_t(e)) * 2 + size_t(pass)]);
+        if (pass == kTimed) {
+          glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+          continue;
+        }
+        const size_t q = (o * 2 + size_t(e)) * 2 + size_t(pass - kPassed);
+        glBeginQuery(GL_SAMPLES_PASSED, queries[q]);
         glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
         glEndQuery(GL_SAMPLES_PASSED);
+        glGetQueryObjectui64v(queries[q], GL_QUERY_RESULT, &results[q]);
       }
     }
-    if (pass == 0) {
+    if (pass == kTimed) {
       out.colour = Image(W, H);
       glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.rgba.data());
       out.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
   }
-  for (size_t i = 0; i < out.counts.size(); ++i) {
-    GLuint64 passed = 0, covered = 0;
-    glGetQueryObjectui64v(queries[i * 2 + 0], GL_QUERY_RESULT, &passed);
-    glGetQueryObjectui64v(queries[i * 2 + 1], GL_QUERY_RESULT, &covered);
-    out.counts[i] = {covered, passed};
-  }
+  for (size_t i = 0; i < out.counts.size(); ++i) out.counts[i] = {results[i * 2 + 1], results[i * 2]};
   if (const GLenum err = glGetError(); err != GL_NO_ERROR)
     throw std::runtime_error("OpenGL error " + std::to_string(err) + " in the reference renderer");
 

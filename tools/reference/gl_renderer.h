@@ -32,8 +32,9 @@ struct GlFrame {
   Image colour;  // bottom row first, as glReadPixels returns it
   // counts[object * 2 + eye]
   std::vector<DrawCounts> counts;
-  // Wall-clock time of the image pass (draws to glReadPixels), not counting
-  // texture and buffer uploads or the counting pass.
+  // Wall-clock time of an image pass without queries (draws to
+  // glReadPixels), not counting texture and buffer uploads or the counting
+  // passes.
   double render_ms = 0;
 };
 

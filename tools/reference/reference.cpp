@@ -17,6 +17,8 @@
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
+#include "oovr/scene/openarena.h"
+#include "oovr/scene/torcs.h"
 
 namespace {
 
@@ -31,6 +33,7 @@ struct Args {
   double min_psnr = 35.0;
   double max_draw_diff_percent = 0.5;
   int isolate = -1;
+  bool list = false;
 };
 
 struct CountStats {
@@ -82,6 +85,17 @@ Image diff_image(const Image& a, const Image& b) {
 
 int run(const Args& a) {
   const StereoRig rig = parse_frame_resolution(a.resolution);
+  // Game levels come from optional packages: without them the comparison is
+  // skipped, not failed (scripts/install-deps.sh --game-data installs them).
+  std::error_code ec;
+  if (a.scene.rfind("oa:", 0) == 0 && !std::filesystem::is_directory(openarena_directory(), ec)) {
+    fmt::print("SKIPPED: OpenArena data not installed ({}); run scripts/install-deps.sh --game-data\n", openarena_directory());
+    return 77;
+  }
+  if (a.scene.rfind("torcs:", 0) == 0 && !std::filesystem::is_directory(torcs_directory(), ec)) {
+    fmt::print("SKIPPED: TORCS data not installed ({}); run scripts/install-deps.sh --game-data\n", torcs_directory());
+    return 77;
+  }
   Scene scene = load_scene(a.scene);
   if (a.isolate >= 0) {
     // Keep one draw, untextured and white, so that both images are its
@@ -128,6 +142,9 @@ int run(const Args& a) {
   CountStats cov, pas;
   for (size_t i = 0; i < covered.size(); ++i) {
     const std::string name = scene.objects[i / 2].name + (i % 2 ? " right" : " left");
+    if (a.list && (covered[i] != ref.counts[i].covered || passed[i] != ref.counts[i].passed))
+      fmt::print("  draw {} (object {}) '{}': covered oovr {} GL {}, passed oovr {} GL {}\n", i, i / 2, name, covered[i],
+                 ref.counts[i].covered, passed[i], ref.counts[i].passed);
     accumulate(cov, covered[i], ref.counts[i].covered, name, a.max_draw_diff_percent);
     accumulate(pas, passed[i], ref.counts[i].passed, name, a.max_draw_diff_percent);
   }
@@ -148,7 +165,14 @@ int run(const Args& a) {
              ref.render_ms, ours_ms);
   print_counts("covered", cov, a.max_draw_diff_percent);
   print_counts("passed ", pas, a.max_draw_diff_percent);
-  const bool ok = psnr >= a.min_psnr && cov.over == 0 && pas.over == 0;
+  // Covered fragments are the rasteriser's output and must match draw by
+  // draw. Passed fragments also depend on filtered alpha at the alpha test's
+  // cutoff, where the two renderers' filtering arithmetic may decide
+  // differently and change depth-test outcomes of later draws by a few
+  // fragments: they must match in total (docs/validation.md).
+  const double passed_total =
+      pas.gl ? std::abs(double(pas.oovr) - double(pas.gl)) / double(pas.gl) * 100.0 : 0.0;
+  const bool ok = psnr >= a.min_psnr && cov.over == 0 && passed_total <= a.max_draw_diff_percent;
   fmt::print("{}\n", ok ? "PASS" : "FAIL");
   return ok ? 0 : 1;
 }
@@ -165,10 +189,12 @@ int main(int argc, char** argv) {
   app.add_option("--oovr-out", a.oovr_out, "With --compare: write oovr's image here");
   app.add_option("--diff", a.diff_out, "With --compare: write a difference image (x8) here");
   app.add_flag("--compare", a.compare, "Render with oovr too and compare");
+  app.add_flag("--list", a.list, "With --compare: list every draw whose counts differ");
   app.add_option("--isolate", a.isolate, "Keep only this object (index), untextured; list differing pixels")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--min-psnr", a.min_psnr, "Fail below this PSNR (dB)")->capture_default_str();
-  app.add_option("--max-draw-diff", a.max_draw_diff_percent, "Fail when a draw's fragment count differs by more (%)")
+  app.add_option("--max-draw-diff", a.max_draw_diff_percent,
+                 "Fail when a draw's covered fragments, or all passed fragments, differ by more (%)")
       ->capture_default_str();
   try {
     app.parse(argc, argv);

@@ -73,6 +73,9 @@ struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Object> objects;  // draw order
   CameraPath camera;
+  // What a loader left out or replaced (skipped surfaces, missing images),
+  // one line each; `oovr scene-info` prints them.
+  std::vector<std::string> notes;
 
   uint64_t triangle_count() const;
   uint64_t vertex_count() const;

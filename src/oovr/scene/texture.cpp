@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <utility>
 
 #include "oovr/core/error.h"
@@ -58,12 +62,20 @@ Texture make_texture(std::string name, std::string source, int width, int height
   return t;
 }
 
-MipLevel load_image_file(const std::string& path) {
+static bool is_sgi_name(const std::string& name) {
+  std::string ext = std::filesystem::path(name).extension().string();
+  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".rgb" || ext == ".rgba" || ext == ".sgi" || ext == ".bw" || ext == ".int" || ext == ".inta";
+}
+
+MipLevel decode_image(const uint8_t* bytes, size_t size, const std::string& name) {
+  if (is_sgi_name(name)) return decode_sgi(bytes, size, name);
+  if (size > size_t(std::numeric_limits<int>::max())) throw Error("image '" + name + "' is too large");
   int w = 0, h = 0, n = 0;
-  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+  stbi_uc* data = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
   if (!data) {
     const char* why = stbi_failure_reason();
-    throw Error("cannot decode image '" + path + "': " + (why ? why : "unknown error"));
+    throw Error("cannot decode image '" + name + "': " + (why ? why : "unknown error"));
   }
   MipLevel l;
   l.width = w;
@@ -71,11 +83,17 @@ MipLevel load_image_file(const std::string& path) {
   // Image files store the top row first; textures keep OpenGL's convention
   // (row 0 at t = 0, the bottom of the image), so rows are flipped here.
   const size_t row = size_t(w) * 4;
-  l.rgba.resize(row * h);
-  for (int y = 0; y < h; ++y)
-    std::memcpy(&l.rgba[row * (h - 1 - y)], data + row * y, row);
+  l.rgba.resize(row * size_t(h));
+  for (int y = 0; y < h; ++y) std::memcpy(&l.rgba[row * size_t(h - 1 - y)], data + row * size_t(y), row);
   stbi_image_free(data);
   return l;
+}
+
+MipLevel load_image_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open image '" + path + "'");
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return decode_image(bytes.data(), bytes.size(), path);
 }
 
 }  // namespace oovr

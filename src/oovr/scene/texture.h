@@ -40,8 +40,15 @@ void build_mip_chain(Texture& t);
 Texture make_texture(std::string name, std::string source, int width, int height,
                      std::vector<uint8_t> rgba, Wrap wrap = Wrap::repeat, bool mipmapped = true);
 
-// Decodes an image file (PNG, JPEG, TGA, BMP via stb_image) into RGBA8.
-// Throws Error naming the file when it cannot be read or decoded.
+// Decodes an image file (PNG, JPEG, TGA, BMP via stb_image; SGI .rgb/.rgba/
+// .sgi/.bw by oovr's decoder) into RGBA8. Throws Error naming the file when it
+// cannot be read or decoded.
 MipLevel load_image_file(const std::string& path);
+// The same for an image held in memory; `name` is used in messages and to
+// recognise SGI images by extension.
+MipLevel decode_image(const uint8_t* data, size_t size, const std::string& name);
+// Decodes an SGI image (magic 474; verbatim or RLE; 1 or 2 bytes per channel;
+// 1 to 4 channels). Throws Error naming `name` and what is wrong.
+MipLevel decode_sgi(const uint8_t* data, size_t size, const std::string& name);
 
 }  // namespace oovr
