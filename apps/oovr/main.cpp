@@ -30,6 +30,7 @@ int cmd_scenes() {
   fmt::print("{:<{}}  {:<9}  {}\n", "name", w, "kind", "description");
   for (const auto& s : scenes) fmt::print("{:<{}}  {:<9}  {}\n", s.name, w, s.kind, s.description);
   fmt::print("\nAny OBJ, glTF (.gltf/.glb), PLY or AC3D (.ac) file path is also a scene.\n");
+  fmt::print("OpenArena maps take options: oa:MAP?group=shader-lightmap|face&tess=1..16\n");
   return 0;
 }
 
@@ -105,6 +106,7 @@ int cmd_render(const RenderArgs& a) {
   settings.max_anisotropy = a.aniso;
   settings.threads = a.threads;
   settings.validate();
+  check_image_path(a.out);
   StereoRig rig = a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
                                            : parse_eye_resolution(a.eye_resolution);
   rig.ipd_m = a.ipd_mm / 1000.0f;
@@ -114,7 +116,7 @@ int cmd_render(const RenderArgs& a) {
   const auto t1 = std::chrono::steady_clock::now();
   const FrameOutput out = render_frame(scene, view, settings, a.frame);
   const auto t2 = std::chrono::steady_clock::now();
-  write_png(out.colour, a.out);
+  write_image(out.colour, a.out);
 
   const FrameTrace& tr = out.trace;
   uint64_t setup[2] = {0, 0}, culled = 0, quads = 0, shaded = 0;
@@ -155,13 +157,13 @@ int main(int argc, char** argv) {
   info_cmd->add_flag("--json", info.json, "Print JSON instead of text");
 
   RenderArgs render;
-  auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to a PNG");
+  auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
   render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
   render_cmd->add_option("--resolution", render.resolution, "Whole stereo frame WxH (both eyes side by side)")
       ->capture_default_str();
   render_cmd->add_option("--eye-resolution", render.eye_resolution, "Resolution of one eye WxH (instead of --resolution)");
-  render_cmd->add_option("--out", render.out, "Output PNG")->required();
+  render_cmd->add_option("--out", render.out, "Output image (.png or .jpg)")->required();
   render_cmd->add_option("--aniso", render.aniso, "Maximum anisotropic filtering taps (1 = off)")
       ->capture_default_str()->check(CLI::Range(1, 16));
   render_cmd->add_option("--ipd", render.ipd_mm, "Interpupillary distance in millimetres")

@@ -50,8 +50,12 @@ void accumulate(CountStats& s, uint64_t a, uint64_t b, const std::string& name, 
   if (a == 0 && b == 0) return;
   ++s.draws;
   if (a == b) ++s.exact;
-  const double rel = double(a > b ? a - b : b - a) / double(std::max<uint64_t>(b, 1)) * 100.0;
-  if (rel > limit) ++s.over;
+  const uint64_t diff = a > b ? a - b : b - a;
+  const double rel = double(diff) / double(std::max<uint64_t>(b, 1)) * 100.0;
+  // One fragment is one pixel on an edge: on a draw of a few fragments it
+  // is far more than 0.5%, yet it is the smallest possible disagreement
+  // (docs/validation.md, accepted deviations), so it alone does not fail.
+  if (rel > limit && diff > 1) ++s.over;
   if (rel > s.worst) {
     s.worst = rel;
     s.worst_name = name;
@@ -62,8 +66,8 @@ void accumulate(CountStats& s, uint64_t a, uint64_t b, const std::string& name, 
 
 void print_counts(const char* what, const CountStats& s, double limit) {
   const double total = s.gl ? (double(s.oovr) - double(s.gl)) / double(s.gl) * 100.0 : 0.0;
-  fmt::print("  {} fragments: oovr {} GL {} ({:+.4f}%); {} draws (object x eye), {} exact, {} over {}%", what, s.oovr,
-             s.gl, total, s.draws, s.exact, s.over, limit);
+  fmt::print("  {} fragments: oovr {} GL {} ({:+.4f}%); {} draws (object x eye), {} exact, {} over {}% and 1 fragment",
+             what, s.oovr, s.gl, total, s.draws, s.exact, s.over, limit);
   if (s.worst > 0)
     fmt::print("; worst '{}' {:.3f}% ({} vs {})", s.worst_name, s.worst, s.worst_oovr, s.worst_gl);
   fmt::print("\n");

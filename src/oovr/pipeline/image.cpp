@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 
 #include "oovr/core/error.h"
@@ -18,6 +19,35 @@ void write_png(const Image& img, const std::string& path) {
   if (img.width <= 0 || img.height <= 0 ||
       !stbi_write_png(path.c_str(), img.width, img.height, 4, last, -stride))
     throw Error("cannot write PNG '" + path + "'");
+}
+
+static std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+void check_image_path(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+    throw Error("cannot write '" + path + "': unsupported image type '" + ext + "' (use .png or .jpg)");
+}
+
+void write_image(const Image& img, const std::string& path) {
+  check_image_path(path);
+  if (lower_extension(path) == ".png") return write_png(img, path);
+  // stb writes top-down; flip into a copy.
+  std::vector<uint8_t> rgb(size_t(img.width) * size_t(img.height) * 3);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const uint8_t* p = img.pixel(x, img.height - 1 - y);
+      uint8_t* o = &rgb[(size_t(y) * size_t(img.width) + size_t(x)) * 3];
+      o[0] = p[0];
+      o[1] = p[1];
+      o[2] = p[2];
+    }
+  if (img.width <= 0 || img.height <= 0 || !stbi_write_jpg(path.c_str(), img.width, img.height, 3, rgb.data(), 90))
+    throw Error("cannot write JPEG '" + path + "'");
 }
 
 Image read_png(const std::string& path) {

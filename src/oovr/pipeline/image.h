@@ -21,6 +21,12 @@ struct Image {
 
 // Writes a PNG (top row first). Throws Error naming the file on failure.
 void write_png(const Image& img, const std::string& path);
+// Writes PNG or JPEG (quality 90) by the file's extension (.png, .jpg,
+// .jpeg); any other extension is an Error.
+void write_image(const Image& img, const std::string& path);
+// Throws the Error write_image would for an unsupported extension, so a
+// command can refuse a bad --out before doing any work.
+void check_image_path(const std::string& path);
 // Reads a PNG written by write_png (or any 8-bit image stb_image decodes).
 Image read_png(const std::string& path);
 

@@ -173,7 +173,15 @@ class GeometryStage {
         const float dc = plane_distance(p, cur.pos);
         const float dn = plane_distance(p, nxt.pos);
         if (dc >= 0) b[size_t(m++)] = cur;
-        if ((dc >= 0) != (dn >= 0)) b[size_t(m++)] = lerp_vertex(cur, nxt, dc / (dc - dn));
+        if ((dc >= 0) != (dn >= 0)) {
+          // As llvmpipe's clipper: from the outside vertex towards the
+          // inside one, t = d_out / (d_out - d_in).
+          const bool cur_out = dc < 0;
+          const ClipVertex& out_v = cur_out ? cur : nxt;
+          const ClipVertex& in_v = cur_out ? nxt : cur;
+          const float d_out = cur_out ? dc : dn, d_in = cur_out ? dn : dc;
+          b[size_t(m++)] = lerp_vertex(out_v, in_v, d_out / (d_out - d_in));
+        }
       }
       n = m;
       std::swap(a, b);

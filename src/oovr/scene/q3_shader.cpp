@@ -163,7 +163,10 @@ void parse_q3_shader_script(const std::string& text, const std::string& file, Q3
     if (chosen) {
       sh.image = chosen->image;
       sh.clamp = chosen->clamp;
-      sh.blended = chosen->blended;
+      // A blending stage drawn after another (e.g. over the $lightmap
+      // stage) only combines the two; the surface is translucent when its
+      // first stage already blends with the frame.
+      sh.blended = chosen->blended && chosen == &stages.front();
       sh.alpha_test = chosen->alpha_test;
       sh.alpha_cutoff = chosen->cutoff;
       sh.tc_scale_s = chosen->scale_s;

@@ -18,7 +18,7 @@ struct Q3Shader {
   bool nodraw = false;      // surfaceparm nodraw
   bool sky = false;         // surfaceparm sky
   bool fog = false;         // fogparms: a fog volume, not an opaque surface
-  bool blended = false;     // the chosen stage blends (drawn opaque by oovr)
+  bool blended = false;     // translucent: the first stage blends with the frame (drawn opaque by oovr)
   bool alpha_test = false;  // alphaFunc on the chosen stage
   float alpha_cutoff = 0.5f;
   float tc_scale_s = 1.0f, tc_scale_t = 1.0f;  // static tcMod scale of the chosen stage

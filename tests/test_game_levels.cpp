@@ -1,0 +1,142 @@
+// Real game levels from Debian's packages (skipped, with the reason, when
+// the data is not installed), the TORCS centre line, and scene options.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "game_data.h"
+#include "oovr/core/error.h"
+#include "oovr/scene/load.h"
+#include "oovr/scene/openarena.h"
+#include "oovr/scene/scene_info.h"
+#include "oovr/scene/torcs.h"
+
+namespace oovr {
+namespace {
+namespace fs = std::filesystem;
+
+#define REQUIRE_OPENARENA() \
+  if (!test::have_openarena()) GTEST_SKIP() << "OpenArena data not installed (scripts/install-deps.sh --game-data)"
+#define REQUIRE_TORCS() \
+  if (!test::have_torcs()) GTEST_SKIP() << "TORCS data not installed (scripts/install-deps.sh --game-data)"
+
+int diffuse_textures(const Scene& s) {
+  std::set<int> t;
+  for (const auto& m : s.materials)
+    if (m.diffuse >= 0) t.insert(m.diffuse);
+  return int(t.size());
+}
+
+TEST(OpenArena, Dm4MatchesTheMeasuredNumbers) {
+  REQUIRE_OPENARENA();
+  // ../shared/RESEARCH.md section 3: 208 draws, 4,093 triangles, 24 distinct
+  // diffuse textures, at most 26 draws sharing one texture.
+  const Scene s = load_scene("oa:oa_dm4");
+  const SceneInfo i = scene_info(s);
+  EXPECT_EQ(i.draws, 208u);
+  EXPECT_EQ(i.triangles, 4093u);
+  EXPECT_EQ(diffuse_textures(s), 24);
+  EXPECT_EQ(i.max_sharing, 26);
+  EXPECT_EQ(s.camera.frames.size(), 120u);
+  bool lightmapped = false;
+  for (const auto& m : s.materials) lightmapped = lightmapped || m.lightmap >= 0;
+  EXPECT_TRUE(lightmapped);
+}
+
+TEST(OpenArena, GroupingAndTessellationAreOptions) {
+  REQUIRE_OPENARENA();
+  const Scene grouped = load_scene("oa:oa_minia");
+  const Scene faces = load_scene("oa:oa_minia?group=face");
+  const Scene coarse = load_scene("oa:oa_minia?tess=1");
+  EXPECT_GT(faces.objects.size(), 2 * grouped.objects.size()) << "one object per surface";
+  EXPECT_EQ(diffuse_textures(faces), diffuse_textures(grouped)) << "the same textures, shared by more draws";
+  EXPECT_LT(coarse.triangle_count(), grouped.triangle_count()) << "oa_minia has Bezier patches";
+  EXPECT_EQ(coarse.objects.size(), grouped.objects.size());
+}
+
+TEST(OpenArena, TheLargestMapsLoad) {
+  REQUIRE_OPENARENA();
+  // Draw counts measured in ../shared/RESEARCH.md (patches add a few groups
+  // of their own, so only maps without patch-only groups match exactly).
+  EXPECT_EQ(load_scene("oa:ctf_inyard").objects.size(), 731u);
+  EXPECT_EQ(load_scene("oa:am_underworks2").objects.size(), 310u);
+  EXPECT_GE(load_scene("oa:oa_thor").triangle_count(), 29519u);
+}
+
+TEST(OpenArena, BadNamesAndOptionsAreErrors) {
+  REQUIRE_OPENARENA();
+  EXPECT_THROW(load_scene("oa:no_such_map"), Error);
+  EXPECT_THROW(load_scene("oa:../etc"), Error);
+  EXPECT_THROW(load_scene("oa:oa_dm4?group=bogus"), Error);
+  EXPECT_THROW(load_scene("oa:oa_dm4?tess=0"), Error);
+  EXPECT_THROW(load_scene("oa:oa_dm4?tess=x"), Error);
+  EXPECT_THROW(load_scene("oa:oa_dm4?colour=red"), Error);
+  EXPECT_THROW(load_scene("oa:oa_dm4?tess"), Error);
+}
+
+TEST(OpenArena, ListedInScenes) {
+  REQUIRE_OPENARENA();
+  const auto maps = list_openarena_maps();
+  EXPECT_GE(maps.size(), 50u);
+  EXPECT_NE(std::find(maps.begin(), maps.end(), "oa_dm4"), maps.end());
+}
+
+TEST(Torcs, TracksMatchTheMeasuredNumbers) {
+  REQUIRE_TORCS();
+  // ../shared/RESEARCH.md: forza 3,856 draws and 129 textures; spring 4,418
+  // draws and 28 textures, one of them shared by 1,364 draws.
+  const Scene forza = load_scene("torcs:forza");
+  EXPECT_EQ(forza.objects.size(), 3856u);
+  EXPECT_EQ(forza.textures.size(), 129u);
+  const Scene spring = load_scene("torcs:spring");
+  EXPECT_EQ(spring.objects.size(), 4418u);
+  EXPECT_EQ(spring.textures.size(), 28u);
+  EXPECT_EQ(scene_info(spring).max_sharing, 1364);
+  // The camera path lies over the road for all 120 frames.
+  for (const Scene* s : {&forza, &spring}) {
+    bool on_road = false;
+    for (const auto& n : s->notes) on_road = on_road || n.find("120 over the road") != std::string::npos;
+    EXPECT_TRUE(on_road) << s->name;
+  }
+  EXPECT_THROW(load_scene("torcs:no-such-track"), Error);
+  EXPECT_THROW(load_scene("torcs:forza?x=1"), Error);
+}
+
+TEST(Torcs, CentreLineOfASyntheticCircuit) {
+  // A 100 m straight, a 180-degree left turn of radius 50, another straight
+  // and turn: a closed oval of length 200 + 2 * pi * 50.
+  const fs::path p = fs::temp_directory_path() / ("oovr-track-" + std::to_string(::getpid()) + ".xml");
+  std::ofstream(p) << R"(<?xml version="1.0"?>
+<!DOCTYPE params SYSTEM "params.dtd" [ <!ENTITY surfaces SYSTEM "surfaces.xml"> ]>
+<params name="oval" type="param">
+  <section name="Main Track">
+    <attnum name="width" unit="m" val="10"/>
+    <section name="Right Side"><attnum name="width" val="4"/></section>
+    <section name="Track Segments">
+      <section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
+      <section name="s2"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t2"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
+    </section>
+  </section>
+</params>)";
+  const std::vector<Vec3> line = torcs_centre_line(p.string());
+  fs::remove(p);
+  double total = 0;
+  for (size_t i = 1; i < line.size(); ++i) total += double(length(line[i] - line[i - 1]));
+  EXPECT_NEAR(total, 200 + 2 * 3.14159265 * 50, 1.0);
+  EXPECT_NEAR(line.front().x, line.back().x, 1e-3);
+  EXPECT_NEAR(line.front().z, line.back().z, 1e-3);
+  // Shifted so that the outer edge of the right side (half the width, 5 m,
+  // plus the side, 4 m) touches 0: along the first straight it is 9 m right
+  // of the centre; around the second turn it reaches 50 + 9 m behind the
+  // start.
+  EXPECT_NEAR(line.front().z, -9.0, 1e-3);
+  EXPECT_NEAR(line.front().x, 59.0, 1e-3);
+}
+
+}  // namespace
+}  // namespace oovr
