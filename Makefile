@@ -6,7 +6,10 @@ ASAN_BUILD ?= build/asan
 JOBS ?= $(shell nproc)
 OUT ?= out
 
-.PHONY: demo test build deps asan bench clean
+FUZZ_BUILD ?= build/fuzz
+FUZZ_SECONDS ?= 60
+
+.PHONY: demo test build deps asan bench fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -32,6 +35,16 @@ asan: deps
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
 	  ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
+
+# libFuzzer targets for the BSP parser and the SGI decoder, each run for
+# FUZZ_SECONDS from seeds written by oovr-fuzz-seeds; a crash fails the target.
+fuzz: deps
+	cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DOOVR_FUZZ=ON -DOOVR_BUILD_TESTS=OFF -DOOVR_BUILD_BENCH=OFF -DOOVR_BUILD_REFERENCE=OFF
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_bsp fuzz_sgi oovr-fuzz-seeds
+	$(FUZZ_BUILD)/fuzz/oovr-fuzz-seeds $(FUZZ_BUILD)/corpus
+	$(FUZZ_BUILD)/fuzz/fuzz_bsp $(FUZZ_BUILD)/corpus/bsp -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1
+	$(FUZZ_BUILD)/fuzz/fuzz_sgi $(FUZZ_BUILD)/corpus/sgi -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1
 
 bench: build
 	$(BUILD)/bench/oovr-bench
