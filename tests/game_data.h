@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "oovr/scene/bsp.h"
+#include "oovr/scene/openarena.h"
+#include "oovr/scene/torcs.h"
 
 namespace oovr::test {
 
@@ -137,7 +139,9 @@ inline std::vector<uint8_t> make_test_sgi(int w, int h, int channels, bool rle) 
   return out;
 }
 
-inline bool have_openarena() { return std::filesystem::exists("/usr/share/games/openarena/baseoa/pak0.pk3"); }
-inline bool have_torcs() { return std::filesystem::exists("/usr/share/games/torcs/tracks/road/spring/spring.acc"); }
+// The game data the tests use, where the loaders look for it (Debian's
+// paths unless OOVR_OPENARENA_DIR / OOVR_TORCS_DIR say otherwise).
+inline bool have_openarena() { return std::filesystem::exists(openarena_directory() + "/pak0.pk3"); }
+inline bool have_torcs() { return std::filesystem::exists(torcs_directory() + "/tracks/road/spring/spring.acc"); }
 
 }  // namespace oovr::test

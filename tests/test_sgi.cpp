@@ -7,6 +7,7 @@
 #include "game_data.h"
 #include "oovr/core/error.h"
 #include "oovr/scene/texture.h"
+#include "oovr/scene/torcs.h"
 
 namespace oovr {
 namespace {
@@ -77,7 +78,7 @@ TEST(Sgi, CorruptHeadersAndRunsAreRefused) {
 }
 
 TEST(Sgi, DecodesTorcsTextures) {
-  const std::filesystem::path dir = "/usr/share/games/torcs/data/textures";
+  const std::filesystem::path dir = std::filesystem::path(torcs_directory()) / "data" / "textures";
   if (!std::filesystem::exists(dir)) GTEST_SKIP() << "torcs-data is not installed (" << dir << ")";
   int decoded = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
