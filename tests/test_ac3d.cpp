@@ -2,7 +2,6 @@
 // normals, several uv pairs per reference, triangle strips, nested
 // transforms, texture search and sharing, and clear errors.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 
@@ -10,6 +9,7 @@
 #include "oovr/pipeline/image.h"
 #include "oovr/scene/ac3d.h"
 #include "oovr/scene/scene_info.h"
+#include "temp_dir.h"
 
 namespace oovr {
 namespace {
@@ -86,20 +86,17 @@ kids 0
 class Ac3dDir : public ::testing::Test {
  protected:
   void SetUp() override {
-    m_dir = fs::temp_directory_path() / ("oovr-ac3d-" + std::to_string(::getpid()) + "-" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(m_dir);
     Image img(4, 4);
     for (size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
     write_png(img, (m_dir / "road.png").string());
   }
-  void TearDown() override { fs::remove_all(m_dir); }
   Scene load(const std::string& text) {
     Ac3dOptions o;
     o.texture_dirs = {m_dir.string()};
     return parse_ac3d(text, (m_dir / "track.acc").string(), o);
   }
-  fs::path m_dir;
+  test::TempDir m_tmp;
+  const fs::path& m_dir = m_tmp.path();
 };
 
 TEST_F(Ac3dDir, ReadsTorcsExtensions) {

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "oovr/core/error.h"
+#include "temp_dir.h"
 #include "oovr/pipeline/image.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -14,23 +15,7 @@ namespace oovr {
 namespace {
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  TempDir() {
-    m_path = fs::temp_directory_path() / ("oovr-test-" + std::to_string(::getpid()) + "-" +
-                                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(m_path);
-  }
-  ~TempDir() { fs::remove_all(m_path); }
-  std::string file(const std::string& name, const std::string& text = {}) const {
-    const fs::path p = m_path / name;
-    if (!text.empty()) std::ofstream(p) << text;
-    return p.string();
-  }
-
- private:
-  fs::path m_path;
-};
+using test::TempDir;
 
 void write_test_png(const std::string& path, uint8_t r) {
   Image img(8, 8);

@@ -1,7 +1,6 @@
 // Real game levels from Debian's packages (skipped, with the reason, when
 // the data is not installed), the TORCS centre line, and scene options.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -13,6 +12,7 @@
 #include "oovr/scene/openarena.h"
 #include "oovr/scene/scene_info.h"
 #include "oovr/scene/torcs.h"
+#include "temp_dir.h"
 
 namespace oovr {
 namespace {
@@ -108,8 +108,8 @@ TEST(Torcs, TracksMatchTheMeasuredNumbers) {
 TEST(Torcs, CentreLineOfASyntheticCircuit) {
   // A 100 m straight, a 180-degree left turn of radius 50, another straight
   // and turn: a closed oval of length 200 + 2 * pi * 50.
-  const fs::path p = fs::temp_directory_path() / ("oovr-track-" + std::to_string(::getpid()) + ".xml");
-  std::ofstream(p) << R"(<?xml version="1.0"?>
+  const test::TempDir dir;
+  const std::string p = dir.file("oval.xml", R"(<?xml version="1.0"?>
 <!DOCTYPE params SYSTEM "params.dtd" [ <!ENTITY surfaces SYSTEM "surfaces.xml"> ]>
 <params name="oval" type="param">
   <section name="Main Track">
@@ -122,9 +122,8 @@ TEST(Torcs, CentreLineOfASyntheticCircuit) {
       <section name="t2"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
     </section>
   </section>
-</params>)";
-  const std::vector<Vec3> line = torcs_centre_line(p.string());
-  fs::remove(p);
+</params>)");
+  const std::vector<Vec3> line = torcs_centre_line(p);
   double total = 0;
   for (size_t i = 1; i < line.size(); ++i) total += double(length(line[i] - line[i - 1]));
   EXPECT_NEAR(total, 200 + 2 * 3.14159265 * 50, 1.0);

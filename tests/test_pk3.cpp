@@ -1,7 +1,6 @@
 // The pk3 file system: engine order (later archives override earlier ones),
 // case-insensitive paths, and clear errors for corrupt archives.
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <zip.h>
 
 #include <filesystem>
@@ -9,6 +8,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/scene/pk3.h"
+#include "temp_dir.h"
 
 namespace oovr {
 namespace {
@@ -16,12 +16,6 @@ namespace fs = std::filesystem;
 
 class Pk3Dir : public ::testing::Test {
  protected:
-  void SetUp() override {
-    m_dir = fs::temp_directory_path() / ("oovr-pk3-" + std::to_string(::getpid()) + "-" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override { fs::remove_all(m_dir); }
 
   void archive(const std::string& name, const std::vector<std::pair<std::string, std::string>>& files) {
     int err = 0;
@@ -37,7 +31,8 @@ class Pk3Dir : public ::testing::Test {
     const auto b = fs.read(path);
     return b ? std::string(b->begin(), b->end()) : "<none>";
   }
-  fs::path m_dir;
+  test::TempDir m_tmp;
+  const fs::path& m_dir = m_tmp.path();
 };
 
 TEST_F(Pk3Dir, LaterArchivesOverrideEarlierOnes) {
