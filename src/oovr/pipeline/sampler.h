@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "oovr/pipeline/frame_trace.h"
+#include "oovr/pipeline/tiled_layout.h"
 #include "oovr/scene/texture.h"
 
 namespace oovr::detail {
@@ -75,16 +76,15 @@ struct SamplerTexture {
   SamplerTexture(uint32_t id_, const Texture& t, int bw, int bh) : id(id_), block_w(bw), block_h(bh) {
     repeat = t.wrap == Wrap::repeat;
     mipmapped = t.mipmapped && t.levels.size() > 1;
-    max_level = mipmapped ? int(t.levels.size()) - 1 : 0;
     block_shift_x = __builtin_ctz(unsigned(bw));
     block_shift_y = __builtin_ctz(unsigned(bh));
-    uint32_t line = 0;
+    const TextureLayout layout = texture_layout(t, bw, bh);
+    max_level = int(layout.first_line.size()) - 1;
     for (int i = 0; i <= max_level; ++i) {
       const MipLevel& l = t.levels[size_t(i)];
-      const int bx = (l.width + bw - 1) / bw, by = (l.height + bh - 1) / bh;
       const auto mask = [](int n) { return (n & (n - 1)) == 0 ? n - 1 : -1; };
-      levels.push_back({l.width, l.height, mask(l.width), mask(l.height), bx, line, l.rgba.data()});
-      line += uint32_t(bx) * uint32_t(by);
+      levels.push_back({l.width, l.height, mask(l.width), mask(l.height), layout.blocks_x[size_t(i)],
+                        layout.first_line[size_t(i)], l.rgba.data()});
     }
   }
 };

@@ -1,0 +1,80 @@
+// The configuration tree: dotted keys ("link.bandwidth") read from TOML
+// presets and overridden on the command line ("--set link.bandwidth=128GBps").
+//
+// Strict, as in pbrt-v4 and Ramulator 2.1: components read the keys they
+// know through typed getters; afterwards check_all_used() reports every key
+// nobody read as an error naming it, so a typo can never become a silent
+// default. A value of the wrong type is an error naming the key too.
+// Defaults live with the component that reads them; resolved() lists every
+// value in force, defaults included, for result files.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "oovr/core/units.h"
+
+namespace oovr {
+
+class Config {
+ public:
+  Config() = default;
+  // Reads a TOML file; tables nest keys ("[link] bandwidth = ..." is
+  // "link.bandwidth"). Throws Error naming the file, line and problem.
+  static Config from_toml_file(const std::string& path);
+  static Config from_toml_string(const std::string& text, const std::string& name);
+
+  // "key=value": value as TOML would read it (integer, float, true/false),
+  // else as a string (e.g. 128GBps). Throws Error when malformed.
+  void set(const std::string& assignment);
+  void set(const std::string& key, const std::string& value);
+
+  bool has(const std::string& key) const { return m_values.count(key) != 0; }
+
+  int64_t get_int(const std::string& key, int64_t fallback) const;
+  double get_double(const std::string& key, double fallback) const;
+  bool get_bool(const std::string& key, bool fallback) const;
+  std::string get_string(const std::string& key, const std::string& fallback) const;
+  // One of `choices`; anything else is an Error listing them.
+  std::string get_choice(const std::string& key, const std::string& fallback,
+                         std::initializer_list<const char*> choices) const;
+  // Strings with units ("1MB"), or plain integers in the base unit.
+  Bytes get_bytes(const std::string& key, Bytes fallback) const;
+  BytesPerSecond get_bandwidth(const std::string& key, BytesPerSecond fallback) const;
+  Seconds get_time(const std::string& key, Seconds fallback) const;
+  Hertz get_frequency(const std::string& key, Hertz fallback) const;
+
+  // Throws Error naming every key that no getter read.
+  void check_all_used() const;
+  // Every key read, with the value in force (defaults included), sorted.
+  const std::map<std::string, std::string>& resolved() const { return m_resolved; }
+  // Where the values came from (file names, "--set"), for messages.
+  const std::string& origin() const { return m_origin; }
+
+ private:
+  enum class Kind { integer, floating, boolean, string };
+  struct Value {
+    Kind kind = Kind::string;
+    std::string text;  // as written (strings without quotes)
+    int64_t i = 0;
+    double d = 0;
+    bool b = false;
+    std::string source;  // "file.toml:12" or "--set"
+  };
+  static void flatten(const void* toml_table, const std::string& prefix, const std::string& file,
+                      std::map<std::string, Value>& out);
+  const Value* find(const std::string& key) const;
+  void record(const std::string& key, const std::string& value) const;
+  [[noreturn]] void type_error(const std::string& key, const Value& v, const char* expected) const;
+
+  std::map<std::string, Value> m_values;
+  mutable std::map<std::string, bool> m_used;
+  mutable std::map<std::string, std::string> m_resolved;
+  std::string m_origin;
+};
+
+}  // namespace oovr

@@ -1,0 +1,76 @@
+// One address space for everything a frame touches (DESIGN.md): vertex and
+// index buffers, textures in their tiled layout, framebuffers. Regions are
+// page-aligned, so a page belongs to exactly one region.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oovr/core/units.h"
+#include "oovr/memory/category.h"
+#include "oovr/pipeline/frame_trace.h"
+#include "oovr/scene/scene.h"
+
+namespace oovr {
+
+struct Region {
+  std::string name;
+  Category category = Category::command;
+  uint64_t base = 0;   // bytes, page-aligned
+  uint64_t bytes = 0;  // size used (the last page may be partly empty)
+};
+
+class AddressMap {
+ public:
+  AddressMap(Bytes page, Bytes line);
+  // Adds a region of `bytes` (at least one line) and returns its id.
+  uint32_t add(std::string name, Category category, uint64_t bytes);
+  const Region& region(uint32_t id) const { return m_regions[id]; }
+  size_t regions() const { return m_regions.size(); }
+  // The region holding a page (pages are allocated densely from 0).
+  uint32_t region_of_page(uint64_t page) const { return m_page_region[size_t(page)]; }
+  uint64_t pages() const { return m_page_region.size(); }
+  uint64_t page_bytes() const { return m_page; }
+  uint64_t line_bytes() const { return m_line; }
+  uint64_t end() const { return m_page_region.size() * m_page; }
+
+ private:
+  uint64_t m_page, m_line;
+  std::vector<Region> m_regions;
+  std::vector<uint32_t> m_page_region;
+};
+
+// Where a scene's resources and a stereo frame's buffers live: a region per
+// mesh vertex buffer, mesh index buffer and texture (every mip level in the
+// FrameTrace's tiled layout), plus the frame's colour and depth buffers, each
+// 16x16 screen tile contiguous (tile-major, row by row from the bottom).
+class SceneLayout {
+ public:
+  SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& frame);
+
+  uint32_t vertex_region(int mesh) const { return m_vertex[size_t(mesh)]; }
+  uint32_t index_region(int mesh) const { return m_index[size_t(mesh)]; }
+  uint32_t texture_region(int texture) const { return m_texture[size_t(texture)]; }
+  uint32_t colour_region() const { return m_colour; }
+  uint32_t depth_region() const { return m_depth; }
+
+  // Address of a texture line recorded in a FrameTrace.
+  uint64_t texture_line(TexLine l) const {
+    return m_map->region(m_texture[tex_line_texture(l)]).base + uint64_t(tex_line_index(l)) * m_map->line_bytes();
+  }
+  // Address of line `line` (0 .. lines_per_tile-1) of a tile of a framebuffer.
+  uint64_t frame_line(uint32_t region, int tile_x, int tile_y, int line) const {
+    const uint64_t tile = uint64_t(tile_y) * uint64_t(m_tiles_x) + uint64_t(tile_x);
+    return m_map->region(region).base + (tile * uint64_t(m_lines_per_tile) + uint64_t(line)) * m_map->line_bytes();
+  }
+  int lines_per_tile() const { return m_lines_per_tile; }
+
+ private:
+  const AddressMap* m_map;
+  std::vector<uint32_t> m_vertex, m_index, m_texture;
+  uint32_t m_colour = 0, m_depth = 0;
+  int m_tiles_x = 0, m_lines_per_tile = 0;
+};
+
+}  // namespace oovr

@@ -1,0 +1,73 @@
+#include "oovr/memory/memory_spec.h"
+
+#include "oovr/core/error.h"
+#include "oovr/memory/placement/i_placement.h"
+#include "oovr/memory/replacement/i_replacement.h"
+#include "oovr/memory/topology/i_topology.h"
+
+namespace oovr {
+namespace {
+
+bool power_of_two(uint64_t v) { return v && !(v & (v - 1)); }
+
+std::string names(const std::vector<std::string>& n) {
+  std::string s;
+  for (const auto& x : n) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def, Bytes line) {
+  CacheSpec s;
+  s.size = c.get_bytes(prefix + ".size", def.size);
+  s.ways = int(c.get_int(prefix + ".ways", def.ways));
+  s.replacement = c.get_string(prefix + ".replacement", def.replacement);
+  if (!ReplacementPolicies::find(s.replacement))
+    throw Error("configuration key '" + prefix + ".replacement' must be one of " + names(ReplacementPolicies::names()) +
+                ", not '" + s.replacement + "'");
+  if (s.ways < 1 || s.ways > 64) throw Error("configuration key '" + prefix + ".ways' must be from 1 to 64");
+  const uint64_t lines = s.size.value / line.value;
+  if (s.size.value % line.value != 0 || lines == 0 || lines % uint64_t(s.ways) != 0 ||
+      !power_of_two(lines / uint64_t(s.ways)))
+    throw Error("configuration key '" + prefix + ".size' (" + format_bytes(s.size) + ") must hold a power-of-two number of sets of " +
+                std::to_string(s.ways) + " ways of " + format_bytes(line) + " lines");
+  return s;
+}
+
+}  // namespace
+
+MemorySpec MemorySpec::from_config(const Config& c) {
+  MemorySpec d;
+  MemorySpec s;
+  s.gpms = int(c.get_int("gpms", d.gpms));
+  if (s.gpms < 1 || s.gpms > 32) throw Error("configuration key 'gpms' must be from 1 to 32, not " + std::to_string(s.gpms));
+  s.sms_per_gpm = int(c.get_int("gpm.sms", d.sms_per_gpm));
+  if (s.sms_per_gpm < 1 || s.sms_per_gpm > 1024) throw Error("configuration key 'gpm.sms' must be from 1 to 1024");
+  s.line = c.get_bytes("memory.line", d.line);
+  if (!power_of_two(s.line.value) || s.line.value < 32 || s.line.value > 1024)
+    throw Error("configuration key 'memory.line' must be a power of two from 32 B to 1 KB, not " + format_bytes(s.line));
+  s.page = c.get_bytes("memory.page", d.page);
+  if (!power_of_two(s.page.value) || s.page.value < s.line.value || s.page.value > (1ull << 30))
+    throw Error("configuration key 'memory.page' must be a power of two from the line size to 1 GB, not " +
+                format_bytes(s.page));
+  s.placement = c.get_string("memory.placement", d.placement);
+  if (!PlacementPolicies::find(s.placement))
+    throw Error("configuration key 'memory.placement' must be one of " + names(PlacementPolicies::names()) + ", not '" +
+                s.placement + "'");
+  s.l1 = cache(c, "cache.l1", d.l1, s.line);
+  s.l2 = cache(c, "cache.l2", d.l2, s.line);
+  s.remote = cache(c, "cache.remote", d.remote, s.line);
+  s.remote_invalidate = c.get_choice("cache.remote.invalidate", d.remote_invalidate, {"draw", "frame", "never"});
+  s.dram_bandwidth = c.get_bandwidth("dram.bandwidth", d.dram_bandwidth);
+  s.dram_latency = c.get_time("dram.latency", d.dram_latency);
+  s.link_bandwidth = c.get_bandwidth("link.bandwidth", d.link_bandwidth);
+  s.link_latency = c.get_time("link.latency", d.link_latency);
+  s.topology = c.get_string("link.topology", d.topology);
+  if (!Topologies::find(s.topology))
+    throw Error("configuration key 'link.topology' must be one of " + names(Topologies::names()) + ", not '" +
+                s.topology + "'");
+  if (!(s.dram_bandwidth.value > 0)) throw Error("configuration key 'dram.bandwidth' must be positive");
+  if (!(s.link_bandwidth.value > 0)) throw Error("configuration key 'link.bandwidth' must be positive");
+  return s;
+}
+
+}  // namespace oovr

@@ -1,0 +1,232 @@
+#include "oovr/memory/memory_system.h"
+
+#include "oovr/core/error.h"
+
+namespace oovr {
+
+void UnitTraffic::reset(int gpms, int links) {
+  *this = UnitTraffic{};
+  dram_read_bytes.assign(size_t(gpms), 0);
+  dram_write_bytes.assign(size_t(gpms), 0);
+  link_bytes.assign(size_t(links), 0);
+}
+
+uint64_t UnitTraffic::total_link_bytes() const {
+  uint64_t s = 0;
+  for (uint64_t b : link_bytes) s += b;
+  return s;
+}
+
+uint64_t UnitTraffic::total_inter_gpm_bytes() const {
+  uint64_t s = 0;
+  for (uint64_t b : inter_gpm_bytes) s += b;
+  return s;
+}
+
+MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
+    : m_spec(spec), m_map(map), m_page_bytes(map.page_bytes()), m_line_bytes(map.line_bytes()) {
+  if (map.line_bytes() != spec.line.value || map.page_bytes() != spec.page.value)
+    throw Error("memory system: the address map's page and line sizes differ from the memory spec's");
+  if (spec.gpms > 32) throw Error("memory system: at most 32 GPMs");
+  m_line_shift = __builtin_ctzll(m_line_bytes);
+  m_page_shift = __builtin_ctzll(m_page_bytes);
+  m_policy = PlacementPolicies::find(spec.placement)->make(spec.gpms);
+  m_topology = Topologies::find(spec.topology)->make(spec.gpms);
+  for (int g = 0; g < spec.gpms; ++g) {
+    for (int s = 0; s < spec.sms_per_gpm; ++s)
+      m_l1.emplace_back(spec.l1, m_line_bytes, "gpm[" + std::to_string(g) + "].sm[" + std::to_string(s) + "].l1");
+    m_l2.emplace_back(spec.l2, m_line_bytes, "gpm[" + std::to_string(g) + "].l2");
+    m_remote.emplace_back(spec.remote, m_line_bytes, "gpm[" + std::to_string(g) + "].remote");
+  }
+  m_home.assign(map.pages(), -1);
+  m_copies.assign(map.pages(), 0);
+  const size_t links = m_topology->links().size();
+  m_totals.link_bytes.assign(links, PerCategory{});
+  m_totals.dram_read_bytes.assign(size_t(spec.gpms), PerCategory{});
+  m_totals.dram_write_bytes.assign(size_t(spec.gpms), PerCategory{});
+  m_totals.delivered.assign(size_t(spec.gpms) * size_t(spec.gpms), 0);
+}
+
+int MemorySystem::home(uint64_t page, int requester) {
+  int h = m_home[page];
+  if (h < 0) [[unlikely]] {
+    h = m_policy->assign(page, m_map.region_of_page(page), requester);
+    m_home[page] = int8_t(h);
+    m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << h);
+  }
+  return h;
+}
+
+int MemorySystem::nearest_holder(uint64_t page, int requester) const {
+  int best = m_home[page];
+  size_t hops = m_topology->route(best, requester).size();
+  for (uint32_t m = m_copies[page]; m; m &= m - 1) {
+    const int g = __builtin_ctz(m);
+    const size_t h = m_topology->route(g, requester).size();
+    if (h < hops) {
+      best = g;
+      hops = h;
+    }
+  }
+  return best;
+}
+
+void MemorySystem::writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out) {
+  if (!ev.dirty) return;
+  out.dram_write_bytes[size_t(gpm)] += m_line_bytes;
+  m_totals.dram_write_bytes[size_t(gpm)][size_t(ev.category)] += m_line_bytes;
+}
+
+void MemorySystem::serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out) {
+  Cache::Eviction ev;
+  if (m_l2[size_t(src)].access(line, write, c, ev)) {
+    writeback(src, ev, out);
+    return;
+  }
+  writeback(src, ev, out);
+  if (!write) {
+    ++out.dram_lines;
+    ++m_totals.dram_lines;
+    out.dram_read_bytes[size_t(src)] += m_line_bytes;
+    m_totals.dram_read_bytes[size_t(src)][size_t(c)] += m_line_bytes;
+  }
+}
+
+void MemorySystem::move(int from, int to, uint64_t bytes, Category c, UnitTraffic& out) {
+  for (int l : m_topology->route(from, to)) {
+    out.link_bytes[size_t(l)] += bytes;
+    m_totals.link_bytes[size_t(l)][size_t(c)] += bytes;
+  }
+  out.inter_gpm_bytes[size_t(c)] += bytes;
+  m_totals.inter_gpm_bytes[size_t(c)] += bytes;
+}
+
+void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out) {
+  if (gpm < 0 || gpm >= m_spec.gpms || sm < 0 || sm >= m_spec.sms_per_gpm)
+    throw Error("memory access by GPM " + std::to_string(gpm) + " SM " + std::to_string(sm) + ", which does not exist");
+  if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
+  Cache& l1 = m_l1[size_t(gpm * m_spec.sms_per_gpm + sm)];
+  const uint32_t me = 1u << gpm;
+  // The page tables cover the address map as it was when this memory system
+  // was built; regions added later are not addressable.
+  const uint64_t end = m_home.size() * m_page_bytes;
+  for (const LineAccess& a : lines) {
+    if (a.address >= end) throw Error("memory access at address " + std::to_string(a.address) + ", past the address map");
+    const uint64_t line = a.address >> m_line_shift;
+    ++out.accesses;
+    Cache::Eviction ev;
+    if (uses_l1(a.category) && !a.write) {
+      // An L1 hit means the page was touched before: its home is known.
+      if (l1.access(line, false, a.category, ev)) {
+        ++out.l1_hits;
+        continue;
+      }
+    }
+    const uint64_t page = a.address >> m_page_shift;
+    const int h = home(page, gpm);
+    if (h == gpm || (m_copies[page] & me)) {
+      // Local: this GPM's L2, then its DRAM.
+      const uint64_t before = out.dram_lines;
+      if (m_l2[size_t(gpm)].access(line, a.write, a.category, ev)) ++out.l2_hits;
+      else if (!a.write) {
+        ++out.dram_lines;
+        out.dram_read_bytes[size_t(gpm)] += m_line_bytes;
+        m_totals.dram_read_bytes[size_t(gpm)][size_t(a.category)] += m_line_bytes;
+      }
+      m_totals.dram_lines += out.dram_lines - before;
+      writeback(gpm, ev, out);
+      if (!a.write) m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += m_line_bytes;
+      continue;
+    }
+    Cache& rc = m_remote[size_t(gpm)];
+    if (a.write) {
+      // Write-through to the home over the links; a cached copy is dropped.
+      rc.invalidate(line);
+      move(gpm, h, m_line_bytes, a.category, out);
+      serve(h, line, true, a.category, out);
+      continue;
+    }
+    if (rc.access(line, false, a.category, ev)) {
+      ++out.remote_hits;
+      continue;
+    }
+    const int src = nearest_holder(page, gpm);
+    const uint64_t before = out.dram_lines;
+    serve(src, line, false, a.category, out);
+    if (out.dram_lines == before) ++out.home_l2_hits;
+    move(src, gpm, m_line_bytes, a.category, out);
+    m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
+  }
+  m_totals.accesses += out.accesses;
+  m_totals.l1_hits += out.l1_hits;
+  m_totals.l2_hits += out.l2_hits;
+  m_totals.remote_hits += out.remote_hits;
+  m_totals.home_l2_hits += out.home_l2_hits;
+}
+
+uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, UnitTraffic& out) {
+  if (gpm < 0 || gpm >= m_spec.gpms) throw Error("pre-allocation to GPM " + std::to_string(gpm) + ", which does not exist");
+  if (bytes == 0) return 0;
+  if (address + bytes > m_home.size() * m_page_bytes) throw Error("pre-allocation past the end of the address map");
+  if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
+  uint64_t copied = 0;
+  for (uint64_t page = address >> m_page_shift; page <= (address + bytes - 1) >> m_page_shift; ++page) {
+    if (m_home[page] < 0) {
+      // Untouched data is placed where it is needed: nothing to copy.
+      m_home[page] = int8_t(gpm);
+      m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
+      continue;
+    }
+    if (m_copies[page] & (1u << gpm)) continue;  // already there
+    const int src = nearest_holder(page, gpm);
+    out.dram_read_bytes[size_t(src)] += m_page_bytes;
+    m_totals.dram_read_bytes[size_t(src)][size_t(Category::prealloc)] += m_page_bytes;
+    move(src, gpm, m_page_bytes, Category::prealloc, out);
+    out.dram_write_bytes[size_t(gpm)] += m_page_bytes;
+    m_totals.dram_write_bytes[size_t(gpm)][size_t(Category::prealloc)] += m_page_bytes;
+    m_copies[page] |= 1u << gpm;
+    copied += m_page_bytes;
+  }
+  return copied;
+}
+
+void MemorySystem::transfer(int from, int to, uint64_t bytes, Category category, UnitTraffic& out) {
+  if (from < 0 || from >= m_spec.gpms || to < 0 || to >= m_spec.gpms)
+    throw Error("transfer between GPMs " + std::to_string(from) + " and " + std::to_string(to) + ", which do not both exist");
+  if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
+  if (from != to) move(from, to, bytes, category, out);
+}
+
+void MemorySystem::pin(uint32_t region, int gpm) { m_policy->pin(region, gpm); }
+
+void MemorySystem::end_draw() {
+  if (m_spec.remote_invalidate == "draw")
+    for (Cache& c : m_remote) c.invalidate_all();
+}
+
+void MemorySystem::end_frame() {
+  if (m_spec.remote_invalidate == "draw" || m_spec.remote_invalidate == "frame")
+    for (Cache& c : m_remote) c.invalidate_all();
+}
+
+bool MemorySystem::holds(int gpm, uint64_t address) const {
+  const uint64_t page = address >> m_page_shift;
+  return page < m_home.size() && m_home[page] >= 0 && (m_copies[page] & (1u << gpm));
+}
+
+std::vector<uint64_t> MemorySystem::resident_bytes() const {
+  std::vector<uint64_t> r(size_t(m_spec.gpms), 0);
+  for (size_t p = 0; p < m_home.size(); ++p) {
+    if (m_home[p] < 0) continue;
+    for (uint32_t m = m_copies[p]; m; m &= m - 1) r[size_t(__builtin_ctz(m))] += m_page_bytes;
+  }
+  return r;
+}
+
+uint64_t MemorySystem::footprint_bytes() const {
+  uint64_t s = 0;
+  for (uint64_t b : resident_bytes()) s += b;
+  return s;
+}
+
+}  // namespace oovr

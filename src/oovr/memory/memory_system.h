@@ -1,0 +1,136 @@
+// The NUMA multi-GPM memory system (DESIGN.md, "How work becomes time"):
+// turns "GPM g touches these lines for work unit u" into cache hits, DRAM
+// bytes per GPM and bytes per link.
+//
+// Path of a line access by SM s of GPM g:
+//   shader reads (vertex, index, texture) -> L1 of (g, s)
+//   data homed on g (or copied to g) -> L2 of g -> DRAM of g
+//   data homed elsewhere, reads -> remote cache of g (MCM-GPU's L1.5)
+//       -> link route home -> g -> L2 of the home -> DRAM of the home
+//   data homed elsewhere, writes (ROP colour/depth) -> route g -> home ->
+//       L2 of the home (write-through; g's remote-cache copy is dropped)
+// L2s are memory-side caches of their GPM's DRAM, write-back and
+// write-allocate (a write miss does not read DRAM: ROPs write whole sectors).
+// Nothing here knows about schemes or time: timing converts the bytes and
+// hits returned per work unit into cycles.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "oovr/memory/address_map.h"
+#include "oovr/memory/cache.h"
+#include "oovr/memory/category.h"
+#include "oovr/memory/memory_spec.h"
+#include "oovr/memory/placement/i_placement.h"
+#include "oovr/memory/topology/i_topology.h"
+
+namespace oovr {
+
+struct LineAccess {
+  uint64_t address = 0;  // any byte of the line
+  Category category = Category::texture;
+  bool write = false;
+};
+
+using PerCategory = std::array<uint64_t, kCategories>;
+
+// What one work unit's accesses cost: the answer of the narrow interface.
+struct UnitTraffic {
+  uint64_t accesses = 0;
+  uint64_t l1_hits = 0;       // in the requesting SM's L1
+  uint64_t l2_hits = 0;       // local data, in the requester's L2
+  uint64_t remote_hits = 0;   // remote data, in the requester's remote cache
+  uint64_t home_l2_hits = 0;  // remote data, in its home's L2
+  uint64_t dram_lines = 0;    // lines read from a DRAM (local or remote)
+  std::vector<uint64_t> dram_read_bytes, dram_write_bytes;  // per GPM
+  std::vector<uint64_t> link_bytes;                         // per link
+  PerCategory inter_gpm_bytes{};  // bytes moved between GPMs, once per transfer however many hops
+
+  void reset(int gpms, int links);
+  uint64_t total_link_bytes() const;
+  uint64_t total_inter_gpm_bytes() const;
+};
+
+// Running totals of everything, broken down by category.
+struct TrafficTotals {
+  std::vector<PerCategory> link_bytes;        // [link][category]
+  std::vector<PerCategory> dram_read_bytes;   // [gpm][category]
+  std::vector<PerCategory> dram_write_bytes;  // [gpm][category]
+  PerCategory inter_gpm_bytes{};
+  // delivered[src * gpms + dst]: bytes of data held by GPM src (its L2 or
+  // DRAM) delivered to requester dst; used to check conservation.
+  std::vector<uint64_t> delivered;
+  uint64_t accesses = 0, l1_hits = 0, l2_hits = 0, remote_hits = 0, home_l2_hits = 0, dram_lines = 0;
+};
+
+class MemorySystem {
+ public:
+  // The address map must hold every region before the memory system is
+  // built: its page tables cover the map as it is then.
+  MemorySystem(const MemorySpec& spec, const AddressMap& map);
+  MemorySystem(const MemorySystem&) = delete;
+  MemorySystem& operator=(const MemorySystem&) = delete;
+
+  const MemorySpec& spec() const { return m_spec; }
+  const Topology& topology() const { return *m_topology; }
+  const AddressMap& address_map() const { return m_map; }
+
+  // GPM `gpm`, SM `sm` performs `lines` for one work unit. The unit's costs
+  // are added to `out` (reset it per unit) and to the totals.
+  void access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out);
+
+  // Copies the pages of [address, address + bytes) into GPM `gpm`'s DRAM
+  // ahead of use, as whole pages, from their homes; pages already held by
+  // `gpm` are not copied again; untouched pages are placed on `gpm`. The
+  // copy's bytes are link traffic of category prealloc. Returns bytes copied.
+  uint64_t preallocate(uint64_t address, uint64_t bytes, int gpm, UnitTraffic& out);
+  // Moves `bytes` from GPM `from` to GPM `to` (composition, commands):
+  // counted on every link of the route and once as inter-GPM traffic.
+  void transfer(int from, int to, uint64_t bytes, Category category, UnitTraffic& out);
+
+  // Names a region's home (pinned placement only).
+  void pin(uint32_t region, int gpm);
+  // Boundaries at which the remote caches are invalidated (per the spec).
+  void end_draw();
+  void end_frame();
+
+  // -1 when nobody touched the page yet (or the address is past the map).
+  int home_of(uint64_t address) const {
+    const uint64_t page = address / m_page_bytes;
+    return page < m_home.size() ? m_home[page] : -1;
+  }
+  bool holds(int gpm, uint64_t address) const;
+  // Bytes of pages resident in each GPM's DRAM (homes and copies).
+  std::vector<uint64_t> resident_bytes() const;
+  uint64_t footprint_bytes() const;
+
+  const TrafficTotals& totals() const { return m_totals; }
+  const Cache& l1(int gpm, int sm) const { return m_l1[size_t(gpm * m_spec.sms_per_gpm + sm)]; }
+  const Cache& l2(int gpm) const { return m_l2[size_t(gpm)]; }
+  const Cache& remote_cache(int gpm) const { return m_remote[size_t(gpm)]; }
+
+ private:
+  int home(uint64_t page, int requester);
+  int nearest_holder(uint64_t page, int requester) const;
+  // Serves a line from GPM `src`'s L2 (DRAM on a miss).
+  void serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out);
+  void move(int from, int to, uint64_t bytes, Category c, UnitTraffic& out);
+  void writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out);
+
+  MemorySpec m_spec;
+  const AddressMap& m_map;
+  std::unique_ptr<PlacementPolicy> m_policy;
+  std::unique_ptr<Topology> m_topology;
+  std::vector<Cache> m_l1, m_l2, m_remote;
+  std::vector<int8_t> m_home;      // per page
+  std::vector<uint32_t> m_copies;  // per page: bit g set when GPM g holds a copy
+  uint64_t m_page_bytes, m_line_bytes;
+  int m_line_shift, m_page_shift;
+  TrafficTotals m_totals;
+};
+
+}  // namespace oovr

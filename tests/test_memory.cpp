@@ -1,0 +1,350 @@
+// The memory system, with exact expectations (given / when / then).
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "oovr/core/error.h"
+#include "oovr/core/rng.h"
+#include "oovr/memory/memory_system.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/builtin.h"
+
+namespace oovr {
+namespace {
+
+constexpr uint64_t kLine = 128, kPage = 64 << 10;
+
+MemorySpec spec_with(std::initializer_list<const char*> settings) {
+  Config c;
+  for (const char* s : settings) c.set(s);
+  const MemorySpec spec = MemorySpec::from_config(c);
+  c.check_all_used();
+  return spec;
+}
+
+std::vector<LineAccess> reads(uint64_t base, uint64_t bytes, Category c = Category::texture) {
+  std::vector<LineAccess> v;
+  for (uint64_t a = base; a < base + bytes; a += kLine) v.push_back({a, c, false});
+  return v;
+}
+
+int link_id(const Topology& t, int from, int to) {
+  for (size_t l = 0; l < t.links().size(); ++l)
+    if (t.links()[l].from == from && t.links()[l].to == to) return int(l);
+  return -1;
+}
+
+struct Fixture {
+  MemorySpec spec;
+  AddressMap map;
+  std::unique_ptr<MemorySystem> mem;
+  UnitTraffic u;
+  explicit Fixture(const MemorySpec& s) : spec(s), map(s.page, s.line) {}
+  void build() { mem = std::make_unique<MemorySystem>(spec, map); }
+  UnitTraffic& run(int gpm, int sm, const std::vector<LineAccess>& a) {
+    u.reset(spec.gpms, int(mem->topology().links().size()));
+    mem->access(gpm, sm, a, u);
+    return u;
+  }
+};
+
+TEST(Memory, ColdRemoteReadCrossesItsLinkExactlyOnce) {
+  // Given a 64 KB texture pinned to GPM 1 and cold caches,
+  Fixture f(spec_with({"memory.placement=pinned"}));
+  const uint32_t tex = f.map.add("texture", Category::texture, 64 << 10);
+  f.build();
+  f.mem->pin(tex, 1);
+  // when GPM 0 reads all of it,
+  const UnitTraffic& u = f.run(0, 0, reads(f.map.region(tex).base, 64 << 10));
+  // then exactly 64 KB cross link 1->0, nothing else moves, nothing hits.
+  const int l10 = link_id(f.mem->topology(), 1, 0);
+  for (size_t l = 0; l < u.link_bytes.size(); ++l) EXPECT_EQ(u.link_bytes[l], int(l) == l10 ? 64u << 10 : 0u) << l;
+  EXPECT_EQ(u.l1_hits + u.l2_hits + u.remote_hits + u.home_l2_hits, 0u);
+  EXPECT_EQ(u.dram_lines, 512u);
+  EXPECT_EQ(u.dram_read_bytes[1], 64u << 10);
+  EXPECT_EQ(u.dram_read_bytes[0], 0u);
+  EXPECT_EQ(u.inter_gpm_bytes[size_t(Category::texture)], 64u << 10);
+  EXPECT_EQ(f.mem->totals().link_bytes[size_t(l10)][size_t(Category::texture)], 64u << 10);
+}
+
+TEST(Memory, RereadsHitL1ThenTheRemoteCacheThenTheHomeL2) {
+  Fixture f(spec_with({"memory.placement=pinned"}));
+  const uint32_t tex = f.map.add("texture", Category::texture, 64 << 10);
+  f.build();
+  f.mem->pin(tex, 1);
+  const auto all = reads(f.map.region(tex).base, 64 << 10);
+  f.run(0, 0, all);
+  // The same SM again: its L1 (128 KB) holds all 512 lines.
+  EXPECT_EQ(f.run(0, 0, all).l1_hits, 512u);
+  // Another SM of GPM 0: its L1 is cold; the remote cache has every line.
+  const UnitTraffic& second = f.run(0, 1, all);
+  EXPECT_EQ(second.remote_hits, 512u);
+  EXPECT_EQ(second.total_link_bytes(), 0u);
+  // After the frame boundary the remote cache is empty; the lines cross the
+  // link again, now from the home's L2 instead of its DRAM.
+  f.mem->end_frame();
+  const UnitTraffic& third = f.run(0, 2, all);
+  EXPECT_EQ(third.remote_hits, 0u);
+  EXPECT_EQ(third.home_l2_hits, 512u);
+  EXPECT_EQ(third.dram_lines, 0u);
+  EXPECT_EQ(third.total_link_bytes(), 64u << 10);
+}
+
+TEST(Memory, RemoteCacheInvalidationBoundaryIsConfigurable) {
+  for (const char* boundary : {"draw", "frame", "never"}) {
+    Fixture f(spec_with({"memory.placement=pinned", (std::string("cache.remote.invalidate=") + boundary).c_str()}));
+    const uint32_t tex = f.map.add("texture", Category::texture, 8 << 10);
+    f.build();
+    f.mem->pin(tex, 1);
+    const auto all = reads(f.map.region(tex).base, 8 << 10);
+    f.run(0, 0, all);
+    f.mem->end_draw();
+    EXPECT_EQ(f.run(0, 1, all).remote_hits, std::string(boundary) == "draw" ? 0u : 64u) << boundary;
+    f.mem->end_frame();
+    EXPECT_EQ(f.run(0, 2, all).remote_hits, std::string(boundary) == "never" ? 64u : 0u) << boundary;
+  }
+}
+
+TEST(Memory, FirstTouchGivesPagesToTheFirstToucher) {
+  Fixture f(spec_with({}));
+  const uint32_t buf = f.map.add("buffer", Category::texture, 4 * kPage);
+  f.build();
+  const uint64_t base = f.map.region(buf).base;
+  f.run(2, 0, {{base, Category::texture, false}});
+  f.run(3, 0, {{base + kPage, Category::texture, false}});
+  EXPECT_EQ(f.mem->home_of(base), 2);
+  EXPECT_EQ(f.mem->home_of(base + kPage + 5), 3);
+  EXPECT_EQ(f.mem->home_of(base + 2 * kPage), -1) << "untouched";
+  // GPM 3 reading GPM 2's page pulls it over link 2->3.
+  const UnitTraffic& u = f.run(3, 0, {{base + kLine, Category::texture, false}});
+  EXPECT_EQ(u.link_bytes[size_t(link_id(f.mem->topology(), 2, 3))], kLine);
+}
+
+TEST(Memory, InterleavedPagesRoundRobin) {
+  Fixture f(spec_with({"memory.placement=interleaved"}));
+  const uint32_t buf = f.map.add("buffer", Category::texture, 8 * kPage);
+  f.build();
+  const uint64_t base = f.map.region(buf).base;
+  std::vector<LineAccess> a;
+  for (int p = 0; p < 8; ++p) a.push_back({base + uint64_t(p) * kPage, Category::texture, false});
+  f.run(0, 0, a);
+  for (int p = 0; p < 8; ++p) EXPECT_EQ(f.mem->home_of(base + uint64_t(p) * kPage), p % 4);
+}
+
+TEST(Memory, ReplicationMakesEveryReadLocalAndMultipliesTheFootprint) {
+  Fixture f(spec_with({"memory.placement=replicated"}));
+  const uint32_t buf = f.map.add("buffer", Category::texture, 4 * kPage);
+  f.build();
+  for (int g = 0; g < 4; ++g) {
+    const UnitTraffic& u = f.run(g, 0, reads(f.map.region(buf).base, 4 * kPage));
+    EXPECT_EQ(u.total_link_bytes(), 0u);
+    EXPECT_EQ(u.dram_read_bytes[size_t(g)], 4 * kPage);
+  }
+  EXPECT_EQ(f.mem->footprint_bytes(), 4 * 4 * kPage);
+}
+
+TEST(Memory, PinnedPlacementRefusesUnpinnedRegions) {
+  Fixture f(spec_with({"memory.placement=pinned"}));
+  f.map.add("buffer", Category::texture, kPage);
+  f.build();
+  EXPECT_THROW(f.run(0, 0, {{0, Category::texture, false}}), Error);
+  EXPECT_THROW(f.mem->pin(0, 7), Error);
+  Fixture g(spec_with({}));
+  g.map.add("buffer", Category::texture, kPage);
+  g.build();
+  EXPECT_THROW(g.mem->pin(0, 1), Error) << "first-touch has no pins";
+}
+
+TEST(Memory, PreallocationCopiesOnceAndMakesReadsLocal) {
+  Fixture f(spec_with({"memory.placement=preallocated"}));
+  const uint32_t buf = f.map.add("buffer", Category::texture, 4 * kPage);
+  const uint32_t fresh = f.map.add("fresh", Category::texture, kPage);
+  f.build();
+  const uint64_t base = f.map.region(buf).base;
+  f.run(1, 0, reads(base, 4 * kPage));  // GPM 1 touches first: its home
+  UnitTraffic p;
+  EXPECT_EQ(f.mem->preallocate(base, 4 * kPage, 0, p), 4 * kPage);
+  EXPECT_EQ(p.link_bytes[size_t(link_id(f.mem->topology(), 1, 0))], 4 * kPage);
+  EXPECT_EQ(p.inter_gpm_bytes[size_t(Category::prealloc)], 4 * kPage);
+  EXPECT_EQ(p.total_inter_gpm_bytes(), 4 * kPage) << "all of it counted as prealloc";
+  UnitTraffic again;
+  EXPECT_EQ(f.mem->preallocate(base, 4 * kPage, 0, again), 0u) << "data already there is not copied again";
+  EXPECT_EQ(again.total_link_bytes(), 0u);
+  const UnitTraffic& u = f.run(0, 0, reads(base, 4 * kPage));
+  EXPECT_EQ(u.total_link_bytes(), 0u);
+  EXPECT_EQ(u.dram_read_bytes[0], 4 * kPage);
+  EXPECT_EQ(f.mem->resident_bytes()[0], 4 * kPage);
+  EXPECT_EQ(f.mem->resident_bytes()[1], 4 * kPage);
+  // Untouched data pre-allocated to a GPM is simply placed there.
+  UnitTraffic q;
+  EXPECT_EQ(f.mem->preallocate(f.map.region(fresh).base, kPage, 3, q), 0u);
+  EXPECT_EQ(q.total_link_bytes(), 0u);
+  EXPECT_EQ(f.mem->home_of(f.map.region(fresh).base), 3);
+}
+
+TEST(Memory, ConservationOfBytes) {
+  // Every line read exactly once, from every GPM, over interleaved pages:
+  // what each DRAM sends out equals what its requesters receive, and what a
+  // link carries equals what its source delivered to its destination.
+  Fixture f(spec_with({"memory.placement=interleaved"}));
+  const uint32_t buf = f.map.add("buffer", Category::texture, 64 * kPage);
+  f.build();
+  const uint64_t lines = 64 * kPage / kLine;
+  std::vector<uint64_t> order(lines);
+  std::iota(order.begin(), order.end(), 0);
+  Rng rng(3);
+  for (uint64_t i = lines - 1; i > 0; --i) std::swap(order[i], order[rng.below(uint32_t(i + 1))]);
+  for (uint64_t i = 0; i < lines; i += 97) {
+    std::vector<LineAccess> chunk;
+    for (uint64_t k = i; k < std::min(lines, i + 97); ++k)
+      chunk.push_back({f.map.region(buf).base + order[k] * kLine, Category::texture, false});
+    f.run(int(rng.below(4)), int(rng.below(8)), chunk);
+  }
+  const TrafficTotals& t = f.mem->totals();
+  for (int h = 0; h < 4; ++h) {
+    uint64_t delivered = 0;
+    for (int g = 0; g < 4; ++g) delivered += t.delivered[size_t(h * 4 + g)];
+    EXPECT_EQ(t.dram_read_bytes[size_t(h)][size_t(Category::texture)], delivered) << "DRAM " << h;
+    for (int g = 0; g < 4; ++g) {
+      if (g == h) continue;
+      EXPECT_EQ(t.link_bytes[size_t(link_id(f.mem->topology(), h, g))][size_t(Category::texture)], t.delivered[size_t(h * 4 + g)]);
+    }
+  }
+  EXPECT_EQ(t.dram_lines, lines);
+  EXPECT_EQ(t.accesses, lines);
+}
+
+TEST(Memory, RingRoutesTakeTheShortestWay) {
+  Fixture f(spec_with({"gpms=8", "link.topology=ring", "memory.placement=pinned"}));
+  const uint32_t buf = f.map.add("buffer", Category::texture, kPage);
+  f.build();
+  const Topology& t = f.mem->topology();
+  EXPECT_EQ(t.route(0, 1).size(), 1u);
+  EXPECT_EQ(t.route(0, 3).size(), 3u);
+  EXPECT_EQ(t.route(0, 5).size(), 3u) << "the other way round";
+  EXPECT_EQ(t.route(0, 7).size(), 1u);
+  EXPECT_EQ(t.route(0, 4).size(), 4u);
+  EXPECT_EQ(t.link_name(t.route(0, 4)[0]), "gpm0->gpm1") << "ties go clockwise";
+  // GPM 0 reading a page homed on GPM 3: the bytes cross 3->2, 2->1, 1->0.
+  f.mem->pin(buf, 3);
+  const UnitTraffic& u = f.run(0, 0, reads(f.map.region(buf).base, 4096));
+  for (auto [a, b] : {std::pair{3, 2}, std::pair{2, 1}, std::pair{1, 0}})
+    EXPECT_EQ(u.link_bytes[size_t(link_id(t, a, b))], 4096u) << a << "->" << b;
+  EXPECT_EQ(u.total_link_bytes(), 3u * 4096);
+  EXPECT_EQ(u.total_inter_gpm_bytes(), 4096u) << "one transfer, however many hops";
+}
+
+TEST(Memory, SwitchRoutesTakeTwoHops) {
+  Fixture f(spec_with({"gpms=16", "link.topology=switch"}));
+  f.map.add("buffer", Category::texture, kPage);
+  f.build();
+  const Topology& t = f.mem->topology();
+  EXPECT_EQ(t.links().size(), 32u);
+  for (int a = 0; a < 16; ++a)
+    for (int b = 0; b < 16; ++b) EXPECT_EQ(t.route(a, b).size(), a == b ? 0u : 2u);
+  EXPECT_EQ(t.link_name(t.route(3, 9)[0]), "gpm3->switch0");
+  EXPECT_EQ(t.link_name(t.route(3, 9)[1]), "switch0->gpm9");
+}
+
+TEST(Memory, RemoteWritesGoToTheHomeAndWriteBackOnEviction) {
+  Fixture f(spec_with({"memory.placement=pinned", "cache.l2.size=16KB", "cache.l2.ways=4"}));
+  const uint32_t fb = f.map.add("colour", Category::colour, 64 << 10);
+  f.build();
+  f.mem->pin(fb, 2);
+  std::vector<LineAccess> w;
+  for (uint64_t a = 0; a < (64u << 10); a += kLine) w.push_back({f.map.region(fb).base + a, Category::colour, true});
+  const UnitTraffic& u = f.run(0, 0, w);
+  EXPECT_EQ(u.link_bytes[size_t(link_id(f.mem->topology(), 0, 2))], 64u << 10);
+  EXPECT_EQ(u.dram_read_bytes[2], 0u) << "write misses allocate without reading";
+  // The home's 16 KB L2 keeps 128 of the 512 dirty lines; 384 were written back.
+  EXPECT_EQ(u.dram_write_bytes[2], 384u * kLine);
+  EXPECT_EQ(f.mem->totals().dram_write_bytes[2][size_t(Category::colour)], 384u * kLine);
+}
+
+TEST(Memory, ReplacementPolicies) {
+  // One set of four ways: A B C D fill it, A is used again, E arrives.
+  for (const char* policy : {"lru", "fifo"}) {
+    CacheSpec s{{4 * kLine}, 4, policy};
+    Cache c(s, kLine, "test");
+    Cache::Eviction ev;
+    for (uint64_t line : {10, 20, 30, 40}) EXPECT_FALSE(c.access(line, false, Category::texture, ev));
+    EXPECT_TRUE(c.access(10, false, Category::texture, ev));
+    EXPECT_FALSE(c.access(50, false, Category::texture, ev));
+    if (std::string(policy) == "lru") {
+      EXPECT_TRUE(c.contains(10)) << "recently used";
+      EXPECT_FALSE(c.contains(20)) << "least recently used";
+    } else {
+      EXPECT_FALSE(c.contains(10)) << "first in";
+      EXPECT_TRUE(c.contains(20));
+    }
+  }
+  CacheSpec r{{4 * kLine}, 4, "random"};
+  Cache a(r, kLine, "same-name"), b(r, kLine, "same-name");
+  Cache::Eviction ev;
+  for (uint64_t line = 0; line < 100; ++line) {
+    a.access(line * 7, false, Category::texture, ev);
+    b.access(line * 7, false, Category::texture, ev);
+  }
+  for (uint64_t line = 0; line < 100; ++line) EXPECT_EQ(a.contains(line * 7), b.contains(line * 7)) << "reproducible";
+}
+
+TEST(Memory, BadAccessesAreErrors) {
+  Fixture f(spec_with({}));
+  f.map.add("buffer", Category::texture, kPage);
+  f.build();
+  EXPECT_THROW(f.run(4, 0, {{0, Category::texture, false}}), Error);
+  EXPECT_THROW(f.run(0, 8, {{0, Category::texture, false}}), Error);
+  EXPECT_THROW(f.run(0, 0, {{kPage * 5, Category::texture, false}}), Error);
+  UnitTraffic u;
+  EXPECT_THROW(f.mem->preallocate(0, kPage * 9, 0, u), Error);
+  EXPECT_THROW(f.mem->transfer(0, 9, 10, Category::composition, u), Error);
+}
+
+TEST(Memory, TransfersCountPerLinkAndPerCategory) {
+  Fixture f(spec_with({"gpms=8", "link.topology=ring"}));
+  f.map.add("buffer", Category::texture, kPage);
+  f.build();
+  UnitTraffic u;
+  f.mem->transfer(1, 3, 1000, Category::composition, u);
+  EXPECT_EQ(u.total_link_bytes(), 2000u);
+  EXPECT_EQ(u.inter_gpm_bytes[size_t(Category::composition)], 1000u);
+  f.mem->transfer(2, 2, 1000, Category::composition, u);
+  EXPECT_EQ(u.inter_gpm_bytes[size_t(Category::composition)], 1000u) << "a GPM sending to itself crosses no link";
+}
+
+}  // namespace
+}  // namespace oovr
+
+namespace oovr {
+namespace {
+
+TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
+  const Scene scene = BuiltinScenes::find("courtyard")->make();
+  StereoRig rig;
+  rig.eye_width = 160;
+  rig.eye_height = 128;
+  const FrameOutput out = render_frame(scene, make_stereo_view(scene.camera, 5, rig), PipelineSettings{});
+  const MemorySpec spec = spec_with({});
+  AddressMap map(spec.page, spec.line);
+  const SceneLayout layout(map, scene, out.trace);
+  ASSERT_FALSE(out.trace.tex_lines.empty());
+  for (TexLine l : out.trace.tex_lines) {
+    const Region& r = map.region(layout.texture_region(int(tex_line_texture(l))));
+    const uint64_t a = layout.texture_line(l);
+    EXPECT_GE(a, r.base);
+    EXPECT_LT(a, r.base + r.bytes);
+  }
+  const Region& colour = map.region(layout.colour_region());
+  EXPECT_EQ(layout.frame_line(layout.colour_region(), 0, 0, 0), colour.base);
+  EXPECT_LT(layout.frame_line(layout.colour_region(), out.trace.tiles_x - 1, out.trace.tiles_y - 1, layout.lines_per_tile() - 1),
+            colour.base + colour.bytes);
+  // A trace recorded with other lines cannot be laid out against this map.
+  PipelineSettings p;
+  p.line_bytes = 64;
+  const FrameOutput other = render_frame(scene, make_stereo_view(scene.camera, 5, rig), p);
+  AddressMap map2(spec.page, spec.line);
+  EXPECT_THROW(SceneLayout(map2, scene, other.trace), Error);
+}
+
+}  // namespace
+}  // namespace oovr
