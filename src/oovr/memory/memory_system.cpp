@@ -86,7 +86,6 @@ void MemorySystem::serve(int src, uint64_t line, bool write, Category c, UnitTra
   writeback(src, ev, out);
   if (!write) {
     ++out.dram_lines;
-    ++m_totals.dram_lines;
     out.dram_read_bytes[size_t(src)] += m_line_bytes;
     m_totals.dram_read_bytes[size_t(src)][size_t(c)] += m_line_bytes;
   }
@@ -106,19 +105,25 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     throw Error("memory access by GPM " + std::to_string(gpm) + " SM " + std::to_string(sm) + ", which does not exist");
   if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
   Cache& l1 = m_l1[size_t(gpm * m_spec.sms_per_gpm + sm)];
+  Cache& l2 = m_l2[size_t(gpm)];
+  Cache& rc = m_remote[size_t(gpm)];
   const uint32_t me = 1u << gpm;
   // The page tables cover the address map as it was when this memory system
   // was built; regions added later are not addressable.
   const uint64_t end = m_home.size() * m_page_bytes;
+  // Hit counters stay in registers; the hot path (an L1 hit) touches only
+  // the L1's own arrays.
+  uint64_t l1_hits = 0, l2_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0, local_delivered = 0;
+  const uint64_t dram_before = out.dram_lines;
   for (const LineAccess& a : lines) {
-    if (a.address >= end) throw Error("memory access at address " + std::to_string(a.address) + ", past the address map");
+    if (a.address >= end) [[unlikely]]
+      throw Error("memory access at address " + std::to_string(a.address) + ", past the address map");
     const uint64_t line = a.address >> m_line_shift;
-    ++out.accesses;
     Cache::Eviction ev;
     if (uses_l1(a.category) && !a.write) {
       // An L1 hit means the page was touched before: its home is known.
       if (l1.access(line, false, a.category, ev)) {
-        ++out.l1_hits;
+        ++l1_hits;
         continue;
       }
     }
@@ -126,19 +131,17 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     const int h = home(page, gpm);
     if (h == gpm || (m_copies[page] & me)) {
       // Local: this GPM's L2, then its DRAM.
-      const uint64_t before = out.dram_lines;
-      if (m_l2[size_t(gpm)].access(line, a.write, a.category, ev)) ++out.l2_hits;
-      else if (!a.write) {
-        ++out.dram_lines;
+      if (l2.access(line, a.write, a.category, ev)) {
+        ++l2_hits;
+      } else if (!a.write) {
+        ++local_dram;
         out.dram_read_bytes[size_t(gpm)] += m_line_bytes;
         m_totals.dram_read_bytes[size_t(gpm)][size_t(a.category)] += m_line_bytes;
       }
-      m_totals.dram_lines += out.dram_lines - before;
       writeback(gpm, ev, out);
-      if (!a.write) m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += m_line_bytes;
+      if (!a.write) local_delivered += m_line_bytes;
       continue;
     }
-    Cache& rc = m_remote[size_t(gpm)];
     if (a.write) {
       // Write-through to the home over the links; a cached copy is dropped.
       rc.invalidate(line);
@@ -147,21 +150,29 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
       continue;
     }
     if (rc.access(line, false, a.category, ev)) {
-      ++out.remote_hits;
+      ++remote_hits;
       continue;
     }
     const int src = nearest_holder(page, gpm);
     const uint64_t before = out.dram_lines;
     serve(src, line, false, a.category, out);
-    if (out.dram_lines == before) ++out.home_l2_hits;
+    if (out.dram_lines == before) ++home_l2_hits;
     move(src, gpm, m_line_bytes, a.category, out);
     m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
   }
-  m_totals.accesses += out.accesses;
-  m_totals.l1_hits += out.l1_hits;
-  m_totals.l2_hits += out.l2_hits;
-  m_totals.remote_hits += out.remote_hits;
-  m_totals.home_l2_hits += out.home_l2_hits;
+  out.dram_lines += local_dram;
+  out.accesses += lines.size();
+  out.l1_hits += l1_hits;
+  out.l2_hits += l2_hits;
+  out.remote_hits += remote_hits;
+  out.home_l2_hits += home_l2_hits;
+  m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += local_delivered;
+  m_totals.dram_lines += out.dram_lines - dram_before;
+  m_totals.accesses += lines.size();
+  m_totals.l1_hits += l1_hits;
+  m_totals.l2_hits += l2_hits;
+  m_totals.remote_hits += remote_hits;
+  m_totals.home_l2_hits += home_l2_hits;
 }
 
 uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, UnitTraffic& out) {
