@@ -348,3 +348,17 @@ TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
 
 }  // namespace
 }  // namespace oovr
+
+namespace oovr {
+namespace {
+
+TEST(Memory, EveryImplementationIsRegistered) {
+  // A policy whose file exists but was not linked in would be missing here.
+  EXPECT_EQ(PlacementPolicies::names(),
+            (std::vector<std::string>{"first-touch", "interleaved", "pinned", "preallocated", "replicated"}));
+  EXPECT_EQ(ReplacementPolicies::names(), (std::vector<std::string>{"fifo", "lru", "random"}));
+  EXPECT_EQ(Topologies::names(), (std::vector<std::string>{"fully-connected", "ring", "switch"}));
+}
+
+}  // namespace
+}  // namespace oovr

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "oovr/core/config.h"
 #include "oovr/core/error.h"
+#include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -90,6 +92,33 @@ int cmd_scene_info(const SceneInfoArgs& a) {
   return 0;
 }
 
+struct ConfigArgs {
+  std::string file;
+  std::vector<std::string> settings;
+};
+
+// The machine configuration in force: a preset (or the built-in defaults,
+// the paper's Table 1) with --set overrides; unknown keys are errors.
+Config load_config(const ConfigArgs& a) {
+  Config c = a.file.empty() ? Config{} : Config::from_toml_file(a.file);
+  for (const auto& s : a.settings) c.set(s);
+  return c;
+}
+
+int cmd_config(const ConfigArgs& a) {
+  const Config c = load_config(a);
+  (void)MemorySpec::from_config(c);
+  c.check_all_used();
+  // Printed as TOML (dotted keys), so that the output is itself a preset.
+  fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
+  for (const auto& [k, v] : c.resolved()) {
+    const bool bare = v == "true" || v == "false" || v.find_first_not_of("0123456789.-") == std::string::npos;
+    if (bare) fmt::print("{} = {}\n", k, v);
+    else fmt::print("{} = \"{}\"\n", k, v);
+  }
+  return 0;
+}
+
 struct RenderArgs {
   std::string scene;
   int frame = 0;
@@ -156,6 +185,11 @@ int main(int argc, char** argv) {
   info_cmd->add_option("--scene", info.scene, "Scene name or model file")->required();
   info_cmd->add_flag("--json", info.json, "Print JSON instead of text");
 
+  ConfigArgs config;
+  auto* config_cmd = app.add_subcommand("config", "Print the machine configuration in force (preset + overrides)");
+  config_cmd->add_option("--config", config.file, "TOML preset (default: the paper's Table 1)");
+  config_cmd->add_option("--set", config.settings, "Override a key, e.g. --set link.bandwidth=128GBps (repeatable)");
+
   RenderArgs render;
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
@@ -175,13 +209,14 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;
       for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
-      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render; see --help)");
+      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, config; see --help)");
     }
     app.parse(argc, argv);
     if (render_cmd->count("--resolution") && render_cmd->count("--eye-resolution"))
       throw Error("give --resolution or --eye-resolution, not both");
     if (app.got_subcommand("scenes")) return cmd_scenes();
     if (app.got_subcommand(info_cmd)) return cmd_scene_info(info);
+    if (app.got_subcommand(config_cmd)) return cmd_config(config);
     if (app.got_subcommand(render_cmd)) return cmd_render(render);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
