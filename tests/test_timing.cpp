@@ -1,0 +1,117 @@
+// The timing engine on cases with exact answers.
+#include <gtest/gtest.h>
+
+#include "oovr/core/error.h"
+#include "oovr/timing/engine.h"
+
+namespace oovr {
+namespace {
+
+constexpr double kLink = 64e9;  // bytes per second
+
+TEST(Timing, OneUnitAloneOnALinkTakesBytesOverBandwidthPlusLatency) {
+  TimingEngine e;
+  const int link = e.add_resource("link", kLink);
+  e.add_unit({-1, {{link, 64e6}}, 32e-9, {}});
+  const auto r = e.run();
+  EXPECT_DOUBLE_EQ(r.units[0].work_done, 1e-3);
+  EXPECT_DOUBLE_EQ(r.units[0].finish, 1e-3 + 32e-9);
+  EXPECT_DOUBLE_EQ(r.resource_used[size_t(link)], 64e6);
+}
+
+TEST(Timing, TwoUnitsSharingALinkTakeTwiceAsLong) {
+  TimingEngine e;
+  const int link = e.add_resource("link", kLink);
+  e.add_unit({-1, {{link, 64e6}}, 0, {}});
+  e.add_unit({-1, {{link, 64e6}}, 0, {}});
+  const auto r = e.run();
+  EXPECT_DOUBLE_EQ(r.units[0].finish, 2e-3);
+  EXPECT_DOUBLE_EQ(r.units[1].finish, 2e-3);
+}
+
+TEST(Timing, AShortUnitReleasesItsShareWhenItEnds) {
+  // 64 MB and 32 MB on one link: both run at half speed until the small
+  // one ends at 1 ms (32 MB each moved); the big one then has 32 MB left
+  // at full speed: 0.5 ms more.
+  TimingEngine e;
+  const int link = e.add_resource("link", kLink);
+  e.add_unit({-1, {{link, 64e6}}, 0, {}});
+  e.add_unit({-1, {{link, 32e6}}, 0, {}});
+  const auto r = e.run();
+  EXPECT_NEAR(r.units[1].finish, 1e-3, 1e-15);
+  EXPECT_NEAR(r.units[0].finish, 1.5e-3, 1e-15);
+}
+
+TEST(Timing, TheBottleneckDecidesAndMovesWhenAResourceIsScaled) {
+  for (double shader_rate : {1e9, 4e9}) {
+    TimingEngine e;
+    const int shader = e.add_resource("shader", shader_rate);
+    const int dram = e.add_resource("dram", 1e12);
+    e.add_unit({-1, {{shader, 2e6}, {dram, 1e9}}, 0, {}});
+    const auto r = e.run();
+    // shader: 2 ms at 1e9/s, 0.5 ms at 4e9/s; DRAM: 1 ms.
+    EXPECT_DOUBLE_EQ(r.units[0].finish, std::max(2e6 / shader_rate, 1e-3)) << shader_rate;
+  }
+}
+
+TEST(Timing, QueuesRunTheirUnitsInOrderAndDependenciesWait) {
+  TimingEngine e;
+  const int a = e.add_resource("a", 1.0), b = e.add_resource("b", 1.0);
+  const int q0 = e.add_queue("gpm0"), q1 = e.add_queue("gpm1");
+  const int u0 = e.add_unit({q0, {{a, 2}}, 0, {}});       // 0..2
+  const int u1 = e.add_unit({q0, {{a, 1}}, 0.5, {}});     // 2..3 work, 3.5 with latency
+  const int u2 = e.add_unit({q1, {{b, 1}}, 0, {u1}});     // waits for u1: 3.5..4.5
+  const auto r = e.run();
+  EXPECT_DOUBLE_EQ(r.units[size_t(u0)].finish, 2);
+  EXPECT_DOUBLE_EQ(r.units[size_t(u1)].start, 2);
+  EXPECT_DOUBLE_EQ(r.units[size_t(u1)].work_done, 3);
+  EXPECT_DOUBLE_EQ(r.units[size_t(u1)].finish, 3.5);
+  EXPECT_DOUBLE_EQ(r.units[size_t(u2)].start, 3.5);
+  EXPECT_DOUBLE_EQ(r.units[size_t(u2)].finish, 4.5);
+  EXPECT_DOUBLE_EQ(r.queue_busy[size_t(q0)], 3.5);
+  EXPECT_DOUBLE_EQ(r.queue_busy[size_t(q1)], 1);
+  EXPECT_DOUBLE_EQ(r.makespan, 4.5);
+}
+
+TEST(Timing, UnitsWithoutDemandsTakeOnlyTheirLatency) {
+  TimingEngine e;
+  e.add_unit({-1, {}, 0.25, {}});
+  e.add_unit({-1, {}, 0, {0}});
+  const auto r = e.run();
+  EXPECT_DOUBLE_EQ(r.units[0].finish, 0.25);
+  EXPECT_DOUBLE_EQ(r.units[1].finish, 0.25);
+}
+
+TEST(Timing, BadUnitsAreRefused) {
+  TimingEngine e;
+  EXPECT_THROW(e.add_resource("x", 0), Error);
+  const int r = e.add_resource("r", 1);
+  EXPECT_THROW(e.add_unit({5, {}, 0, {}}), Error);
+  EXPECT_THROW(e.add_unit({-1, {{r + 1, 1.0}}, 0, {}}), Error);
+  EXPECT_THROW(e.add_unit({-1, {{r, -1.0}}, 0, {}}), Error);
+  EXPECT_THROW(e.add_unit({-1, {}, 0, {0}}), Error) << "depends on itself";
+}
+
+TEST(Timing, ManyUnitsDeterministic) {
+  // Four queues of 500 units with shared and private resources: the same
+  // answer twice.
+  auto build = [] {
+    TimingEngine e;
+    const int shared = e.add_resource("link", 3.0);
+    std::vector<int> own;
+    for (int q = 0; q < 4; ++q) {
+      e.add_queue("q");
+      own.push_back(e.add_resource("own", 1.0 + q));
+    }
+    for (int k = 0; k < 2000; ++k)
+      e.add_unit({k % 4, {{own[size_t(k % 4)], 1.0 + (k * 37 % 11)}, {shared, double(k * 13 % 7)}}, (k % 3) * 0.01, {}});
+    return e.run();
+  };
+  const auto a = build(), b = build();
+  EXPECT_EQ(a.makespan, b.makespan);
+  for (size_t i = 0; i < a.units.size(); ++i) EXPECT_EQ(a.units[i].finish, b.units[i].finish);
+  EXPECT_GT(a.makespan, 0);
+}
+
+}  // namespace
+}  // namespace oovr
