@@ -7,9 +7,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "commands.h"
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
 #include "oovr/memory/memory_spec.h"
+#include "oovr/schemes/i_scheme.h"
+#include "oovr/timing/gpm_model.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -97,17 +100,10 @@ struct ConfigArgs {
   std::vector<std::string> settings;
 };
 
-// The machine configuration in force: a preset (or the built-in defaults,
-// the paper's Table 1) with --set overrides; unknown keys are errors.
-Config load_config(const ConfigArgs& a) {
-  Config c = a.file.empty() ? Config{} : Config::from_toml_file(a.file);
-  for (const auto& s : a.settings) c.set(s);
-  return c;
-}
-
 int cmd_config(const ConfigArgs& a) {
-  const Config c = load_config(a);
+  const Config c = cli::machine_config(a.file, a.settings);
   (void)MemorySpec::from_config(c);
+  (void)TimingSpec::from_config(c);
   c.check_all_used();
   // Printed as TOML (dotted keys), so that the output is itself a preset.
   fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
@@ -190,6 +186,32 @@ int main(int argc, char** argv) {
   config_cmd->add_option("--config", config.file, "TOML preset (default: the paper's Table 1)");
   config_cmd->add_option("--set", config.settings, "Override a key, e.g. --set link.bandwidth=128GBps (repeatable)");
 
+  cli::SimulateArgs sim;
+  auto add_machine_options = [](CLI::App* cmd, cli::SimulateArgs& a) {
+    cmd->add_option("--scene", a.scene, "Scene name or model file")->required();
+    cmd->add_option("--frame", a.frame, "First frame of the camera path")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--resolution", a.resolution, "Whole stereo frame WxH")->capture_default_str();
+    cmd->add_option("--eye-resolution", a.eye_resolution, "Resolution of one eye WxH (instead of --resolution)");
+    cmd->add_option("--aniso", a.aniso, "Maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
+    cmd->add_option("--config", a.config, "TOML machine preset (default: the paper's Table 1)");
+    cmd->add_option("--set", a.settings, "Override a configuration key, e.g. --set link.bandwidth=128GBps (repeatable)");
+    cmd->add_option("--json", a.json, "Write the results as JSON");
+  };
+  auto* sim_cmd = app.add_subcommand("simulate", "Replay a scene's frame through one scheme");
+  add_machine_options(sim_cmd, sim);
+  sim_cmd->add_option("--scheme", sim.scheme, "Scheme (oovr compare --help lists them)")->required();
+  sim_cmd->add_option("--frames", sim.frames, "Frames to simulate, one after another")->capture_default_str()->check(CLI::Range(1, 1000));
+  sim_cmd->add_option("--gpm-image", sim.gpm_image, "Write the frame coloured by the GPM that shaded each pixel");
+  sim_cmd->add_option("--traffic-image", sim.traffic_image, "Write inter-GPM bytes per screen tile as a heat map");
+
+  cli::SimulateArgs cmp;
+  std::string scheme_list;
+  std::string all_schemes;
+  for (const auto& n : Schemes::names()) all_schemes += (all_schemes.empty() ? "" : ",") + n;
+  auto* cmp_cmd = app.add_subcommand("compare", "Run several schemes on the same frame, normalised to baseline");
+  add_machine_options(cmp_cmd, cmp);
+  cmp_cmd->add_option("--schemes", scheme_list, "Comma-separated schemes (default: all: " + all_schemes + ")");
+
   RenderArgs render;
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
@@ -209,7 +231,7 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;
       for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
-      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, config; see --help)");
+      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, config; see --help)");
     }
     app.parse(argc, argv);
     if (render_cmd->count("--resolution") && render_cmd->count("--eye-resolution"))
@@ -217,6 +239,18 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("scenes")) return cmd_scenes();
     if (app.got_subcommand(info_cmd)) return cmd_scene_info(info);
     if (app.got_subcommand(config_cmd)) return cmd_config(config);
+    if (app.got_subcommand(sim_cmd)) return cli::simulate(sim);
+    if (app.got_subcommand(cmp_cmd)) {
+      std::vector<std::string> list;
+      std::string rest = scheme_list.empty() ? all_schemes : scheme_list;
+      for (size_t i = 0; i <= rest.size();) {
+        const size_t comma = std::min(rest.find(',', i), rest.size());
+        if (comma > i) list.push_back(rest.substr(i, comma - i));
+        i = comma + 1;
+      }
+      if (list.empty()) throw Error("--schemes names no scheme");
+      return cli::compare(cmp, list);
+    }
     if (app.got_subcommand(render_cmd)) return cmd_render(render);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);

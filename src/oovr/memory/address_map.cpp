@@ -1,5 +1,7 @@
 #include "oovr/memory/address_map.h"
 
+#include <algorithm>
+
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/pipeline/tiled_layout.h"
@@ -36,11 +38,18 @@ SceneLayout::SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& 
     m_texture.push_back(map.add("texture" + std::to_string(t) + " " + scene.textures[t].name, Category::texture,
                                 l.lines * map.line_bytes()));
   }
-  m_tiles_x = frame.tiles_x;
-  m_lines_per_tile = int(uint64_t(kTileSize) * kTileSize * 4 / map.line_bytes());
-  const uint64_t frame_bytes = uint64_t(frame.tiles_x) * uint64_t(frame.tiles_y) * kTileSize * kTileSize * 4;
-  m_colour = map.add("frame.colour", Category::colour, frame_bytes);
-  m_depth = map.add("frame.depth", Category::depth, frame_bytes);
+  const uint64_t tile_bytes = uint64_t(kTileSize) * kTileSize * 4;
+  m_lines_per_tile = int(tile_bytes / map.line_bytes());
+  // Blocks of one page of tiles, as square as a power of two allows.
+  const int tiles_per_page = int(std::max<uint64_t>(1, map.page_bytes() / tile_bytes));
+  const int log2 = __builtin_ctz(unsigned(tiles_per_page));
+  m_block_w = 1 << ((log2 + 1) / 2);
+  m_block_h = tiles_per_page / m_block_w;
+  m_blocks_x = (frame.tiles_x + m_block_w - 1) / m_block_w;
+  const int blocks_y = (frame.tiles_y + m_block_h - 1) / m_block_h;
+  m_frame_bytes = uint64_t(m_blocks_x) * uint64_t(blocks_y) * uint64_t(tiles_per_page) * tile_bytes;
+  m_colour = map.add("frame.colour", Category::colour, m_frame_bytes);
+  m_depth = map.add("frame.depth", Category::depth, m_frame_bytes);
 }
 
 }  // namespace oovr

@@ -43,8 +43,11 @@ class AddressMap {
 
 // Where a scene's resources and a stereo frame's buffers live: a region per
 // mesh vertex buffer, mesh index buffer and texture (every mip level in the
-// FrameTrace's tiled layout), plus the frame's colour and depth buffers, each
-// 16x16 screen tile contiguous (tile-major, row by row from the bottom).
+// FrameTrace's tiled layout), plus the frame's colour and depth buffers.
+// Framebuffers are block-linear, as GPUs lay them out: each 16x16 screen
+// tile (1 KB) is contiguous, and the tiles of one page form a block of
+// block_w x block_h tiles (8x8 tiles, 128x128 pixels, for 64 KB pages);
+// blocks are row-major from the bottom of the frame, tiles row-major within.
 class SceneLayout {
  public:
   SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& frame);
@@ -61,16 +64,26 @@ class SceneLayout {
   }
   // Address of line `line` (0 .. lines_per_tile-1) of a tile of a framebuffer.
   uint64_t frame_line(uint32_t region, int tile_x, int tile_y, int line) const {
-    const uint64_t tile = uint64_t(tile_y) * uint64_t(m_tiles_x) + uint64_t(tile_x);
-    return m_map->region(region).base + (tile * uint64_t(m_lines_per_tile) + uint64_t(line)) * m_map->line_bytes();
+    return m_map->region(region).base + (tile_slot(tile_x, tile_y) * uint64_t(m_lines_per_tile) + uint64_t(line)) * m_map->line_bytes();
   }
   int lines_per_tile() const { return m_lines_per_tile; }
+  // Which page-sized block of tiles a tile belongs to, and how big blocks are.
+  int block_of(int tile_x, int tile_y) const { return (tile_y / m_block_h) * m_blocks_x + tile_x / m_block_w; }
+  int block_w() const { return m_block_w; }
+  int block_h() const { return m_block_h; }
+  // Bytes of one framebuffer (colour or depth) in this layout.
+  uint64_t frame_bytes() const { return m_frame_bytes; }
 
  private:
   const AddressMap* m_map;
   std::vector<uint32_t> m_vertex, m_index, m_texture;
   uint32_t m_colour = 0, m_depth = 0;
-  int m_tiles_x = 0, m_lines_per_tile = 0;
+  uint64_t tile_slot(int tx, int ty) const {
+    return uint64_t(block_of(tx, ty)) * uint64_t(m_block_w * m_block_h) + uint64_t((ty % m_block_h) * m_block_w + tx % m_block_w);
+  }
+  int m_lines_per_tile = 0;
+  int m_block_w = 1, m_block_h = 1, m_blocks_x = 1;
+  uint64_t m_frame_bytes = 0;
 };
 
 }  // namespace oovr

@@ -32,7 +32,7 @@ class Cache {
     const uint64_t* tags = &m_tags[first];
     ++m_clock;
     // Scan every way without an early exit: no hard-to-predict branch per
-    // way, and sets are short (at most 64 ways).
+    // way, and sets are short (at most 1024 ways, usually 4 to 16).
     int hit = -1;
     for (int i = 0; i < m_assoc; ++i) hit = tags[i] == line ? i : hit;
     if (hit >= 0) {

@@ -24,7 +24,7 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
   if (!ReplacementPolicies::find(s.replacement))
     throw Error("configuration key '" + prefix + ".replacement' must be one of " + names(ReplacementPolicies::names()) +
                 ", not '" + s.replacement + "'");
-  if (s.ways < 1 || s.ways > 64) throw Error("configuration key '" + prefix + ".ways' must be from 1 to 64");
+  if (s.ways < 1 || s.ways > 1024) throw Error("configuration key '" + prefix + ".ways' must be from 1 to 1024");
   const uint64_t lines = s.size.value / line.value;
   if (s.size.value % line.value != 0 || lines == 0 || lines % uint64_t(s.ways) != 0 ||
       !power_of_two(lines / uint64_t(s.ways)))

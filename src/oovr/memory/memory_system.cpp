@@ -71,6 +71,11 @@ int MemorySystem::nearest_holder(uint64_t page, int requester) const {
   return best;
 }
 
+void MemorySystem::shape(UnitTraffic& out) const {
+  if (out.link_bytes.size() != m_topology->links().size() || out.dram_read_bytes.size() != size_t(m_spec.gpms))
+    out.reset(m_spec.gpms, int(m_topology->links().size()));
+}
+
 void MemorySystem::writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out) {
   if (!ev.dirty) return;
   out.dram_write_bytes[size_t(gpm)] += m_line_bytes;
@@ -103,7 +108,7 @@ void MemorySystem::move(int from, int to, uint64_t bytes, Category c, UnitTraffi
 void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out) {
   if (gpm < 0 || gpm >= m_spec.gpms || sm < 0 || sm >= m_spec.sms_per_gpm)
     throw Error("memory access by GPM " + std::to_string(gpm) + " SM " + std::to_string(sm) + ", which does not exist");
-  if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
+  shape(out);
   Cache& l1 = m_l1[size_t(gpm * m_spec.sms_per_gpm + sm)];
   Cache& l2 = m_l2[size_t(gpm)];
   Cache& rc = m_remote[size_t(gpm)];
@@ -179,7 +184,7 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
   if (gpm < 0 || gpm >= m_spec.gpms) throw Error("pre-allocation to GPM " + std::to_string(gpm) + ", which does not exist");
   if (bytes == 0) return 0;
   if (address + bytes > m_home.size() * m_page_bytes) throw Error("pre-allocation past the end of the address map");
-  if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
+  shape(out);
   uint64_t copied = 0;
   for (uint64_t page = address >> m_page_shift; page <= (address + bytes - 1) >> m_page_shift; ++page) {
     if (m_home[page] < 0) {
@@ -204,7 +209,7 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
 void MemorySystem::transfer(int from, int to, uint64_t bytes, Category category, UnitTraffic& out) {
   if (from < 0 || from >= m_spec.gpms || to < 0 || to >= m_spec.gpms)
     throw Error("transfer between GPMs " + std::to_string(from) + " and " + std::to_string(to) + ", which do not both exist");
-  if (out.link_bytes.size() != m_topology->links().size()) out.reset(m_spec.gpms, int(m_topology->links().size()));
+  shape(out);
   if (from != to) move(from, to, bytes, category, out);
 }
 

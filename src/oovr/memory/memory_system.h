@@ -120,6 +120,8 @@ class MemorySystem {
   void serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out);
   void move(int from, int to, uint64_t bytes, Category c, UnitTraffic& out);
   void writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out);
+  // Sizes `out`'s per-GPM and per-link vectors for this machine when they are not.
+  void shape(UnitTraffic& out) const;
 
   MemorySpec m_spec;
   const AddressMap& m_map;

@@ -42,6 +42,7 @@ struct TileWork {
   // only those that passed it; otherwise every covered fragment.
   uint32_t shaded = 0;
   uint32_t passed = 0;   // fragments that passed the alpha and depth tests
+  uint32_t samples = 0;  // bilinear texture lookups (trilinear = 2, anisotropic = 2 per probe)
   // Framebuffer lines of this tile (bit i = line i of the tile's colour or
   // depth block): depth lines read by covered fragments; colour and depth
   // lines written by passed fragments.

@@ -440,13 +440,13 @@ class TileRasterizer {
           if (!(live & (1u << p))) continue;
           const int x = qx + (p & 1), y = qy + (p >> 1);
           detail::Rgba c{255, 255, 255, 255};
-          if (diffuse) c = detail::sample(*diffuse, u[p], v[p], dd, m_settings.max_anisotropy, lines);
+          if (diffuse) c = detail::sample(*diffuse, u[p], v[p], dd, m_settings.max_anisotropy, lines, m_cur.samples);
           c.r *= cr;
           c.g *= cg;
           c.b *= cb;
           c.a *= ca;
           if (lightmap) {
-            const detail::Rgba l = detail::sample(*lightmap, lu[p], lv[p], dl, m_settings.max_anisotropy, lines);
+            const detail::Rgba l = detail::sample(*lightmap, lu[p], lv[p], dl, m_settings.max_anisotropy, lines, m_cur.samples);
             const float k = mat.lightmap_scale / 255.0f;
             c.r *= l.r * k;
             c.g *= l.g * k;

@@ -148,13 +148,16 @@ inline Rgba mix(const Rgba& x, const Rgba& y, float f) {
 // Isotropic sample at level-of-detail `lambda` (GL 4.5 Section 8.14.2):
 // magnification (lambda <= 0) filters level 0; minification blends the two
 // nearest levels (GL_LINEAR_MIPMAP_LINEAR).
-inline Rgba sample_lod(const SamplerTexture& t, float u, float v, float lambda, QuadLines* lines) {
+// `samples` counts bilinear lookups (a texture unit's unit of work).
+inline Rgba sample_lod(const SamplerTexture& t, float u, float v, float lambda, QuadLines* lines, uint32_t& samples) {
+  ++samples;
   if (!t.mipmapped || !(lambda > 0.0f)) return bilinear(t, 0, u, v, lines);
   if (lambda >= float(t.max_level)) return bilinear(t, t.max_level, u, v, lines);
   const int d1 = int(lambda);
   const float f = lambda - float(d1);
   const Rgba c1 = bilinear(t, d1, u, v, lines);
   if (f == 0.0f) return c1;  // the second level has no weight: not fetched
+  ++samples;
   const Rgba c2 = bilinear(t, d1 + 1, u, v, lines);
   return mix(c1, c2, f);
 }
@@ -168,25 +171,25 @@ struct Derivs {
 // max_aniso isotropic probes along the major axis of the pixel footprint
 // (EXT_texture_filter_anisotropic's reference formulation).
 inline Rgba sample(const SamplerTexture& t, float u, float v, const Derivs& d, int max_aniso,
-                   QuadLines* lines) {
+                   QuadLines* lines, uint32_t& samples) {
   const float w0 = float(t.levels[0].width), h0 = float(t.levels[0].height);
   const float px = std::sqrt((d.dudx * w0) * (d.dudx * w0) + (d.dvdx * h0) * (d.dvdx * h0));
   const float py = std::sqrt((d.dudy * w0) * (d.dudy * w0) + (d.dvdy * h0) * (d.dvdy * h0));
   const float pmax = std::max(px, py);
   if (max_aniso <= 1 || !t.mipmapped) {
     const float lambda = pmax > 0 ? std::log2(pmax) : -1.0f;
-    return sample_lod(t, u, v, lambda, lines);
+    return sample_lod(t, u, v, lambda, lines, samples);
   }
   const float pmin = std::min(px, py);
   const float ratio = pmin > 0 ? pmax / pmin : float(max_aniso);
   const int n = std::clamp(int(std::ceil(ratio)), 1, max_aniso);
   const float lambda = pmax > 0 ? std::log2(pmax / float(n)) : -1.0f;
-  if (n == 1) return sample_lod(t, u, v, lambda, lines);
+  if (n == 1) return sample_lod(t, u, v, lambda, lines, samples);
   const float du = px >= py ? d.dudx : d.dudy, dv = px >= py ? d.dvdx : d.dvdy;
   Rgba acc;
   for (int i = 0; i < n; ++i) {
     const float o = (float(i) + 0.5f) / float(n) - 0.5f;
-    const Rgba c = sample_lod(t, u + du * o, v + dv * o, lambda, lines);
+    const Rgba c = sample_lod(t, u + du * o, v + dv * o, lambda, lines, samples);
     acc.r += c.r;
     acc.g += c.g;
     acc.b += c.b;

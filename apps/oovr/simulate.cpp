@@ -1,0 +1,250 @@
+// oovr simulate / oovr compare: render a scene's frames once, replay them
+// through one or several schemes, and print (or write as JSON) the results.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "oovr/core/error.h"
+#include "oovr/memory/memory_spec.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/load.h"
+#include "oovr/schemes/i_scheme.h"
+
+namespace oovr::cli {
+namespace {
+
+std::string mb(uint64_t b) { return fmt::format("{:.2f} MB", double(b) / 1e6); }
+
+struct Frames {
+  Scene scene;
+  StereoRig rig;
+  std::vector<FrameOutput> outputs;
+  std::vector<const FrameTrace*> traces;
+};
+
+// Renders `count` consecutive frames from `first` (wrapping around the
+// camera path), with the memory system's line size.
+Frames render_frames(const SimulateArgs& a, const Config& config, int count) {
+  Frames f{load_scene(a.scene), a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
+                                                          : parse_eye_resolution(a.eye_resolution), {}, {}};
+  Config probe = config;
+  PipelineSettings p;
+  p.max_anisotropy = a.aniso;
+  p.line_bytes = uint32_t(MemorySpec::from_config(probe).line.value);
+  p.validate();
+  const int path = int(f.scene.camera.frames.size());
+  if (a.frame < 0 || a.frame >= path)
+    throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) + " frames");
+  for (int k = 0; k < count; ++k) {
+    const int frame = (a.frame + k) % path;
+    f.outputs.push_back(render_frame(f.scene, make_stereo_view(f.scene.camera, frame, f.rig), p, frame));
+  }
+  for (const auto& o : f.outputs) f.traces.push_back(&o.trace);
+  return f;
+}
+
+nlohmann::ordered_json to_json(const SchemeResult& r) {
+  nlohmann::ordered_json j;
+  j["scheme"] = r.scheme;
+  j["gpms"] = r.gpms;
+  j["frame_latency_cycles"] = r.frame_latency_cycles();
+  j["frame_latency_ms"] = r.frame_latency_s * 1e3;
+  j["throughput_fps"] = r.throughput_fps;
+  j["frames_in_flight"] = r.frames_in_flight;
+  j["inter_gpm_bytes"] = r.total_inter_gpm_bytes();
+  nlohmann::ordered_json cat = nlohmann::ordered_json::object();
+  for (int c = 0; c < kCategories; ++c) cat[category_name(Category(c))] = r.inter_gpm_bytes[size_t(c)];
+  j["inter_gpm_bytes_by_category"] = cat;
+  j["local_dram_bytes"] = r.local_dram_bytes;
+  j["footprint_bytes"] = r.footprint_bytes;
+  nlohmann::ordered_json busy = nlohmann::ordered_json::array();
+  for (double b : r.gpm_busy_s) busy.push_back(b * r.frequency_hz);
+  j["gpm_busy_cycles"] = busy;
+  j["best_to_worst"] = r.best_to_worst();
+  j["work_units"] = r.units;
+  j["notes"] = r.notes;
+  j["config"] = r.config;
+  return j;
+}
+
+void print_result(const SchemeResult& r) {
+  fmt::print("  frame latency   {:.0f} cycles ({:.3f} ms)\n", r.frame_latency_cycles(), r.frame_latency_s * 1e3);
+  fmt::print("  throughput      {:.1f} frames/s{}\n", r.throughput_fps,
+             r.frames_in_flight > 1 ? fmt::format(" ({} frames in flight)", r.frames_in_flight) : "");
+  fmt::print("  GPM busy        ");
+  for (size_t g = 0; g < r.gpm_busy_s.size(); ++g)
+    fmt::print("{}gpm{} {:.0f}", g ? ", " : "", g, r.gpm_busy_s[g] * r.frequency_hz);
+  fmt::print(" cycles\n  best-to-worst   {:.2f}\n", r.best_to_worst());
+  fmt::print("  inter-GPM bytes {}", mb(r.total_inter_gpm_bytes()));
+  bool first = true;
+  for (int c = 0; c < kCategories; ++c)
+    if (r.inter_gpm_bytes[size_t(c)]) {
+      fmt::print("{}{} {}", first ? ": " : ", ", category_name(Category(c)), mb(r.inter_gpm_bytes[size_t(c)]));
+      first = false;
+    }
+  fmt::print("\n  DRAM bytes      {} (all GPMs, read and written)\n", mb(r.local_dram_bytes));
+  fmt::print("  footprint       {} resident in GPM memories\n", mb(r.footprint_bytes));
+  for (const auto& n : r.notes) fmt::print("  note: {}\n", n);
+}
+
+// Colours a pixel by the GPM that shaded it (the last writer's tile
+// owner), shaded by the image's brightness so the scene stays readable.
+Image gpm_image(const FrameOutput& out, const SchemeResult& r) {
+  static const uint8_t palette[16][3] = {{230, 25, 75},  {60, 180, 75},   {0, 130, 200},  {255, 225, 25},
+                                         {245, 130, 48}, {145, 30, 180},  {70, 240, 240}, {240, 50, 230},
+                                         {210, 245, 60}, {250, 190, 212}, {0, 128, 128},  {220, 190, 255},
+                                         {170, 110, 40}, {255, 250, 200}, {128, 0, 0},    {170, 255, 195}};
+  Image img(out.colour.width, out.colour.height);
+  const int tiles_x = out.trace.tiles_x;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const uint8_t* src = out.colour.pixel(x, y);
+      uint8_t* dst = img.pixel(x, y);
+      dst[3] = 255;
+      const uint32_t obj = out.object_id[size_t(y) * size_t(img.width) + size_t(x)];
+      if (obj == kNoObject) continue;
+      const uint32_t tile = uint32_t(y / kTileSize) * uint32_t(tiles_x) + uint32_t(x / kTileSize);
+      const auto it = r.owner.find({obj, tile});
+      if (it == r.owner.end()) continue;
+      const float lum = (0.3f * src[0] + 0.59f * src[1] + 0.11f * src[2]) / 255.0f;
+      for (int c = 0; c < 3; ++c) dst[c] = uint8_t(palette[it->second % 16][c] * (0.35f + 0.65f * lum));
+    }
+  return img;
+}
+
+// Bytes moved between GPMs for each screen tile's work, black (none)
+// through red to yellow (the most).
+Image traffic_image(const FrameOutput& out, const SchemeResult& r) {
+  Image img(out.colour.width, out.colour.height);
+  uint64_t most = 1;
+  for (uint64_t b : r.tile_inter_gpm_bytes) most = std::max(most, b);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const size_t tile = size_t(y / kTileSize) * size_t(out.trace.tiles_x) + size_t(x / kTileSize);
+      const float v = std::sqrt(float(r.tile_inter_gpm_bytes[tile]) / float(most));
+      uint8_t* p = img.pixel(x, y);
+      p[0] = uint8_t(255 * std::min(1.0f, v * 2));
+      p[1] = uint8_t(255 * std::max(0.0f, v * 2 - 1));
+      p[2] = 0;
+      p[3] = 255;
+    }
+  return img;
+}
+
+void write_json(const std::string& path, const nlohmann::ordered_json& j) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write JSON '" + path + "'");
+  out << j.dump(2) << "\n";
+}
+
+}  // namespace
+
+Config machine_config(const std::string& file, const std::vector<std::string>& settings) {
+  Config c = file.empty() ? Config{} : Config::from_toml_file(file);
+  for (const auto& s : settings) c.set(s);
+  return c;
+}
+
+int simulate(const SimulateArgs& a) {
+  if (!a.gpm_image.empty()) check_image_path(a.gpm_image);
+  if (!a.traffic_image.empty()) check_image_path(a.traffic_image);
+  const Config config = machine_config(a.config, a.settings);
+  if (!Schemes::find(a.scheme)) run_scheme(a.scheme, Scene{}, {}, config);  // throws the unknown-scheme error
+  const int needed = std::max(scheme_frames_needed(a.scheme, config), a.frames);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Frames f = render_frames(a, config, needed);
+  const auto t1 = std::chrono::steady_clock::now();
+  // --frames N for a scheme without frames in flight: each frame on its own.
+  std::vector<SchemeResult> results;
+  const int runs = scheme_frames_needed(a.scheme, config) > 1 ? 1 : a.frames;
+  for (int k = 0; k < runs; ++k) {
+    std::vector<const FrameTrace*> frames(f.traces.begin() + k, f.traces.end());
+    results.push_back(run_scheme(a.scheme, f.scene, frames, config));
+  }
+  const auto t2 = std::chrono::steady_clock::now();
+  const SchemeResult& r = results.front();
+  fmt::print("{}: {} on {} GPMs, frame {}{}, {}x{} stereo\n", f.scene.name, r.scheme, r.gpms, a.frame,
+             runs > 1 ? fmt::format(" to {}", a.frame + runs - 1) : "", f.rig.frame_width(), f.rig.frame_height());
+  print_result(r);
+  if (runs > 1) {
+    double sum = 0;
+    for (const auto& x : results) sum += x.frame_latency_s;
+    fmt::print("  over {} frames: mean latency {:.3f} ms, {:.1f} frames/s\n", runs, sum / runs * 1e3, runs / sum);
+  }
+  fmt::print("  time: rendering {:.0f} ms, simulation {:.0f} ms\n",
+             std::chrono::duration<double, std::milli>(t1 - t0).count(),
+             std::chrono::duration<double, std::milli>(t2 - t1).count());
+  if (!a.json.empty()) {
+    nlohmann::ordered_json j = to_json(r);
+    j["scene"] = f.scene.name;
+    j["frame"] = a.frame;
+    if (runs > 1) {
+      nlohmann::ordered_json per = nlohmann::ordered_json::array();
+      for (const auto& x : results) per.push_back(x.frame_latency_s * x.frequency_hz);
+      j["frame_latency_cycles_per_frame"] = per;
+    }
+    write_json(a.json, j);
+  }
+  if (!a.gpm_image.empty()) write_image(gpm_image(f.outputs.front(), r), a.gpm_image);
+  if (!a.traffic_image.empty()) write_image(traffic_image(f.outputs.front(), r), a.traffic_image);
+  return 0;
+}
+
+int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
+  const Config config = machine_config(a.config, a.settings);
+  int needed = 1;
+  for (const auto& s : schemes) {
+    if (!Schemes::find(s)) run_scheme(s, Scene{}, {}, config);  // throws the unknown-scheme error
+    needed = std::max(needed, scheme_frames_needed(s, config));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const Frames f = render_frames(a, config, needed);
+  const auto t1 = std::chrono::steady_clock::now();
+  std::vector<SchemeResult> results;
+  for (const auto& s : schemes) results.push_back(run_scheme(s, f.scene, f.traces, config));
+  const auto t2 = std::chrono::steady_clock::now();
+  const SchemeResult* base = nullptr;
+  for (const auto& r : results)
+    if (r.scheme == "baseline") base = &r;
+  fmt::print("{}: frame {}, {}x{} stereo, {} GPMs{}\n", f.scene.name, a.frame, f.rig.frame_width(), f.rig.frame_height(),
+             results.front().gpms, base ? "; ratios against baseline" : "");
+  fmt::print("  {:<13} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8}\n", "scheme", "latency ms", "speed-up", "frames/s",
+             "throughput", "inter-GPM", "traffic", "best/worst");
+  for (const auto& r : results) {
+    const double lat = base ? base->frame_latency_s / r.frame_latency_s : 0;
+    const double thr = base ? r.throughput_fps / base->throughput_fps : 0;
+    const double traffic = base && base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0;
+    fmt::print("  {:<13} {:>10.3f} {:>8.2f}x {:>9.1f} {:>9.2f}x {:>9} {:>10.2f}x {:>8.2f}\n", r.scheme, r.frame_latency_s * 1e3,
+               lat, r.throughput_fps, thr, mb(r.total_inter_gpm_bytes()), traffic, r.best_to_worst());
+  }
+  fmt::print("  time: rendering {:.0f} ms ({} frame{}), simulation {:.0f} ms\n",
+             std::chrono::duration<double, std::milli>(t1 - t0).count(), needed, needed > 1 ? "s" : "",
+             std::chrono::duration<double, std::milli>(t2 - t1).count());
+  if (!a.json.empty()) {
+    nlohmann::ordered_json j;
+    j["scene"] = f.scene.name;
+    j["frame"] = a.frame;
+    j["resolution"] = fmt::format("{}x{}", f.rig.frame_width(), f.rig.frame_height());
+    nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+    for (const auto& r : results) {
+      nlohmann::ordered_json x = to_json(r);
+      if (base) {
+        x["speedup_vs_baseline"] = base->frame_latency_s / r.frame_latency_s;
+        x["throughput_vs_baseline"] = r.throughput_fps / base->throughput_fps;
+        x["traffic_vs_baseline"] =
+            base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0.0;
+      }
+      arr.push_back(x);
+    }
+    j["schemes"] = arr;
+    write_json(a.json, j);
+  }
+  return 0;
+}
+
+}  // namespace oovr::cli

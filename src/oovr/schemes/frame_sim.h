@@ -1,0 +1,106 @@
+// The machinery every scheme shares: a memory system and a timing engine
+// for the configured machine, the scene laid out in memory, and ways to turn
+// pieces of a FrameTrace into work units on GPMs. Units replay their memory
+// accesses when they are added, so schemes add them in the order the GPMs
+// would issue them (draw order, GPMs interleaved).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "oovr/memory/memory_system.h"
+#include "oovr/schemes/i_scheme.h"
+#include "oovr/timing/engine.h"
+#include "oovr/timing/gpm_model.h"
+
+namespace oovr {
+
+class FrameSim {
+ public:
+  // `framebuffers`: colour + depth buffer pairs (one per GPM for schemes
+  // that render into private buffers).
+  FrameSim(const SchemeInput& in, int framebuffers = 1);
+
+  int gpms() const { return m_memory_spec.gpms; }
+  int sms() const { return m_memory_spec.sms_per_gpm; }
+  MemorySystem& memory() { return *m_memory; }
+  const SceneLayout& layout() const { return *m_layout; }
+  const MachineModel& machine() const { return *m_machine; }
+  const TimingSpec& timing() const { return m_timing_spec; }
+  const Scene& scene() const { return *m_in.scene; }
+  const FrameTrace& frame(int k = 0) const { return *m_in.frames[size_t(k)]; }
+  uint32_t colour(int fb) const { return m_colour[size_t(fb)]; }
+  uint32_t depth(int fb) const { return m_depth[size_t(fb)]; }
+
+  // Vertex shading and triangle setup of `object` on `gpm`: its vertex and
+  // index buffers are read; `vertex_passes` is 1 with SMP (both eyes share
+  // the transform) and the number of eyes without; `triangles` is the number
+  // set up (summed over the eyes projected into).
+  int geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after = {});
+  // Rasterisation, shading, texturing and ROP work of `records` on `gpm`,
+  // writing framebuffer pair `fb`; `incoming` bytes of set-up triangles
+  // arrive from GPM `from` first (when from != gpm).
+  int tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame,
+            std::vector<int> after = {}, int from = -1, uint64_t incoming = 0);
+  // Moves `bytes` from one GPM to another.
+  int transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after = {});
+  // ROP work merging `pixels` on `gpm` (composition).
+  int compose(int gpm, uint64_t pixels, std::vector<int> after = {});
+
+  // Runs the timing engine; fills the result's timing, traffic and memory
+  // numbers. `frames_in_flight` frames complete in the makespan.
+  SchemeResult finish(const std::string& scheme, int frames_in_flight = 1);
+
+  // Units added so far per GPM (the last one, or -1).
+  int last_unit(int gpm) const { return m_last[size_t(gpm)]; }
+
+ private:
+  int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
+
+  SchemeInput m_in;
+  MemorySpec m_memory_spec;
+  TimingSpec m_timing_spec;
+  std::unique_ptr<AddressMap> m_map;
+  std::unique_ptr<SceneLayout> m_layout;
+  std::unique_ptr<MemorySystem> m_memory;
+  TimingEngine m_engine;
+  std::unique_ptr<MachineModel> m_machine;
+  std::vector<uint32_t> m_colour, m_depth;
+  std::vector<int> m_last;
+  std::vector<LineAccess> m_scratch;
+  SchemeResult m_result;
+};
+
+// Sort-first rendering of frames[0]: every screen tile has an owner GPM that
+// rasterises and shades it (for baseline, tile SFR).
+enum class Geometry {
+  // Once per draw on one GPM (draw index modulo the GPMs), SMP for both
+  // eyes; set-up triangles are sent to the GPMs owning their tiles.
+  shared,
+  // On every GPM that owns tiles the draw covers: the whole draw, SMP for
+  // both eyes (primitive duplication, tile SFR with horizontal strips).
+  duplicated_smp,
+  // The same, but once per eye covered, without SMP (vertical strips
+  // separate the eyes).
+  duplicated_per_eye,
+};
+void sort_first(FrameSim& sim, const std::function<int(int tile_x, int tile_y, int eye)>& owner, Geometry geometry);
+
+// The baseline's tile owners: the first half of the GPMs renders the left
+// eye, the second half the right; an eye's tiles are interleaved over its
+// half (one GPM renders everything when there is one) by framebuffer block
+// (the tiles of one page), so that first touch makes each GPM's pixels
+// local instead of sharing every page.
+std::function<int(int, int, int)> eye_groups_interleaved(int gpms, const SceneLayout& layout);
+
+// The tile records of one object, grouped by eye (in trace order).
+struct ObjectRecords {
+  std::vector<const TileWork*> eye[2];
+};
+std::vector<ObjectRecords> records_by_object(const FrameTrace& t, size_t objects);
+
+}  // namespace oovr

@@ -1,0 +1,85 @@
+// Parallel-rendering schemes (DESIGN.md, "Schemes"): each replays the same
+// FrameTrace through its own distribution of work over GPMs, placement of
+// data and composition, on the memory system and timing model. One file per
+// scheme in impl/, registered by name; schemes never include each other and
+// share only the machinery of frame_sim.h.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "oovr/core/config.h"
+#include "oovr/core/registry.h"
+#include "oovr/memory/memory_system.h"
+#include "oovr/pipeline/frame_trace.h"
+#include "oovr/scene/scene.h"
+
+namespace oovr {
+
+struct SchemeInput {
+  const Scene* scene = nullptr;
+  // Consecutive frames' traces; frames[0] is the frame simulated. Schemes
+  // with frames in flight (AFR) use as many as they need.
+  std::vector<const FrameTrace*> frames;
+  Config config;  // the machine (preset + --set); schemes may override keys
+};
+
+struct SchemeResult {
+  std::string scheme;
+  int gpms = 0;
+  double frequency_hz = 0;
+  double frame_latency_s = 0;   // first command to last pixel composed, one frame
+  double throughput_fps = 0;    // frames per second over the frames in flight
+  int frames_in_flight = 1;
+  std::vector<double> gpm_busy_s;
+  PerCategory inter_gpm_bytes{};
+  uint64_t local_dram_bytes = 0;  // bytes read and written by every DRAM
+  uint64_t footprint_bytes = 0;   // memory resident in all GPMs' DRAMs
+  uint64_t covered_fragments = 0; // fragments rasterised by all units (duplicates included)
+  uint64_t units = 0;
+  // Per screen tile of frames[0]: bytes moved between GPMs for its work.
+  std::vector<uint64_t> tile_inter_gpm_bytes;
+  // (object, tile index) -> GPM that shaded it, for frames[0].
+  std::map<std::pair<uint32_t, uint32_t>, int> owner;
+  std::map<std::string, std::string> config;  // resolved configuration
+  std::vector<std::string> notes;
+
+  double frame_latency_cycles() const { return frame_latency_s * frequency_hz; }
+  uint64_t total_inter_gpm_bytes() const;
+  double best_to_worst() const;  // busiest GPM's busy time over the least busy one's
+};
+
+class Scheme {
+ public:
+  virtual ~Scheme() = default;
+  // Frames of trace the scheme needs for `gpms` GPMs (AFR: one per GPM).
+  virtual int frames_needed(int gpms) const {
+    (void)gpms;
+    return 1;
+  }
+  // Machine overrides this scheme makes to the configuration (e.g. 1 TB/s
+  // links), applied before frames_needed is asked.
+  virtual void configure(Config& config) const { (void)config; }
+  virtual SchemeResult run(const SchemeInput& in) const = 0;
+};
+
+struct SchemeFactory {
+  std::string description;
+  std::function<std::unique_ptr<Scheme>()> make;
+};
+using Schemes = Registry<SchemeFactory>;
+
+// Runs a scheme by name on `frames` (rendered with the memory system's
+// line size). Throws Error for an unknown scheme.
+SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const Config& config);
+// Frames of trace `name` needs with this configuration (1 for unknown names:
+// run_scheme reports those).
+int scheme_frames_needed(const std::string& name, const Config& config);
+
+}  // namespace oovr

@@ -1,0 +1,21 @@
+// baseline-1tb (paper Section 3, Figure 4): the baseline with 1 TB/s links,
+// as fast as local DRAM, which bounds what better locality can gain.
+#include "oovr/schemes/frame_sim.h"
+
+namespace oovr {
+namespace {
+
+class Baseline1Tb final : public Scheme {
+ public:
+  void configure(Config& c) const override { c.set("link.bandwidth", "1TBps"); }
+  SchemeResult run(const SchemeInput& in) const override {
+    FrameSim sim(in);
+    sort_first(sim, eye_groups_interleaved(sim.gpms(), sim.layout()), Geometry::shared);
+    return sim.finish("baseline-1tb");
+  }
+};
+
+const Schemes::Add reg("baseline-1tb", {"the baseline with 1 TB/s links", [] { return std::make_unique<Baseline1Tb>(); }});
+
+}  // namespace
+}  // namespace oovr

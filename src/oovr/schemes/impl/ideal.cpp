@@ -1,0 +1,40 @@
+// ideal: one GPU with N times the resources of a GPM (SMs, raster, ROPs,
+// L2, DRAM bandwidth) and no NUMA: an upper bound for N GPMs.
+#include <cstdio>
+
+#include "oovr/schemes/frame_sim.h"
+
+namespace oovr {
+namespace {
+
+class Ideal final : public Scheme {
+ public:
+  void configure(Config& c) const override {
+    const MemorySpec d;
+    const TimingSpec t;
+    const int64_t n = c.get_int("gpms", d.gpms);
+    const auto scale = [&](const char* key, int64_t value) { c.set(key, std::to_string(value * n)); };
+    scale("gpm.sms", c.get_int("gpm.sms", d.sms_per_gpm));
+    scale("gpm.rops", c.get_int("gpm.rops", t.rops));
+    scale("gpm.raster_fragments_per_clock", c.get_int("gpm.raster_fragments_per_clock", t.raster_fragments_per_clock));
+    scale("gpm.setup_triangles_per_clock", c.get_int("gpm.setup_triangles_per_clock", t.setup_triangles_per_clock));
+    // N times the L2 as N times the ways: the same sets, always valid.
+    const Bytes l2 = c.get_bytes("cache.l2.size", d.l2.size);
+    c.set("cache.l2.size", std::to_string(l2.value * uint64_t(n)));
+    scale("cache.l2.ways", c.get_int("cache.l2.ways", d.l2.ways));
+    char bw[64];
+    std::snprintf(bw, sizeof bw, "%.17gBps", c.get_bandwidth("dram.bandwidth", d.dram_bandwidth).value * double(n));
+    c.set("dram.bandwidth", bw);
+    c.set("gpms", "1");
+  }
+  SchemeResult run(const SchemeInput& in) const override {
+    FrameSim sim(in);
+    sort_first(sim, [](int, int, int) { return 0; }, Geometry::shared);
+    return sim.finish("ideal");
+  }
+};
+
+const Schemes::Add reg("ideal", {"one GPU with N times a GPM's resources, no NUMA", [] { return std::make_unique<Ideal>(); }});
+
+}  // namespace
+}  // namespace oovr

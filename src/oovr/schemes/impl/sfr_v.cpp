@@ -1,0 +1,26 @@
+// sfr-v (paper Section 4.2, tile-level SFR with vertical strips): the stereo
+// frame is cut into one vertical strip of tiles per GPM, so the eyes end up
+// on different GPMs and SMP cannot share geometry between them. Each GPM
+// processes every draw that overlaps its strip (the whole draw's geometry,
+// once per eye it covers: primitive duplication) and renders its strip.
+#include "oovr/schemes/frame_sim.h"
+
+namespace oovr {
+namespace {
+
+class SfrV final : public Scheme {
+ public:
+  SchemeResult run(const SchemeInput& in) const override {
+    FrameSim sim(in);
+    const int n = sim.gpms();
+    const int width = (sim.frame().tiles_x + n - 1) / n;
+    sort_first(sim, [&](int tx, int, int) { return std::min(n - 1, tx / width); }, Geometry::duplicated_per_eye);
+    return sim.finish("sfr-v");
+  }
+};
+
+const Schemes::Add reg("sfr-v", {"tile SFR, one vertical strip per GPM (eyes apart, no SMP sharing)",
+                                 [] { return std::make_unique<SfrV>(); }});
+
+}  // namespace
+}  // namespace oovr

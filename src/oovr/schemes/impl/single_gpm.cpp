@@ -1,0 +1,21 @@
+// single-gpm: one GPM of the configured machine renders the frame alone
+// (SMP, everything local): the unit the scaling studies normalise by.
+#include "oovr/schemes/frame_sim.h"
+
+namespace oovr {
+namespace {
+
+class SingleGpm final : public Scheme {
+ public:
+  void configure(Config& c) const override { c.set("gpms", "1"); }
+  SchemeResult run(const SchemeInput& in) const override {
+    FrameSim sim(in);
+    sort_first(sim, [](int, int, int) { return 0; }, Geometry::shared);
+    return sim.finish("single-gpm");
+  }
+};
+
+const Schemes::Add reg("single-gpm", {"one GPM alone", [] { return std::make_unique<SingleGpm>(); }});
+
+}  // namespace
+}  // namespace oovr

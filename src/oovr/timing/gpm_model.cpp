@@ -1,0 +1,76 @@
+#include "oovr/timing/gpm_model.h"
+
+#include "oovr/core/error.h"
+
+namespace oovr {
+
+TimingSpec TimingSpec::from_config(const Config& c) {
+  TimingSpec d, s;
+  const auto positive = [&](const char* key, int def) {
+    const int64_t v = c.get_int(key, def);
+    if (v < 1 || v > 1000000) throw Error(std::string("configuration key '") + key + "' must be from 1 to 1000000");
+    return int(v);
+  };
+  s.frequency = c.get_frequency("frequency", d.frequency);
+  if (!(s.frequency.value > 0)) throw Error("configuration key 'frequency' must be positive");
+  s.lanes_per_sm = positive("gpm.lanes", d.lanes_per_sm);
+  s.texture_units_per_sm = positive("gpm.texture_units", d.texture_units_per_sm);
+  s.rops = positive("gpm.rops", d.rops);
+  s.rop_pixels_per_clock = positive("gpm.rop_pixels_per_clock", d.rop_pixels_per_clock);
+  s.raster_fragments_per_clock = positive("gpm.raster_fragments_per_clock", d.raster_fragments_per_clock);
+  s.setup_triangles_per_clock = positive("gpm.setup_triangles_per_clock", d.setup_triangles_per_clock);
+  s.vertex_instructions = positive("shader.vertex_instructions", d.vertex_instructions);
+  s.fragment_instructions = positive("shader.fragment_instructions", d.fragment_instructions);
+  s.triangle_bytes = positive("shader.triangle_bytes", d.triangle_bytes);
+  return s;
+}
+
+MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, const Topology& topology,
+                           TimingEngine& engine)
+    : m_timing(timing) {
+  const double f = timing.frequency.value;
+  for (int g = 0; g < memory.gpms; ++g) {
+    const std::string p = "gpm[" + std::to_string(g) + "].";
+    Gpm r;
+    // Shader lanes run vertex and fragment instructions alike (unified shaders).
+    r.shader = engine.add_resource(p + "shader", double(memory.sms_per_gpm) * timing.lanes_per_sm * f);
+    r.texture = engine.add_resource(p + "texture", double(memory.sms_per_gpm) * timing.texture_units_per_sm * f);
+    r.raster = engine.add_resource(p + "raster", double(timing.raster_fragments_per_clock) * f);
+    r.setup = engine.add_resource(p + "setup", double(timing.setup_triangles_per_clock) * f);
+    r.rop = engine.add_resource(p + "rop", double(timing.rops) * timing.rop_pixels_per_clock * f);
+    r.dram = engine.add_resource(p + "dram", memory.dram_bandwidth.value);
+    m_gpm.push_back(r);
+    m_queue.push_back(engine.add_queue("gpm[" + std::to_string(g) + "]"));
+  }
+  for (size_t l = 0; l < topology.links().size(); ++l)
+    m_link.push_back(engine.add_resource("link[" + topology.link_name(int(l)) + "]", memory.link_bandwidth.value));
+}
+
+std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCounts& w, const UnitTraffic& t) const {
+  const Gpm& r = m_gpm[size_t(gpm)];
+  std::vector<std::pair<int, double>> d;
+  const double instructions = double(w.vertices) * m_timing.vertex_instructions +
+                              double(w.quads) * 4.0 * m_timing.fragment_instructions;
+  if (instructions > 0) d.push_back({r.shader, instructions});
+  if (w.samples) d.push_back({r.texture, double(w.samples)});
+  if (w.covered) d.push_back({r.raster, double(w.covered)});
+  if (w.triangles) d.push_back({r.setup, double(w.triangles)});
+  if (w.covered + w.composed) d.push_back({r.rop, double(w.covered + w.composed)});
+  // Every DRAM the unit read or wrote, and every link its data crossed.
+  for (size_t g = 0; g < t.dram_read_bytes.size(); ++g) {
+    const uint64_t bytes = t.dram_read_bytes[g] + t.dram_write_bytes[g];
+    if (bytes) d.push_back({m_gpm[g].dram, double(bytes)});
+  }
+  for (size_t l = 0; l < t.link_bytes.size(); ++l)
+    if (t.link_bytes[l]) d.push_back({m_link[l], double(t.link_bytes[l])});
+  return d;
+}
+
+std::vector<std::pair<int, double>> MachineModel::transfer_demand(const UnitTraffic& t) const {
+  std::vector<std::pair<int, double>> d;
+  for (size_t l = 0; l < t.link_bytes.size(); ++l)
+    if (t.link_bytes[l]) d.push_back({m_link[l], double(t.link_bytes[l])});
+  return d;
+}
+
+}  // namespace oovr

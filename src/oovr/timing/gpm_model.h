@@ -1,0 +1,67 @@
+// The GPM resource model: what a GPM can do per cycle (the paper's Table 1)
+// and how a piece of rendering work becomes demands on those resources and
+// on the memory system's DRAMs and links.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "oovr/core/config.h"
+#include "oovr/memory/memory_spec.h"
+#include "oovr/memory/memory_system.h"
+#include "oovr/timing/engine.h"
+
+namespace oovr {
+
+struct TimingSpec {
+  Hertz frequency{1e9};               // Table 1: 1 GHz
+  int lanes_per_sm = 64;              // Table 1: 64 shader cores per SM
+  int texture_units_per_sm = 4;       // Table 1: 4 texture units per SM
+  int rops = 8;                       // Table 1: 8 ROPs per GPM
+  int rop_pixels_per_clock = 4;       // Section 6: each ROP outputs 4 pixels per cycle
+  int raster_fragments_per_clock = 32;  // per GPM (assumed: two raster engines of 16)
+  int setup_triangles_per_clock = 2;    // per GPM (assumed: one per raster engine)
+  int vertex_instructions = 32;       // per vertex (assumed)
+  int fragment_instructions = 32;     // per fragment lane (assumed)
+  int triangle_bytes = 96;            // a set-up triangle sent to another GPM (3 x 32 B, assumed)
+
+  static TimingSpec from_config(const Config& c);
+};
+
+// Rendering work of one unit, as counts.
+struct WorkCounts {
+  uint64_t vertices = 0;   // vertex shader invocations
+  uint64_t triangles = 0;  // triangles set up (per eye they are projected into)
+  uint64_t covered = 0;    // fragments rasterised (and depth-tested)
+  uint64_t quads = 0;      // 2x2 quads shaded
+  uint64_t samples = 0;    // bilinear texture lookups
+  uint64_t passed = 0;     // fragments written by the ROPs
+  uint64_t composed = 0;   // pixels merged by composition on the ROPs
+};
+
+// The machine's resources in a TimingEngine: per GPM shader lanes, texture
+// units, raster (fragments), setup (triangles) and ROPs, its DRAM, and every
+// link of the topology.
+class MachineModel {
+ public:
+  MachineModel(const TimingSpec& timing, const MemorySpec& memory, const Topology& topology, TimingEngine& engine);
+  // Demands of a unit on GPM `gpm` doing `w`, whose memory traffic was `t`.
+  std::vector<std::pair<int, double>> demand(int gpm, const WorkCounts& w, const UnitTraffic& t) const;
+  // Demands of moving `t`'s link bytes only (a transfer unit).
+  std::vector<std::pair<int, double>> transfer_demand(const UnitTraffic& t) const;
+  int queue(int gpm) const { return m_queue[size_t(gpm)]; }
+  const TimingSpec& timing() const { return m_timing; }
+  double cycles(double seconds) const { return seconds * m_timing.frequency.value; }
+
+ private:
+  TimingSpec m_timing;
+  struct Gpm {
+    int shader, texture, raster, setup, rop, dram;
+  };
+  std::vector<Gpm> m_gpm;
+  std::vector<int> m_link;
+  std::vector<int> m_queue;
+};
+
+}  // namespace oovr
