@@ -1,5 +1,5 @@
 # The two commands of the README's quick start, and a few more.
-#   make demo   installs dependencies, builds (Release), renders the default scene
+#   make demo   installs dependencies, builds (Release), compares every scheme on the default scene
 #   make test   installs dependencies, builds, runs every test
 BUILD ?= build/release
 ASAN_BUILD ?= build/asan
@@ -20,9 +20,10 @@ $(BUILD)/build.ninja:
 build: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
+# The main job: every scheme on the default scene, normalised to the baseline.
 demo: build
 	@mkdir -p $(OUT)
-	$(BUILD)/oovr scene-info --scene courtyard
+	$(BUILD)/oovr compare --scene courtyard --json $(OUT)/compare-courtyard.json
 	$(BUILD)/oovr render --scene courtyard --out $(OUT)/courtyard.png
 
 test: build

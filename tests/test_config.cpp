@@ -6,6 +6,7 @@
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
 #include "oovr/memory/memory_spec.h"
+#include "oovr/timing/gpm_model.h"
 #include "oovr/memory/memory_system.h"
 
 namespace oovr {
@@ -100,6 +101,7 @@ TEST(Config, EveryPresetLoads) {
     SCOPED_TRACE(e.path().filename().string());
     const Config c = Config::from_toml_file(e.path().string());
     const MemorySpec spec = MemorySpec::from_config(c);
+    (void)TimingSpec::from_config(c);
     EXPECT_NO_THROW(c.check_all_used());
     AddressMap map(spec.page, spec.line);
     map.add("buffer", Category::texture, 1 << 20);
@@ -116,6 +118,9 @@ TEST(Config, TheTable1PresetIsTheDefault) {
   const Config empty;
   (void)MemorySpec::from_config(preset);
   (void)MemorySpec::from_config(empty);
+  (void)TimingSpec::from_config(preset);
+  (void)TimingSpec::from_config(empty);
+  preset.check_all_used();
   EXPECT_EQ(preset.resolved(), empty.resolved());
 }
 

@@ -3,6 +3,7 @@
 // the paper's Section 4 that the model reproduces on a built-in scene.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 #include "oovr/pipeline/pipeline.h"
@@ -111,9 +112,32 @@ TEST(Schemes, BoundsAndTileSplits) {
   // horizontal strips of this scene differ widely in work: sky above,
   // fountain and floor below).
   EXPECT_LT(run("sfr-v").frame_latency_s, run("sfr-h").frame_latency_s);
-  // Object-level composition moves the colour and depth of every pixel a
-  // worker wrote to the root.
-  EXPECT_GT(run("object").inter_gpm_bytes[size_t(Category::composition)], 0u);
+}
+
+// Paper P5 and P7 directions, which hold on this scene (not on every game
+// level: docs/paper-comparison.md): vertical strips move more bytes between
+// GPMs than the baseline, object-level SFR fewer.
+TEST(Schemes, TrafficDirections) {
+  const uint64_t base = run("baseline").total_inter_gpm_bytes();
+  EXPECT_GT(run("sfr-v").total_inter_gpm_bytes(), base);
+  EXPECT_LT(run("object").total_inter_gpm_bytes(), base);
+}
+
+// Object-level composition: after each object, a worker sends the colour and
+// depth of every line that object wrote to the root (GPM 0); the root's own
+// objects send nothing.
+TEST(Schemes, ObjectLevelComposesEveryLineAWorkerWrote) {
+  const FrameTrace& t = *courtyard().traces[0];
+  uint64_t lines = 0;
+  for (const TileWork& w : t.tiles)
+    if (w.object % 4 != 0) lines += uint64_t(__builtin_popcount(w.write_mask));
+  const SchemeResult o = run("object");
+  EXPECT_EQ(o.inter_gpm_bytes[size_t(Category::composition)], lines * t.line_bytes * 2);
+  EXPECT_EQ(run("object", {"gpms=1"}).inter_gpm_bytes[size_t(Category::composition)], 0u);
+  // The root composes beside its own rendering, so it is the busiest GPM of
+  // this scene, and no GPM is busy longer than the frame.
+  for (double b : o.gpm_busy_s) EXPECT_LE(b, o.frame_latency_s * (1 + 1e-12));
+  EXPECT_EQ(std::max_element(o.gpm_busy_s.begin(), o.gpm_busy_s.end()) - o.gpm_busy_s.begin(), 0);
 }
 
 }  // namespace

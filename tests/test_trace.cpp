@@ -128,3 +128,80 @@ TEST(Trace, LineBlockShapes) {
 
 }  // namespace
 }  // namespace oovr
+
+#include <chrono>
+#include <filesystem>
+
+#include "oovr/pipeline/trace_cache.h"
+#include "temp_dir.h"
+
+namespace oovr {
+namespace {
+
+TEST(TraceCache, RoundTripsAndRefusesCorruptEntries) {
+  const Rendered r = render_builtin("crowd", 7, 2);
+  const std::string bytes = serialize_trace(r.out.trace);
+  const auto back = deserialize_trace(bytes);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->tiles, r.out.trace.tiles);
+  EXPECT_EQ(back->objects, r.out.trace.objects);
+  EXPECT_EQ(back->tex_lines, r.out.trace.tex_lines);
+  EXPECT_EQ(back->tiles_x, r.out.trace.tiles_x);
+  EXPECT_FALSE(deserialize_trace(bytes.substr(0, bytes.size() / 2)).has_value()) << "truncated";
+  std::string bad = bytes;
+  bad[3] = 'X';
+  EXPECT_FALSE(deserialize_trace(bad).has_value()) << "bad magic";
+  EXPECT_FALSE(deserialize_trace(bytes + "x").has_value()) << "trailing bytes";
+}
+
+TEST(TraceCache, KeysFollowEverythingThatDecidesATrace) {
+  const test::TempDir dir;
+  const TraceCache cache(dir.path().string());
+  const Scene s = BuiltinScenes::find("crowd")->make();
+  StereoRig rig;
+  rig.eye_width = 64;
+  rig.eye_height = 64;
+  const StereoView v0 = make_stereo_view(s.camera, 0, rig), v1 = make_stereo_view(s.camera, 1, rig);
+  PipelineSettings p, q;
+  q.max_anisotropy = 4;
+  const uint64_t f = scene_fingerprint(s);
+  const std::string k = cache.key(f, 0, v0, p);
+  EXPECT_EQ(k, cache.key(scene_fingerprint(BuiltinScenes::find("crowd")->make()), 0, v0, p)) << "deterministic";
+  EXPECT_NE(k, cache.key(f, 1, v1, p));
+  EXPECT_NE(k, cache.key(f, 0, v0, q));
+  EXPECT_NE(k, cache.key(f + 1, 0, v0, p));
+  EXPECT_FALSE(cache.load(k).has_value());
+  const FrameOutput out = render_frame(s, v0, p);
+  EXPECT_TRUE(cache.store(k, out.trace));
+  const auto hit = cache.load(k);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->tiles, out.trace.tiles);
+}
+
+TEST(TraceCache, DropsTheLeastRecentlyUsedTracesWhenFull) {
+  const test::TempDir dir;
+  TraceCache cache(dir.path().string());
+  const Rendered r = render_builtin("crowd", 0, 1);
+  const uint64_t one = serialize_trace(r.out.trace).size();
+  cache.set_max_bytes(2 * one + one / 2);  // room for two traces
+  ASSERT_TRUE(cache.store("a", r.out.trace));
+  ASSERT_TRUE(cache.store("b", r.out.trace));
+  // Make "a" the older file, then use it: "b" becomes the least recent.
+  namespace fs = std::filesystem;
+  const auto past = fs::file_time_type::clock::now() - std::chrono::hours(2);
+  fs::last_write_time(dir.path() / "a.trace", past);
+  fs::last_write_time(dir.path() / "b.trace", past + std::chrono::hours(1));
+  ASSERT_TRUE(cache.load("a").has_value());
+  ASSERT_TRUE(cache.store("c", r.out.trace));
+  EXPECT_TRUE(fs::exists(dir.path() / "a.trace"));
+  EXPECT_FALSE(fs::exists(dir.path() / "b.trace"));
+  EXPECT_TRUE(fs::exists(dir.path() / "c.trace"));
+  // A trace larger than the whole cache is still kept (the newest entry is never dropped).
+  cache.set_max_bytes(1);
+  ASSERT_TRUE(cache.store("d", r.out.trace));
+  EXPECT_TRUE(fs::exists(dir.path() / "d.trace"));
+  EXPECT_FALSE(fs::exists(dir.path() / "a.trace"));
+}
+
+}  // namespace
+}  // namespace oovr

@@ -19,6 +19,7 @@ struct SimulateArgs {
   std::string config;
   std::vector<std::string> settings;
   std::string json, gpm_image, traffic_image;
+  bool no_cache = false;
 };
 
 // A preset (or the built-in defaults) with --set overrides.

@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -196,6 +197,7 @@ int main(int argc, char** argv) {
     cmd->add_option("--config", a.config, "TOML machine preset (default: the paper's Table 1)");
     cmd->add_option("--set", a.settings, "Override a configuration key, e.g. --set link.bandwidth=128GBps (repeatable)");
     cmd->add_option("--json", a.json, "Write the results as JSON");
+    cmd->add_flag("--no-cache", a.no_cache, "Render every frame even when its trace is cached ($OOVR_CACHE_DIR)");
   };
   auto* sim_cmd = app.add_subcommand("simulate", "Replay a scene's frame through one scheme");
   add_machine_options(sim_cmd, sim);
@@ -206,8 +208,15 @@ int main(int argc, char** argv) {
 
   cli::SimulateArgs cmp;
   std::string scheme_list;
+  // The paper's order first (Sections 3 and 4), then the bounds, then any
+  // other registered scheme.
+  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "single-gpm", "ideal"};
+  ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
+                ordered.end());
+  for (const auto& n : Schemes::names())
+    if (std::find(ordered.begin(), ordered.end(), n) == ordered.end()) ordered.push_back(n);
   std::string all_schemes;
-  for (const auto& n : Schemes::names()) all_schemes += (all_schemes.empty() ? "" : ",") + n;
+  for (const auto& n : ordered) all_schemes += (all_schemes.empty() ? "" : ",") + n;
   auto* cmp_cmd = app.add_subcommand("compare", "Run several schemes on the same frame, normalised to baseline");
   add_machine_options(cmp_cmd, cmp);
   cmp_cmd->add_option("--schemes", scheme_list, "Comma-separated schemes (default: all: " + all_schemes + ")");

@@ -12,6 +12,7 @@
 #include "oovr/core/error.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/pipeline/trace_cache.h"
 #include "oovr/scene/load.h"
 #include "oovr/schemes/i_scheme.h"
 
@@ -23,15 +24,18 @@ std::string mb(uint64_t b) { return fmt::format("{:.2f} MB", double(b) / 1e6); }
 struct Frames {
   Scene scene;
   StereoRig rig;
-  std::vector<FrameOutput> outputs;
+  std::vector<FrameOutput> outputs;  // image and object ids only where rendered
   std::vector<const FrameTrace*> traces;
+  int cached = 0;
 };
 
-// Renders `count` consecutive frames from `first` (wrapping around the
-// camera path), with the memory system's line size.
-Frames render_frames(const SimulateArgs& a, const Config& config, int count) {
+// The traces of `count` consecutive frames from a.frame (wrapping around the
+// camera path), with the memory system's line size: from the trace cache
+// when they are there, rendered (and cached) otherwise. The first frame is
+// always rendered when its image is needed.
+Frames render_frames(const SimulateArgs& a, const Config& config, int count, bool need_first_image = false) {
   Frames f{load_scene(a.scene), a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
-                                                          : parse_eye_resolution(a.eye_resolution), {}, {}};
+                                                          : parse_eye_resolution(a.eye_resolution), {}, {}, 0};
   Config probe = config;
   PipelineSettings p;
   p.max_anisotropy = a.aniso;
@@ -40,9 +44,23 @@ Frames render_frames(const SimulateArgs& a, const Config& config, int count) {
   const int path = int(f.scene.camera.frames.size());
   if (a.frame < 0 || a.frame >= path)
     throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) + " frames");
+  const TraceCache cache;
+  const uint64_t fingerprint = a.no_cache ? 0 : scene_fingerprint(f.scene);
   for (int k = 0; k < count; ++k) {
     const int frame = (a.frame + k) % path;
-    f.outputs.push_back(render_frame(f.scene, make_stereo_view(f.scene.camera, frame, f.rig), p, frame));
+    const StereoView view = make_stereo_view(f.scene.camera, frame, f.rig);
+    const std::string key = cache.key(fingerprint, frame, view, p);
+    if (!a.no_cache && !(k == 0 && need_first_image)) {
+      if (auto t = cache.load(key)) {
+        FrameOutput o;
+        o.trace = std::move(*t);
+        f.outputs.push_back(std::move(o));
+        ++f.cached;
+        continue;
+      }
+    }
+    f.outputs.push_back(render_frame(f.scene, view, p, frame));
+    if (!a.no_cache) cache.store(key, f.outputs.back().trace);
   }
   for (const auto& o : f.outputs) f.traces.push_back(&o.trace);
   return f;
@@ -157,7 +175,7 @@ int simulate(const SimulateArgs& a) {
   if (!Schemes::find(a.scheme)) run_scheme(a.scheme, Scene{}, {}, config);  // throws the unknown-scheme error
   const int needed = std::max(scheme_frames_needed(a.scheme, config), a.frames);
   const auto t0 = std::chrono::steady_clock::now();
-  const Frames f = render_frames(a, config, needed);
+  const Frames f = render_frames(a, config, needed, !a.gpm_image.empty() || !a.traffic_image.empty());
   const auto t1 = std::chrono::steady_clock::now();
   // --frames N for a scheme without frames in flight: each frame on its own.
   std::vector<SchemeResult> results;
@@ -176,8 +194,8 @@ int simulate(const SimulateArgs& a) {
     for (const auto& x : results) sum += x.frame_latency_s;
     fmt::print("  over {} frames: mean latency {:.3f} ms, {:.1f} frames/s\n", runs, sum / runs * 1e3, runs / sum);
   }
-  fmt::print("  time: rendering {:.0f} ms, simulation {:.0f} ms\n",
-             std::chrono::duration<double, std::milli>(t1 - t0).count(),
+  fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
+             std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.outputs.size(),
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   if (!a.json.empty()) {
     nlohmann::ordered_json j = to_json(r);
@@ -222,8 +240,8 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
     fmt::print("  {:<13} {:>10.3f} {:>8.2f}x {:>9.1f} {:>9.2f}x {:>9} {:>10.2f}x {:>8.2f}\n", r.scheme, r.frame_latency_s * 1e3,
                lat, r.throughput_fps, thr, mb(r.total_inter_gpm_bytes()), traffic, r.best_to_worst());
   }
-  fmt::print("  time: rendering {:.0f} ms ({} frame{}), simulation {:.0f} ms\n",
-             std::chrono::duration<double, std::milli>(t1 - t0).count(), needed, needed > 1 ? "s" : "",
+  fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
+             std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, needed,
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   if (!a.json.empty()) {
     nlohmann::ordered_json j;

@@ -59,6 +59,7 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
   u.after.erase(std::remove(u.after.begin(), u.after.end(), -1), u.after.end());
   const int id = m_engine.add_unit(std::move(u));
   if (in_queue) m_last[size_t(gpm)] = id;
+  m_unit_gpm.push_back(gpm);
   m_result.covered_fragments += w.covered;
   ++m_result.units;
   return id;
@@ -134,6 +135,7 @@ int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector
   // A transfer between GPMs waits for the link latency of every hop.
   u.latency = m_memory_spec.link_latency.value * double(m_memory->topology().route(from, to).size());
   ++m_result.units;
+  m_unit_gpm.push_back(-1);
   return m_engine.add_unit(std::move(u));
 }
 
@@ -142,7 +144,7 @@ int FrameSim::compose(int gpm, uint64_t pixels, std::vector<int> after) {
   w.composed = pixels;
   UnitTraffic t;
   t.reset(gpms(), int(m_memory->topology().links().size()));
-  return add(gpm, w, t, std::move(after));
+  return add(gpm, w, t, std::move(after), false);
 }
 
 SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight) {
@@ -154,8 +156,27 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight) {
   s.frames_in_flight = frames_in_flight;
   s.frame_latency_s = r.makespan;
   s.throughput_fps = r.makespan > 0 ? double(frames_in_flight) / r.makespan : 0;
-  s.gpm_busy_s.clear();
-  for (int g = 0; g < gpms(); ++g) s.gpm_busy_s.push_back(r.queue_busy[size_t(m_machine->queue(g))]);
+  // A GPM is busy while any of its units runs: the union of their
+  // intervals (its queue's units never overlap; composition may overlap them).
+  std::vector<std::vector<std::pair<double, double>>> spans(static_cast<size_t>(gpms()));
+  for (size_t i = 0; i < m_unit_gpm.size(); ++i)
+    if (m_unit_gpm[i] >= 0) spans[size_t(m_unit_gpm[i])].push_back({r.units[i].start, r.units[i].finish});
+  s.gpm_busy_s.assign(size_t(gpms()), 0);
+  for (int g = 0; g < gpms(); ++g) {
+    auto& v = spans[size_t(g)];
+    std::sort(v.begin(), v.end());
+    double end = -1, busy = 0;
+    for (const auto& [a, b] : v) {
+      if (a >= end) {
+        busy += b - a;
+        end = b;
+      } else if (b > end) {
+        busy += b - end;
+        end = b;
+      }
+    }
+    s.gpm_busy_s[size_t(g)] = busy;
+  }
   const TrafficTotals& t = m_memory->totals();
   s.inter_gpm_bytes = t.inter_gpm_bytes;
   s.local_dram_bytes = 0;

@@ -48,7 +48,10 @@ class FrameSim {
             std::vector<int> after = {}, int from = -1, uint64_t incoming = 0);
   // Moves `bytes` from one GPM to another.
   int transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after = {});
-  // ROP work merging `pixels` on `gpm` (composition).
+  // ROP work merging `pixels` on `gpm` (composition). It runs beside the
+  // GPM's pipeline, not in its queue (the colour output stage works
+  // asynchronously with shading, paper Section 5.3), sharing its ROPs with
+  // whatever the GPM is rendering; it counts as busy time of the GPM.
   int compose(int gpm, uint64_t pixels, std::vector<int> after = {});
 
   // Runs the timing engine; fills the result's timing, traffic and memory
@@ -71,6 +74,7 @@ class FrameSim {
   std::unique_ptr<MachineModel> m_machine;
   std::vector<uint32_t> m_colour, m_depth;
   std::vector<int> m_last;
+  std::vector<int> m_unit_gpm;  // per unit: the GPM whose busy time it counts in, or -1
   std::vector<LineAccess> m_scratch;
   SchemeResult m_result;
 };

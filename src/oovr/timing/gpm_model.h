@@ -19,7 +19,7 @@ struct TimingSpec {
   int lanes_per_sm = 64;              // Table 1: 64 shader cores per SM
   int texture_units_per_sm = 4;       // Table 1: 4 texture units per SM
   int rops = 8;                       // Table 1: 8 ROPs per GPM
-  int rop_pixels_per_clock = 4;       // Section 6: each ROP outputs 4 pixels per cycle
+  int rop_pixels_per_clock = 4;       // Section 3: each ROP outputs 4 pixels per cycle
   int raster_fragments_per_clock = 32;  // per GPM (assumed: two raster engines of 16)
   int setup_triangles_per_clock = 2;    // per GPM (assumed: one per raster engine)
   int vertex_instructions = 32;       // per vertex (assumed)
