@@ -123,6 +123,24 @@ TEST(Schemes, TrafficDirections) {
   EXPECT_LT(run("object").total_inter_gpm_bytes(), base);
 }
 
+// GPMs working on one draw at once are replayed interleaved, so no GPM is
+// favoured by first touch: before, the lowest-numbered GPM of each draw
+// claimed every texture page and fetched nothing remotely. Every GPM of the
+// baseline now reads remote data, and none reads more than 3x another.
+TEST(Schemes, FirstTouchFavoursNoGpm) {
+  const SchemeResult r = run("baseline");
+  std::vector<uint64_t> remote(4, 0);
+  std::vector<bool> seen(r.tile_inter_gpm_bytes.size(), false);
+  for (const auto& [key, gpm] : r.owner) {
+    if (seen[key.second]) continue;  // a baseline tile always has the same owner
+    seen[key.second] = true;
+    remote[size_t(gpm)] += r.tile_inter_gpm_bytes[key.second];
+  }
+  const auto [lo, hi] = std::minmax_element(remote.begin(), remote.end());
+  EXPECT_GT(*lo, 0u);
+  EXPECT_LT(*hi, 3 * *lo);
+}
+
 // Object-level composition: after each object, a worker sends the colour and
 // depth of every line that object wrote to the root (GPM 0); the root's own
 // objects send nothing.

@@ -82,45 +82,64 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   return add(gpm, w, t, std::move(after));
 }
 
+void FrameSim::replay(int gpm, const TileWork& r, int fb, const FrameTrace& frame, UnitTraffic& total, WorkCounts& w) {
+  m_scratch.clear();
+  for (uint32_t k = 0; k < r.tex_count; ++k)
+    m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + k]), Category::texture, false});
+  for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
+    if (r.depth_read_mask & (1u << l))
+      m_scratch.push_back({m_layout->frame_line(depth(fb), r.tile_x, r.tile_y, l), Category::depth, false});
+    if (r.write_mask & (1u << l)) {
+      m_scratch.push_back({m_layout->frame_line(depth(fb), r.tile_x, r.tile_y, l), Category::depth, true});
+      m_scratch.push_back({m_layout->frame_line(colour(fb), r.tile_x, r.tile_y, l), Category::colour, true});
+    }
+  }
+  UnitTraffic t;
+  const uint32_t tile = uint32_t(r.tile_y) * uint32_t(frame.tiles_x) + r.tile_x;
+  m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, t);
+  if (&frame == m_in.frames[0]) {
+    m_result.tile_inter_gpm_bytes[tile] += t.total_inter_gpm_bytes();
+    m_result.owner[{r.object, tile}] = gpm;
+  }
+  // Accumulate the record's traffic into the unit's.
+  total.accesses += t.accesses;
+  for (size_t g = 0; g < t.dram_read_bytes.size(); ++g) {
+    total.dram_read_bytes[g] += t.dram_read_bytes[g];
+    total.dram_write_bytes[g] += t.dram_write_bytes[g];
+  }
+  for (size_t l = 0; l < t.link_bytes.size(); ++l) total.link_bytes[l] += t.link_bytes[l];
+  w.covered += r.covered;
+  w.quads += r.quads;
+  w.samples += r.samples;
+  w.passed += r.passed;
+}
+
 int FrameSim::tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame,
                     std::vector<int> after, int from, uint64_t incoming) {
-  UnitTraffic total;
-  total.reset(gpms(), int(m_memory->topology().links().size()));
-  if (from >= 0 && from != gpm && incoming) m_memory->transfer(from, gpm, incoming, Category::vertex, total);
-  WorkCounts w;
-  const bool primary = &frame == m_in.frames[0];
-  for (const TileWork* r : records) {
-    m_scratch.clear();
-    for (uint32_t k = 0; k < r->tex_count; ++k)
-      m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r->tex_begin + k]), Category::texture, false});
-    for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
-      if (r->depth_read_mask & (1u << l))
-        m_scratch.push_back({m_layout->frame_line(depth(fb), r->tile_x, r->tile_y, l), Category::depth, false});
-      if (r->write_mask & (1u << l)) {
-        m_scratch.push_back({m_layout->frame_line(depth(fb), r->tile_x, r->tile_y, l), Category::depth, true});
-        m_scratch.push_back({m_layout->frame_line(colour(fb), r->tile_x, r->tile_y, l), Category::colour, true});
-      }
-    }
-    UnitTraffic t;
-    const uint32_t tile = uint32_t(r->tile_y) * uint32_t(frame.tiles_x) + r->tile_x;
-    m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, t);
-    if (primary) {
-      m_result.tile_inter_gpm_bytes[tile] += t.total_inter_gpm_bytes();
-      m_result.owner[{r->object, tile}] = gpm;
-    }
-    // Accumulate the record's traffic into the unit's.
-    total.accesses += t.accesses;
-    for (size_t g = 0; g < t.dram_read_bytes.size(); ++g) {
-      total.dram_read_bytes[g] += t.dram_read_bytes[g];
-      total.dram_write_bytes[g] += t.dram_write_bytes[g];
-    }
-    for (size_t l = 0; l < t.link_bytes.size(); ++l) total.link_bytes[l] += t.link_bytes[l];
-    w.covered += r->covered;
-    w.quads += r->quads;
-    w.samples += r->samples;
-    w.passed += r->passed;
+  TileJob job{gpm, {records.begin(), records.end()}, fb, std::move(after), from, incoming};
+  return tiles_together({std::move(job)}, frame).front();
+}
+
+std::vector<int> FrameSim::tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame) {
+  const size_t n = jobs.size();
+  std::vector<UnitTraffic> traffic(n);
+  std::vector<WorkCounts> work(n);
+  size_t rounds = 0;
+  for (size_t j = 0; j < n; ++j) {
+    traffic[j].reset(gpms(), int(m_memory->topology().links().size()));
+    const TileJob& job = jobs[j];
+    if (job.from >= 0 && job.from != job.gpm && job.incoming)
+      m_memory->transfer(job.from, job.gpm, job.incoming, Category::vertex, traffic[j]);
+    rounds = std::max(rounds, job.records.size());
   }
-  return add(gpm, w, total, std::move(after));
+  for (size_t k = 0; k < rounds; ++k)
+    for (size_t i = 0; i < n; ++i) {
+      const size_t j = (k + i) % n;
+      if (k < jobs[j].records.size()) replay(jobs[j].gpm, *jobs[j].records[k], jobs[j].fb, frame, traffic[j], work[j]);
+    }
+  std::vector<int> units;
+  for (size_t j = 0; j < n; ++j) units.push_back(add(jobs[j].gpm, work[j], traffic[j], jobs[j].after));
+  return units;
 }
 
 int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after) {
@@ -208,11 +227,14 @@ void sort_first(FrameSim& sim, const std::function<int(int, int, int)>& owner, G
       // set-up triangles of their tiles.
       const int geo_gpm = int(o % uint32_t(n));
       const int geo = sim.geometry(geo_gpm, o, 1, uint64_t(ow.setup[0]) + ow.setup[1]);
+      std::vector<FrameSim::TileJob> jobs;
       for (int g = 0; g < n; ++g)
         if (!mine[size_t(g)].empty())
-          sim.tiles(g, mine[size_t(g)], 0, f, {geo}, geo_gpm, triangles_of[size_t(g)] * uint64_t(sim.timing().triangle_bytes));
+          jobs.push_back({g, mine[size_t(g)], 0, {geo}, geo_gpm, triangles_of[size_t(g)] * uint64_t(sim.timing().triangle_bytes)});
+      sim.tiles_together(jobs, f);
       continue;
     }
+    std::vector<FrameSim::TileJob> jobs;
     for (int g = 0; g < n; ++g) {
       if (mine[size_t(g)].empty()) continue;
       const int eyes = __builtin_popcount(unsigned(eyes_of[size_t(g)]));
@@ -220,9 +242,9 @@ void sort_first(FrameSim& sim, const std::function<int(int, int, int)>& owner, G
       for (int e = 0; e < 2; ++e)
         if (eyes_of[size_t(g)] & (1 << e)) tris += ow.setup[e];
       const int passes = geometry == Geometry::duplicated_smp ? 1 : eyes;
-      const int geo = sim.geometry(g, o, passes, tris);
-      sim.tiles(g, mine[size_t(g)], 0, f, {geo});
+      jobs.push_back({g, mine[size_t(g)], 0, {sim.geometry(g, o, passes, tris)}});
     }
+    sim.tiles_together(jobs, f);
   }
 }
 

@@ -46,6 +46,20 @@ class FrameSim {
   // arrive from GPM `from` first (when from != gpm).
   int tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame,
             std::vector<int> after = {}, int from = -1, uint64_t incoming = 0);
+  // Several GPMs' tile work on one draw, which runs at the same time: the
+  // memory accesses are replayed record by record in turn across the jobs
+  // (the GPM starting each round rotates), so that first touch and the
+  // home's L2 see the GPMs interleaved as they would be, not one GPM's whole
+  // share before the next's. Returns the units, in job order.
+  struct TileJob {
+    int gpm;
+    std::vector<const TileWork*> records;
+    int fb = 0;
+    std::vector<int> after;
+    int from = -1;
+    uint64_t incoming = 0;
+  };
+  std::vector<int> tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame);
   // Moves `bytes` from one GPM to another.
   int transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after = {});
   // ROP work merging `pixels` on `gpm` (composition). It runs beside the
@@ -63,6 +77,8 @@ class FrameSim {
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
+  // Replays one record's memory accesses on `gpm` into `total` and `w`.
+  void replay(int gpm, const TileWork& r, int fb, const FrameTrace& frame, UnitTraffic& total, WorkCounts& w);
 
   SchemeInput m_in;
   MemorySpec m_memory_spec;
