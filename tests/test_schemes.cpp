@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 
+#include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/schemes/i_scheme.h"
@@ -156,6 +157,44 @@ TEST(Schemes, ObjectLevelComposesEveryLineAWorkerWrote) {
   // this scene, and no GPM is busy longer than the frame.
   for (double b : o.gpm_busy_s) EXPECT_LE(b, o.frame_latency_s * (1 + 1e-12));
   EXPECT_EQ(std::max_element(o.gpm_busy_s.begin(), o.gpm_busy_s.end()) - o.gpm_busy_s.begin(), 0);
+}
+
+}  // namespace
+}  // namespace oovr
+
+namespace oovr {
+namespace {
+
+// Every scheme is measured on the same frames: single-frame schemes run on
+// each frame alone and are averaged; AFR runs its frames in flight at once.
+TEST(Schemes, AWindowAveragesTheSameFramesForEveryScheme) {
+  const Rendered& r = courtyard();
+  const Config c;
+  std::vector<SchemeResult> runs;
+  const SchemeResult w = run_scheme_window("sfr-v", r.scene, r.traces, c, 4, &runs);
+  ASSERT_EQ(runs.size(), 4u);
+  double sum = 0;
+  uint64_t bytes = 0;
+  for (size_t k = 0; k < 4; ++k) {
+    const SchemeResult alone = run_scheme("sfr-v", r.scene, {r.traces[k]}, c);
+    EXPECT_EQ(runs[k].frame_latency_s, alone.frame_latency_s);
+    EXPECT_EQ(w.frame_latencies_s[k], alone.frame_latency_s);
+    sum += alone.frame_latency_s;
+    bytes += alone.total_inter_gpm_bytes();
+  }
+  EXPECT_DOUBLE_EQ(w.frame_latency_s, sum / 4);
+  EXPECT_DOUBLE_EQ(w.throughput_fps, 4 / sum);
+  EXPECT_NEAR(double(w.total_inter_gpm_bytes()), double(bytes) / 4, 8.0);  // rounded per category
+
+  const SchemeResult afr = run_scheme_window("afr", r.scene, r.traces, c, 4);
+  ASSERT_EQ(afr.frame_latencies_s.size(), 4u);
+  // Frame k renders alone on its GPM, from local copies: its latency is a
+  // single GPM's time for that frame.
+  for (size_t k = 0; k < 4; ++k)
+    EXPECT_NEAR(afr.frame_latencies_s[k], run_scheme("single-gpm", r.scene, {r.traces[k]}, c).frame_latency_s,
+                1e-3 * afr.frame_latencies_s[k]);
+  EXPECT_THROW(run_scheme_window("afr", r.scene, r.traces, c, 3), Error);
+  EXPECT_THROW(run_scheme_window("baseline", r.scene, r.traces, c, 5), Error);
 }
 
 }  // namespace

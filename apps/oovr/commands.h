@@ -12,7 +12,7 @@ struct SimulateArgs {
   std::string scene;
   std::string scheme;
   int frame = 0;
-  int frames = 1;
+  int frames = 0;  // 0: one per GPM
   std::string resolution = "1280x1024";
   std::string eye_resolution;
   int aniso = 16;

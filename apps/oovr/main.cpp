@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   auto* sim_cmd = app.add_subcommand("simulate", "Replay a scene's frame through one scheme");
   add_machine_options(sim_cmd, sim);
   sim_cmd->add_option("--scheme", sim.scheme, "Scheme (oovr compare --help lists them)")->required();
-  sim_cmd->add_option("--frames", sim.frames, "Frames to simulate, one after another")->capture_default_str()->check(CLI::Range(1, 1000));
+  sim_cmd->add_option("--frames", sim.frames, "Frames to measure, from --frame on (default: one per GPM)")->check(CLI::Range(1, 1000));
   sim_cmd->add_option("--gpm-image", sim.gpm_image, "Write the frame coloured by the GPM that shaded each pixel");
   sim_cmd->add_option("--traffic-image", sim.traffic_image, "Write inter-GPM bytes per screen tile as a heat map");
 
@@ -219,6 +219,8 @@ int main(int argc, char** argv) {
   for (const auto& n : ordered) all_schemes += (all_schemes.empty() ? "" : ",") + n;
   auto* cmp_cmd = app.add_subcommand("compare", "Run several schemes on the same frame, normalised to baseline");
   add_machine_options(cmp_cmd, cmp);
+  cmp_cmd->add_option("--frames", cmp.frames, "Frames to measure every scheme on, from --frame on (default: one per GPM)")
+      ->check(CLI::Range(1, 1000));
   cmp_cmd->add_option("--schemes", scheme_list, "Comma-separated schemes (default: all: " + all_schemes + ")");
 
   RenderArgs render;

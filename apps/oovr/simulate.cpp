@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numeric>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -168,31 +169,57 @@ Config machine_config(const std::string& file, const std::vector<std::string>& s
   return c;
 }
 
+namespace {
+
+// The frames every scheme is measured on: --frames, else one per GPM (so
+// that AFR's frames in flight and every other scheme see the same frames).
+int window_of(const SimulateArgs& a, const Config& config, const std::vector<std::string>& schemes) {
+  for (const auto& s : schemes)
+    if (!Schemes::find(s)) run_scheme(s, Scene{}, {}, config);  // throws the unknown-scheme error
+  if (a.frames > 0) {
+    for (const auto& s : schemes) {
+      const int m = scheme_frames_needed(s, config);
+      if (a.frames % m != 0)
+        throw Error(fmt::format("--frames {}: {} renders {} frames at once (one per GPM), so --frames must be a multiple of {}",
+                                a.frames, s, m, m));
+    }
+    return a.frames;
+  }
+  int w = int(MemorySpec::from_config(config).gpms);
+  for (const auto& s : schemes) w = std::lcm(w, scheme_frames_needed(s, config));
+  return w;
+}
+
+std::string frame_range(int first, int window) {
+  return window > 1 ? fmt::format("frames {} to {}", first, first + window - 1) : fmt::format("frame {}", first);
+}
+
+nlohmann::ordered_json latencies_json(const SchemeResult& r) {
+  nlohmann::ordered_json per = nlohmann::ordered_json::array();
+  for (double l : r.frame_latencies_s) per.push_back(l * r.frequency_hz);
+  return per;
+}
+
+}  // namespace
+
 int simulate(const SimulateArgs& a) {
   if (!a.gpm_image.empty()) check_image_path(a.gpm_image);
   if (!a.traffic_image.empty()) check_image_path(a.traffic_image);
   const Config config = machine_config(a.config, a.settings);
-  if (!Schemes::find(a.scheme)) run_scheme(a.scheme, Scene{}, {}, config);  // throws the unknown-scheme error
-  const int needed = std::max(scheme_frames_needed(a.scheme, config), a.frames);
+  const int window = window_of(a, config, {a.scheme});
   const auto t0 = std::chrono::steady_clock::now();
-  const Frames f = render_frames(a, config, needed, !a.gpm_image.empty() || !a.traffic_image.empty());
+  const Frames f = render_frames(a, config, window, !a.gpm_image.empty() || !a.traffic_image.empty());
   const auto t1 = std::chrono::steady_clock::now();
-  // --frames N for a scheme without frames in flight: each frame on its own.
-  std::vector<SchemeResult> results;
-  const int runs = scheme_frames_needed(a.scheme, config) > 1 ? 1 : a.frames;
-  for (int k = 0; k < runs; ++k) {
-    std::vector<const FrameTrace*> frames(f.traces.begin() + k, f.traces.end());
-    results.push_back(run_scheme(a.scheme, f.scene, frames, config));
-  }
+  const SchemeResult r = run_scheme_window(a.scheme, f.scene, f.traces, config, window);
   const auto t2 = std::chrono::steady_clock::now();
-  const SchemeResult& r = results.front();
-  fmt::print("{}: {} on {} GPMs, frame {}{}, {}x{} stereo\n", f.scene.name, r.scheme, r.gpms, a.frame,
-             runs > 1 ? fmt::format(" to {}", a.frame + runs - 1) : "", f.rig.frame_width(), f.rig.frame_height());
+  fmt::print("{}: {} on {} GPMs, {}, {}x{} stereo{}\n", f.scene.name, r.scheme, r.gpms, frame_range(a.frame, window),
+             f.rig.frame_width(), f.rig.frame_height(), window > 1 ? "; means per frame" : "");
   print_result(r);
-  if (runs > 1) {
-    double sum = 0;
-    for (const auto& x : results) sum += x.frame_latency_s;
-    fmt::print("  over {} frames: mean latency {:.3f} ms, {:.1f} frames/s\n", runs, sum / runs * 1e3, runs / sum);
+  if (window > 1) {
+    fmt::print("  frame latencies ");
+    for (size_t k = 0; k < r.frame_latencies_s.size(); ++k)
+      fmt::print("{}{:.0f}", k ? ", " : "", r.frame_latencies_s[k] * r.frequency_hz);
+    fmt::print(" cycles\n");
   }
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.outputs.size(),
@@ -201,11 +228,8 @@ int simulate(const SimulateArgs& a) {
     nlohmann::ordered_json j = to_json(r);
     j["scene"] = f.scene.name;
     j["frame"] = a.frame;
-    if (runs > 1) {
-      nlohmann::ordered_json per = nlohmann::ordered_json::array();
-      for (const auto& x : results) per.push_back(x.frame_latency_s * x.frequency_hz);
-      j["frame_latency_cycles_per_frame"] = per;
-    }
+    j["frames"] = window;
+    j["frame_latency_cycles_per_frame"] = latencies_json(r);
     write_json(a.json, j);
   }
   if (!a.gpm_image.empty()) write_image(gpm_image(f.outputs.front(), r), a.gpm_image);
@@ -215,22 +239,19 @@ int simulate(const SimulateArgs& a) {
 
 int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   const Config config = machine_config(a.config, a.settings);
-  int needed = 1;
-  for (const auto& s : schemes) {
-    if (!Schemes::find(s)) run_scheme(s, Scene{}, {}, config);  // throws the unknown-scheme error
-    needed = std::max(needed, scheme_frames_needed(s, config));
-  }
+  const int window = window_of(a, config, schemes);
   const auto t0 = std::chrono::steady_clock::now();
-  const Frames f = render_frames(a, config, needed);
+  const Frames f = render_frames(a, config, window);
   const auto t1 = std::chrono::steady_clock::now();
   std::vector<SchemeResult> results;
-  for (const auto& s : schemes) results.push_back(run_scheme(s, f.scene, f.traces, config));
+  for (const auto& s : schemes) results.push_back(run_scheme_window(s, f.scene, f.traces, config, window));
   const auto t2 = std::chrono::steady_clock::now();
   const SchemeResult* base = nullptr;
   for (const auto& r : results)
     if (r.scheme == "baseline") base = &r;
-  fmt::print("{}: frame {}, {}x{} stereo, {} GPMs{}\n", f.scene.name, a.frame, f.rig.frame_width(), f.rig.frame_height(),
-             results.front().gpms, base ? "; ratios against baseline" : "");
+  fmt::print("{}: {}, {}x{} stereo, {} GPMs; {}{}\n", f.scene.name, frame_range(a.frame, window), f.rig.frame_width(),
+             f.rig.frame_height(), results.front().gpms, window > 1 ? "means per frame" : "one frame",
+             base ? ", ratios against baseline" : "");
   fmt::print("  {:<13} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8}\n", "scheme", "latency ms", "speed-up", "frames/s",
              "throughput", "inter-GPM", "traffic", "best/worst");
   for (const auto& r : results) {
@@ -241,16 +262,18 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
                lat, r.throughput_fps, thr, mb(r.total_inter_gpm_bytes()), traffic, r.best_to_worst());
   }
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
-             std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, needed,
+             std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, window,
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   if (!a.json.empty()) {
     nlohmann::ordered_json j;
     j["scene"] = f.scene.name;
     j["frame"] = a.frame;
+    j["frames"] = window;
     j["resolution"] = fmt::format("{}x{}", f.rig.frame_width(), f.rig.frame_height());
     nlohmann::ordered_json arr = nlohmann::ordered_json::array();
     for (const auto& r : results) {
       nlohmann::ordered_json x = to_json(r);
+      x["frame_latency_cycles_per_frame"] = latencies_json(r);
       if (base) {
         x["speedup_vs_baseline"] = base->frame_latency_s / r.frame_latency_s;
         x["throughput_vs_baseline"] = r.throughput_fps / base->throughput_fps;

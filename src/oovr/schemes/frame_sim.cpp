@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "oovr/core/error.h"
+#include "oovr/core/parallel.h"
 
 namespace oovr {
 
@@ -174,6 +175,7 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight) {
   s.frequency_hz = m_timing_spec.frequency.value;
   s.frames_in_flight = frames_in_flight;
   s.frame_latency_s = r.makespan;
+  s.frame_latencies_s = {r.makespan};
   s.throughput_fps = r.makespan > 0 ? double(frames_in_flight) / r.makespan : 0;
   // A GPM is busy while any of its units runs: the union of their
   // intervals (its queue's units never overlap; composition may overlap them).
@@ -281,6 +283,50 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
   in.config = config;
   scheme->configure(in.config);
   return scheme->run(in);
+}
+
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                               const Config& config, int window, std::vector<SchemeResult>* runs) {
+  const int m = scheme_frames_needed(name, config);
+  if (window < 1 || window % m != 0)
+    throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
+                std::to_string(window) + ") must be a multiple of " + std::to_string(m));
+  if (int(frames.size()) < window)
+    throw Error("not enough frames of trace: " + std::to_string(window) + " needed, " + std::to_string(frames.size()) + " given");
+  // Runs are independent (each has its own machine), so they go in
+  // parallel; each writes only its own slot.
+  std::vector<SchemeResult> all(size_t(window / m));
+  parallel_for(all.size(), 0, [&](size_t i) {
+    const auto first = frames.begin() + std::ptrdiff_t(i) * m;
+    all[i] = run_scheme(name, scene, std::vector<const FrameTrace*>(first, first + m), config);
+  });
+  SchemeResult s = all.front();
+  s.frame_latencies_s.clear();
+  double time = 0;  // seconds the window's frames take, frames in flight overlapping
+  for (auto& x : s.inter_gpm_bytes) x = 0;
+  s.local_dram_bytes = s.covered_fragments = s.units = 0;
+  std::vector<double> busy(s.gpm_busy_s.size(), 0);
+  for (const SchemeResult& r : all) {
+    s.frame_latencies_s.insert(s.frame_latencies_s.end(), r.frame_latencies_s.begin(), r.frame_latencies_s.end());
+    time += double(r.frames_in_flight) / r.throughput_fps;
+    for (size_t c = 0; c < s.inter_gpm_bytes.size(); ++c) s.inter_gpm_bytes[c] += r.inter_gpm_bytes[c];
+    s.local_dram_bytes += r.local_dram_bytes;
+    s.covered_fragments += r.covered_fragments;
+    s.units += r.units;
+    s.footprint_bytes = std::max(s.footprint_bytes, r.footprint_bytes);
+    for (size_t g = 0; g < busy.size(); ++g) busy[g] += r.gpm_busy_s[g] / double(all.size());
+  }
+  // Per frame: bytes summed over the window's frames, divided by them.
+  const auto per_frame = [&](uint64_t v) { return (v + uint64_t(window) / 2) / uint64_t(window); };
+  for (auto& x : s.inter_gpm_bytes) x = per_frame(x);
+  s.local_dram_bytes = per_frame(s.local_dram_bytes);
+  s.gpm_busy_s = busy;
+  double sum = 0;
+  for (double l : s.frame_latencies_s) sum += l;
+  s.frame_latency_s = sum / double(s.frame_latencies_s.size());
+  s.throughput_fps = double(window) / time;
+  if (runs) *runs = std::move(all);
+  return s;
 }
 
 }  // namespace oovr

@@ -33,7 +33,8 @@ struct SchemeResult {
   std::string scheme;
   int gpms = 0;
   double frequency_hz = 0;
-  double frame_latency_s = 0;   // first command to last pixel composed, one frame
+  double frame_latency_s = 0;   // first command to last pixel composed, one frame (mean of frame_latencies_s)
+  std::vector<double> frame_latencies_s;  // each frame's latency (several for frames in flight)
   double throughput_fps = 0;    // frames per second over the frames in flight
   int frames_in_flight = 1;
   std::vector<double> gpm_busy_s;
@@ -81,5 +82,16 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
 // Frames of trace `name` needs with this configuration (1 for unknown names:
 // run_scheme reports those).
 int scheme_frames_needed(const std::string& name, const Config& config);
+
+// Runs `name` over the first `window` of `frames`: a scheme with m frames in
+// flight (AFR: one per GPM) on each group of m frames, any other on each
+// frame alone, so that every scheme is measured on the same frames. The
+// summary has the mean frame latency, the throughput over the window, and
+// per-frame means of traffic, DRAM bytes and GPM busy time; its per-tile
+// traffic and owners are those of the first run (frames[0]). `runs`, when
+// given, receives every run's own result. Throws Error when `window` is
+// not a multiple of m or frames are missing.
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                               const Config& config, int window, std::vector<SchemeResult>* runs = nullptr);
 
 }  // namespace oovr

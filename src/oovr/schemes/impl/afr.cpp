@@ -2,7 +2,8 @@
 // round-robin over the GPMs, N frames in flight, each GPM rendering its
 // frame alone, with SMP, from its own copy of every piece of data
 // (replicated placement: no inter-GPM traffic, N times the memory). Reports
-// the throughput of the N frames and the latency of one.
+// the mean latency of the N frames (each its GPM's time) and the steady
+// throughput of N GPMs each rendering one frame after another.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {
@@ -31,10 +32,14 @@ class Afr final : public Scheme {
         if (!all.empty()) sim.tiles(g, all, g, f, {geo});
       }
     SchemeResult r = sim.finish("afr", n);
-    // One frame's latency is its GPM's time to render it alone.
-    double worst = 0;
-    for (double b : r.gpm_busy_s) worst = std::max(worst, b);
-    r.frame_latency_s = worst;
+    // A frame's latency is its GPM's time to render it. In steady state
+    // each GPM starts its next frame when it finishes one, so N frames come
+    // out per mean frame time.
+    r.frame_latencies_s = r.gpm_busy_s;
+    double sum = 0;
+    for (double b : r.gpm_busy_s) sum += b;
+    r.frame_latency_s = sum / double(n);
+    r.throughput_fps = double(n) / r.frame_latency_s;
     r.notes.push_back(std::to_string(n) + " frames in flight, one per GPM; every GPM holds a copy of all data");
     return r;
   }
