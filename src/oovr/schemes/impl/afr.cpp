@@ -4,6 +4,10 @@
 // (replicated placement: no inter-GPM traffic, N times the memory). Reports
 // the mean latency of the N frames (each its GPM's time) and the steady
 // throughput of N GPMs each rendering one frame after another.
+//
+// Derived from the trace: N consecutive frames' traces, each whole (every
+// tile record of frame k on GPM k) with its objects' set-up triangles.
+// Duplicates nothing within a frame; the data is copied N times.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {

@@ -7,6 +7,11 @@
 // Geometry runs once per draw (SMP), on the GPM the draw index selects, and
 // set-up triangles go to the GPMs owning their tiles. Placement is first
 // touch with a remote cache (MCM-GPU), from the configuration.
+//
+// Derived from the trace: each tile record goes to its tile's owner (texture,
+// depth and colour lines, fragments, quads, lookups); each object's set-up
+// triangles of both eyes are set up once, and the triangles binned to a
+// GPM's tiles are what it receives. Duplicates nothing.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {

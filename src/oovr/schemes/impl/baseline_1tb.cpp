@@ -1,5 +1,7 @@
 // baseline-1tb (paper Section 3, Figure 4): the baseline with 1 TB/s links,
 // as fast as local DRAM, which bounds what better locality can gain.
+//
+// Derived from the trace: as baseline.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {

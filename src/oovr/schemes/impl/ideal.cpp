@@ -1,5 +1,8 @@
 // ideal: one GPU with N times the resources of a GPM (SMs, raster, ROPs,
 // L2, DRAM bandwidth) and no NUMA: an upper bound for N GPMs.
+//
+// Derived from the trace: every record and object on the one big GPU, as
+// single-gpm does on one GPM. Duplicates nothing.
 #include <cstdio>
 
 #include "oovr/schemes/frame_sim.h"

@@ -2,6 +2,11 @@
 // horizontal strip of tiles per GPM, spanning both eyes, so SMP projects a
 // draw's geometry into both eyes at once. Each GPM processes every draw that
 // overlaps its strip (the whole draw's geometry: primitive duplication).
+//
+// Derived from the trace: each tile record goes to the GPM owning its strip;
+// a draw's vertices and both eyes' set-up triangles are repeated on every
+// GPM whose strip it reaches. Duplicates geometry by definition, never
+// fragments.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {

@@ -3,6 +3,11 @@
 // on different GPMs and SMP cannot share geometry between them. Each GPM
 // processes every draw that overlaps its strip (the whole draw's geometry,
 // once per eye it covers: primitive duplication) and renders its strip.
+//
+// Derived from the trace: each tile record goes to the GPM owning its strip;
+// a draw's vertices are repeated per eye on every GPM whose strip it
+// reaches, with that eye's set-up triangles. Duplicates geometry by
+// definition, never fragments.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {

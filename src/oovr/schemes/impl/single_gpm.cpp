@@ -1,5 +1,8 @@
 // single-gpm: one GPM of the configured machine renders the frame alone
 // (SMP, everything local): the unit the scaling studies normalise by.
+//
+// Derived from the trace: every record and object, in draw order, on GPM 0.
+// Duplicates nothing.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {
