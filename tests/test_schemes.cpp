@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <map>
+#include <memory>
 
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
@@ -21,10 +22,12 @@ struct Rendered {
 };
 
 const Rendered& courtyard(unsigned threads = 0) {
-  static std::map<unsigned, Rendered*> cache;
-  Rendered*& r = cache[threads];
+  // Rendered once per thread count for the whole test program; owned by
+  // the map, so nothing leaks at exit.
+  static std::map<unsigned, std::unique_ptr<Rendered>> cache;
+  std::unique_ptr<Rendered>& r = cache[threads];
   if (!r) {
-    r = new Rendered{BuiltinScenes::find("courtyard")->make(), {}, {}};
+    r = std::make_unique<Rendered>(Rendered{BuiltinScenes::find("courtyard")->make(), {}, {}});
     StereoRig rig;
     rig.eye_width = 320;
     rig.eye_height = 480;
