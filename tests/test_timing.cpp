@@ -82,6 +82,40 @@ TEST(Timing, UnitsWithoutDemandsTakeOnlyTheirLatency) {
   EXPECT_DOUBLE_EQ(r.units[1].finish, 0.25);
 }
 
+// A runtime scheduler adds work as units end, and reads progress: unit A
+// (1 s on the shader) ends at 1 s while C (2 s alone on another resource)
+// is half done; the hook then queues B behind A on the same queue and a
+// unit D that depends on C.
+TEST(Timing, UnitsAddedWhileRunningJoinAtTheCurrentTime) {
+  TimingEngine e;
+  const int shader = e.add_resource("shader", 1);
+  const int rop = e.add_resource("rop", 1);
+  const int q = e.add_queue("gpm");
+  const int a = e.add_unit({q, {{shader, 1}}, 0, {}});
+  const int c = e.add_unit({-1, {{rop, 2}}, 0, {}});
+  int b = -1, d = -1;
+  double c_left_at_a = -1;
+  const auto r = e.run([&](int unit) {
+    if (unit == a) {
+      EXPECT_DOUBLE_EQ(e.now(), 1.0);
+      EXPECT_TRUE(e.finished(a));
+      EXPECT_TRUE(e.started(c));
+      c_left_at_a = e.work_left(c);
+      b = e.add_unit({q, {{shader, 1}}, 0, {a}});  // a is done: no wait
+      d = e.add_unit({-1, {{shader, 1}}, 0, {c}});
+    }
+  });
+  EXPECT_DOUBLE_EQ(c_left_at_a, 0.5);
+  ASSERT_EQ(r.units.size(), 4u);
+  EXPECT_DOUBLE_EQ(r.units[size_t(b)].start, 1.0);
+  EXPECT_DOUBLE_EQ(r.units[size_t(b)].finish, 2.0);
+  // D waits for C (2 s), then has the shader to itself.
+  EXPECT_DOUBLE_EQ(r.units[size_t(d)].start, 2.0);
+  EXPECT_DOUBLE_EQ(r.units[size_t(d)].finish, 3.0);
+  EXPECT_DOUBLE_EQ(r.makespan, 3.0);
+  EXPECT_THROW(e.run(), Error) << "an engine runs once";
+}
+
 TEST(Timing, BadUnitsAreRefused) {
   TimingEngine e;
   EXPECT_THROW(e.add_resource("x", 0), Error);

@@ -31,132 +31,163 @@ int TimingEngine::add_unit(Unit u) {
       throw Error("timing: unit " + std::to_string(id) + " has a bad demand");
   if (!(u.latency >= 0)) throw Error("timing: unit " + std::to_string(id) + " has a negative latency");
   m_units.push_back(std::move(u));
+  if (m_running_run) {
+    // Joins the run in progress: only unfinished dependencies count.
+    const Unit& v = m_units.back();
+    m_res.units.push_back({});
+    m_state.push_back(State::waiting);
+    m_left.push_back(1.0);
+    m_dependents.emplace_back();
+    int deps = 0;
+    for (int d : v.after)
+      if (m_state[size_t(d)] != State::done) {
+        ++deps;
+        m_dependents[size_t(d)].push_back(id);
+      }
+    m_deps.push_back(deps);
+    if (v.queue >= 0) m_queue_units[size_t(v.queue)].push_back(id);
+    else m_free_waiting.push_back(id);
+  }
   return id;
 }
 
-TimingEngine::Result TimingEngine::run() const {
-  const size_t n = m_units.size();
-  Result res;
-  res.units.assign(n, {});
-  res.queue_busy.assign(m_queue_names.size(), 0);
-  res.resource_used.assign(m_capacity.size(), 0);
+bool TimingEngine::started(int unit) const {
+  return m_running_run && size_t(unit) < m_state.size() && m_state[size_t(unit)] != State::waiting;
+}
 
-  enum class State : uint8_t { waiting, running, latency, done };
-  std::vector<State> state(n, State::waiting);
-  std::vector<double> left(n, 1.0);  // fraction of the work still to do
-  std::vector<int> deps(n, 0);
-  std::vector<std::vector<int>> dependents(n);
-  std::vector<std::vector<int>> queue_units(m_queue_names.size());
-  std::vector<size_t> queue_head(m_queue_names.size(), 0);
-  std::vector<bool> queue_idle(m_queue_names.size(), true);
+bool TimingEngine::finished(int unit) const {
+  return m_running_run && size_t(unit) < m_state.size() && m_state[size_t(unit)] == State::done;
+}
+
+double TimingEngine::work_left(int unit) const {
+  if (!m_running_run || size_t(unit) >= m_left.size()) return 1.0;
+  return m_left[size_t(unit)];
+}
+
+void TimingEngine::start(int i) {
+  m_state[size_t(i)] = State::running;
+  m_res.units[size_t(i)].start = m_now;
+  const int q = m_units[size_t(i)].queue;
+  if (q >= 0) m_queue_idle[size_t(q)] = false;
+  m_running.insert(std::upper_bound(m_running.begin(), m_running.end(), i), i);
+}
+
+void TimingEngine::start_ready() {
+  // Units without a queue, and the head of every idle queue.
+  std::vector<int> still;
+  for (int i : m_free_waiting) {
+    if (m_deps[size_t(i)] == 0) start(i);
+    else still.push_back(i);
+  }
+  m_free_waiting.swap(still);
+  for (size_t q = 0; q < m_queue_units.size(); ++q)
+    if (m_queue_idle[q] && m_queue_head[q] < m_queue_units[q].size()) {
+      const int i = m_queue_units[q][m_queue_head[q]];
+      if (m_state[size_t(i)] == State::waiting && m_deps[size_t(i)] == 0) start(i);
+    }
+}
+
+void TimingEngine::finish(int i, const std::function<void(int)>& on_finish) {
+  m_state[size_t(i)] = State::done;
+  m_res.units[size_t(i)].finish = m_now;
+  m_res.makespan = std::max(m_res.makespan, m_now);
+  ++m_done;
+  const int q = m_units[size_t(i)].queue;
+  if (q >= 0) {
+    m_queue_idle[size_t(q)] = true;
+    ++m_queue_head[size_t(q)];
+    m_res.queue_busy[size_t(q)] += m_now - m_res.units[size_t(i)].start;
+  }
+  for (int d : m_dependents[size_t(i)]) --m_deps[size_t(d)];
+  if (on_finish) on_finish(i);
+}
+
+TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish) {
+  if (m_running_run) throw Error("timing: an engine runs once");
+  const size_t n = m_units.size();
+  m_running_run = true;
+  m_now = 0;
+  m_res = Result{};
+  m_res.units.assign(n, {});
+  m_res.queue_busy.assign(m_queue_names.size(), 0);
+  m_res.resource_used.assign(m_capacity.size(), 0);
+  m_state.assign(n, State::waiting);
+  m_left.assign(n, 1.0);
+  m_deps.assign(n, 0);
+  m_dependents.assign(n, {});
+  m_queue_units.assign(m_queue_names.size(), {});
+  m_queue_head.assign(m_queue_names.size(), 0);
+  m_queue_idle.assign(m_queue_names.size(), true);
   for (size_t i = 0; i < n; ++i) {
-    deps[i] = int(m_units[i].after.size());
-    for (int d : m_units[i].after) dependents[size_t(d)].push_back(int(i));
-    if (m_units[i].queue >= 0) queue_units[size_t(m_units[i].queue)].push_back(int(i));
+    m_deps[i] = int(m_units[i].after.size());
+    for (int d : m_units[i].after) m_dependents[size_t(d)].push_back(int(i));
+    if (m_units[i].queue >= 0) m_queue_units[size_t(m_units[i].queue)].push_back(int(i));
+    else m_free_waiting.push_back(int(i));
   }
 
-  std::vector<int> running;  // ids, ascending
-  std::vector<std::pair<double, int>> in_latency;  // (finish, id)
-  double t = 0;
-  size_t done = 0;
-
-  auto startable = [&](int i) {
-    if (state[size_t(i)] != State::waiting || deps[size_t(i)] > 0) return false;
-    const int q = m_units[size_t(i)].queue;
-    return q < 0 || (queue_idle[size_t(q)] && queue_units[size_t(q)][queue_head[size_t(q)]] == i);
-  };
-  auto start = [&](int i) {
-    state[size_t(i)] = State::running;
-    res.units[size_t(i)].start = t;
-    const int q = m_units[size_t(i)].queue;
-    if (q >= 0) queue_idle[size_t(q)] = false;
-    running.insert(std::upper_bound(running.begin(), running.end(), i), i);
-  };
-  auto start_all = [&] {
-    // Units without a queue, and the head of every idle queue.
-    for (size_t i = 0; i < n; ++i)
-      if (m_units[i].queue < 0 && startable(int(i))) start(int(i));
-    for (size_t q = 0; q < queue_units.size(); ++q)
-      if (queue_idle[q] && queue_head[q] < queue_units[q].size() && startable(queue_units[q][queue_head[q]]))
-        start(queue_units[q][queue_head[q]]);
-  };
-  auto finish = [&](int i) {
-    state[size_t(i)] = State::done;
-    res.units[size_t(i)].finish = t;
-    res.makespan = std::max(res.makespan, t);
-    ++done;
-    const int q = m_units[size_t(i)].queue;
-    if (q >= 0) {
-      queue_idle[size_t(q)] = true;
-      ++queue_head[size_t(q)];
-      res.queue_busy[size_t(q)] += t - res.units[size_t(i)].start;
-    }
-    for (int d : dependents[size_t(i)]) --deps[size_t(d)];
-  };
-
-  start_all();
+  start_ready();
   std::vector<double> share(m_capacity.size());
   std::vector<int> users(m_capacity.size());
   std::vector<double> rate;
-  while (done < n) {
+  while (m_done < m_units.size()) {
     // Rates: equal shares of every resource among the units using it.
     std::fill(users.begin(), users.end(), 0);
-    for (int i : running)
+    for (int i : m_running)
       for (const auto& [r, amount] : m_units[size_t(i)].demand)
         if (amount > 0) ++users[size_t(r)];
     for (size_t r = 0; r < share.size(); ++r) share[r] = users[r] ? m_capacity[r] / users[r] : 0;
-    rate.assign(running.size(), std::numeric_limits<double>::infinity());
+    rate.assign(m_running.size(), std::numeric_limits<double>::infinity());
     double step = std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k < running.size(); ++k) {
-      for (const auto& [r, amount] : m_units[size_t(running[k])].demand)
+    for (size_t k = 0; k < m_running.size(); ++k) {
+      for (const auto& [r, amount] : m_units[size_t(m_running[k])].demand)
         if (amount > 0) rate[k] = std::min(rate[k], share[size_t(r)] / amount);
-      step = std::min(step, std::isinf(rate[k]) ? 0.0 : left[size_t(running[k])] / rate[k]);
+      step = std::min(step, std::isinf(rate[k]) ? 0.0 : m_left[size_t(m_running[k])] / rate[k]);
     }
     double next_latency = std::numeric_limits<double>::infinity();
-    for (const auto& [f, id] : in_latency) next_latency = std::min(next_latency, f);
-    if (running.empty() && in_latency.empty())
+    for (const auto& [f, id] : m_in_latency) next_latency = std::min(next_latency, f);
+    if (m_running.empty() && m_in_latency.empty())
       throw Error("timing: units wait on each other and can never start (a dependency cycle or an empty queue head)");
-    const double t_next = std::min(t + step, next_latency);
-    const double dt = t_next - t;
+    const double t_next = std::min(m_now + step, next_latency);
+    const double dt = t_next - m_now;
     // Advance the running units; those whose work ends at t_next move on.
     // (A latency phase ending first is an event of its own.)
-    const bool work_event = t + step <= next_latency;
+    const bool work_event = m_now + step <= next_latency;
     std::vector<int> finished_work;
-    for (size_t k = 0; k < running.size(); ++k) {
-      const int i = running[k];
-      const double to_finish = std::isinf(rate[k]) ? 0.0 : left[size_t(i)] / rate[k];
+    for (size_t k = 0; k < m_running.size(); ++k) {
+      const int i = m_running[k];
+      const double to_finish = std::isinf(rate[k]) ? 0.0 : m_left[size_t(i)] / rate[k];
       const bool ends = work_event && to_finish <= step * (1 + 1e-12);
-      const double progress = ends ? left[size_t(i)] : std::min(left[size_t(i)], rate[k] * dt);
-      for (const auto& [r, amount] : m_units[size_t(i)].demand) res.resource_used[size_t(r)] += amount * progress;
-      left[size_t(i)] -= progress;
+      const double progress = ends ? m_left[size_t(i)] : std::min(m_left[size_t(i)], rate[k] * dt);
+      for (const auto& [r, amount] : m_units[size_t(i)].demand) m_res.resource_used[size_t(r)] += amount * progress;
+      m_left[size_t(i)] -= progress;
       if (ends) {
-        left[size_t(i)] = 0;
+        m_left[size_t(i)] = 0;
         finished_work.push_back(i);
       }
     }
-    t = t_next;
+    m_now = t_next;
     for (int i : finished_work) {
-      running.erase(std::find(running.begin(), running.end(), i));
-      res.units[size_t(i)].work_done = t;
+      m_running.erase(std::find(m_running.begin(), m_running.end(), i));
+      m_res.units[size_t(i)].work_done = m_now;
       if (m_units[size_t(i)].latency > 0) {
-        state[size_t(i)] = State::latency;
-        in_latency.push_back({t + m_units[size_t(i)].latency, i});
+        m_state[size_t(i)] = State::latency;
+        m_in_latency.push_back({m_now + m_units[size_t(i)].latency, i});
       } else {
-        finish(i);
+        finish(i, on_finish);
       }
     }
     // Latency phases that end now (in id order for determinism).
-    std::sort(in_latency.begin(), in_latency.end(), [](const auto& a, const auto& b) {
+    std::sort(m_in_latency.begin(), m_in_latency.end(), [](const auto& a, const auto& b) {
       return a.first < b.first || (a.first == b.first && a.second < b.second);
     });
-    while (!in_latency.empty() && in_latency.front().first <= t) {
-      const int i = in_latency.front().second;
-      in_latency.erase(in_latency.begin());
-      finish(i);
+    while (!m_in_latency.empty() && m_in_latency.front().first <= m_now) {
+      const int i = m_in_latency.front().second;
+      m_in_latency.erase(m_in_latency.begin());
+      finish(i, on_finish);
     }
-    start_all();
+    start_ready();
   }
-  return res;
+  return m_res;
 }
 
 }  // namespace oovr

@@ -15,9 +15,14 @@
 // hops) is added after its work, without holding resources; its queue's next
 // unit starts only after it. Ties are broken by unit id: the result is the
 // same on every run and for any thread count.
+//
+// Units may also be added while the engine runs, from the `on_finish` hook
+// (a runtime scheduler deciding what a GPM does next): they join the run at
+// the current time, and may ask about every unit's progress.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,12 +59,45 @@ class TimingEngine {
   size_t queues() const { return m_queue_names.size(); }
   size_t units() const { return m_units.size(); }
 
-  Result run() const;
+  // Runs every unit to its end. `on_finish(id)` is called when a unit ends
+  // (work and latency), in time order, ties by id; it may add units, which
+  // start at the current time or later. Dependencies on units already
+  // finished are met. Runs once per engine.
+  Result run(const std::function<void(int unit)>& on_finish = {});
+
+  // While running (from on_finish): the current time, whether a unit has
+  // started or ended, and the fraction of its work still to do (1 before it
+  // starts, 0 once its work is done).
+  double now() const { return m_now; }
+  bool started(int unit) const;
+  bool finished(int unit) const;
+  double work_left(int unit) const;
 
  private:
+  enum class State : uint8_t { waiting, running, latency, done };
+  void start(int i);
+  void finish(int i, const std::function<void(int)>& on_finish);
+  void start_ready();
+
   std::vector<std::string> m_resource_names, m_queue_names;
   std::vector<double> m_capacity;
   std::vector<Unit> m_units;
+
+  // Run state, grown as units are added.
+  bool m_running_run = false;
+  double m_now = 0;
+  Result m_res;
+  std::vector<State> m_state;
+  std::vector<double> m_left;
+  std::vector<int> m_deps;
+  std::vector<std::vector<int>> m_dependents;
+  std::vector<std::vector<int>> m_queue_units;
+  std::vector<size_t> m_queue_head;
+  std::vector<bool> m_queue_idle;
+  std::vector<int> m_free_waiting;  // waiting units without a queue
+  std::vector<int> m_running;       // ids, ascending
+  std::vector<std::pair<double, int>> m_in_latency;
+  size_t m_done = 0;
 };
 
 }  // namespace oovr
