@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "oovr/core/error.h"
+#include "oovr/core/parallel.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/pipeline/trace_cache.h"
@@ -243,8 +244,9 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   const auto t0 = std::chrono::steady_clock::now();
   const Frames f = render_frames(a, config, window);
   const auto t1 = std::chrono::steady_clock::now();
-  std::vector<SchemeResult> results;
-  for (const auto& s : schemes) results.push_back(run_scheme_window(s, f.scene, f.traces, config, window));
+  // Schemes are independent runs: in parallel, each into its own slot.
+  std::vector<SchemeResult> results(schemes.size());
+  parallel_for(schemes.size(), 0, [&](size_t i) { results[i] = run_scheme_window(schemes[i], f.scene, f.traces, config, window); });
   const auto t2 = std::chrono::steady_clock::now();
   const SchemeResult* base = nullptr;
   for (const auto& r : results)

@@ -36,16 +36,40 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_memory_spec = MemorySpec::from_config(in.config);
   m_timing_spec = TimingSpec::from_config(in.config);
   in.config.check_all_used();
-  m_map = std::make_unique<AddressMap>(m_memory_spec.page, m_memory_spec.line);
-  m_layout = std::make_unique<SceneLayout>(*m_map, *in.scene, *in.frames[0]);
-  m_colour.push_back(m_layout->colour_region());
-  m_depth.push_back(m_layout->depth_region());
   const FrameTrace& f = *in.frames[0];
-  for (int k = 1; k < framebuffers; ++k) {
-    m_colour.push_back(m_map->add("frame" + std::to_string(k) + ".colour", Category::colour, m_layout->frame_bytes()));
-    m_depth.push_back(m_map->add("frame" + std::to_string(k) + ".depth", Category::depth, m_layout->frame_bytes()));
+  CarriedState* carried = in.carried.get();
+  if (carried && carried->memory) {
+    // The frame before left the memory system as it is: pages stay where
+    // they were placed. The frame boundary invalidates what the
+    // configuration says it does (remote caches).
+    if (carried->framebuffers != framebuffers) throw Error("a carried memory system was laid out for another scheme");
+    m_map = carried->map;
+    m_layout = carried->layout;
+    m_memory = carried->memory;
+    m_colour = carried->colour;
+    m_depth = carried->depth;
+    m_memory->end_frame();
+    m_before = m_memory->totals();
+  } else {
+    m_map = std::make_shared<AddressMap>(m_memory_spec.page, m_memory_spec.line);
+    m_layout = std::make_shared<SceneLayout>(*m_map, *in.scene, f);
+    m_colour.push_back(m_layout->colour_region());
+    m_depth.push_back(m_layout->depth_region());
+    for (int k = 1; k < framebuffers; ++k) {
+      m_colour.push_back(m_map->add("frame" + std::to_string(k) + ".colour", Category::colour, m_layout->frame_bytes()));
+      m_depth.push_back(m_map->add("frame" + std::to_string(k) + ".depth", Category::depth, m_layout->frame_bytes()));
+    }
+    m_memory = std::make_shared<MemorySystem>(m_memory_spec, *m_map);
+    m_before = m_memory->totals();
+    if (carried) {
+      carried->map = m_map;
+      carried->layout = m_layout;
+      carried->memory = m_memory;
+      carried->framebuffers = framebuffers;
+      carried->colour = m_colour;
+      carried->depth = m_depth;
+    }
   }
-  m_memory = std::make_unique<MemorySystem>(m_memory_spec, *m_map);
   m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, m_memory->topology(), m_engine);
   m_last.assign(size_t(gpms()), -1);
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
@@ -198,11 +222,14 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight) {
     }
     s.gpm_busy_s[size_t(g)] = busy;
   }
+  // This frame's traffic: the totals since it began.
   const TrafficTotals& t = m_memory->totals();
-  s.inter_gpm_bytes = t.inter_gpm_bytes;
+  for (int c = 0; c < kCategories; ++c) s.inter_gpm_bytes[size_t(c)] = t.inter_gpm_bytes[size_t(c)] - m_before.inter_gpm_bytes[size_t(c)];
   s.local_dram_bytes = 0;
   for (int g = 0; g < gpms(); ++g)
-    for (int c = 0; c < kCategories; ++c) s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] + t.dram_write_bytes[size_t(g)][size_t(c)];
+    for (int c = 0; c < kCategories; ++c)
+      s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
+                            t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
   s.footprint_bytes = m_memory->footprint_bytes();
   return s;
 }
@@ -269,7 +296,7 @@ int scheme_frames_needed(const std::string& name, const Config& config) {
 }
 
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
-                        const Config& config) {
+                        const Config& config, std::shared_ptr<CarriedState> carried) {
   const SchemeFactory* f = Schemes::find(name);
   if (!f) {
     std::string names;
@@ -281,6 +308,7 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
   in.scene = &scene;
   in.frames = frames;
   in.config = config;
+  in.carried = std::move(carried);
   scheme->configure(in.config);
   return scheme->run(in);
 }
@@ -293,13 +321,16 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
                 std::to_string(window) + ") must be a multiple of " + std::to_string(m));
   if (int(frames.size()) < window)
     throw Error("not enough frames of trace: " + std::to_string(window) + " needed, " + std::to_string(frames.size()) + " given");
-  // Runs are independent (each has its own machine), so they go in
-  // parallel; each writes only its own slot.
-  std::vector<SchemeResult> all(size_t(window / m));
-  parallel_for(all.size(), 0, [&](size_t i) {
+  // In sequence on one memory system, after a warm-up run of the first
+  // group that is not measured.
+  const auto group = [&](size_t i) {
     const auto first = frames.begin() + std::ptrdiff_t(i) * m;
-    all[i] = run_scheme(name, scene, std::vector<const FrameTrace*>(first, first + m), config);
-  });
+    return std::vector<const FrameTrace*>(first, first + m);
+  };
+  const auto carried = std::make_shared<CarriedState>();
+  (void)run_scheme(name, scene, group(0), config, carried);
+  std::vector<SchemeResult> all;
+  for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_scheme(name, scene, group(i), config, carried));
   SchemeResult s = all.front();
   s.frame_latencies_s.clear();
   double time = 0;  // seconds the window's frames take, frames in flight overlapping

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <span>
 #include <vector>
@@ -18,6 +19,16 @@
 #include "oovr/timing/gpm_model.h"
 
 namespace oovr {
+
+struct CarriedState {
+  std::shared_ptr<AddressMap> map;
+  std::shared_ptr<SceneLayout> layout;
+  std::shared_ptr<MemorySystem> memory;
+  int framebuffers = 0;
+  std::vector<uint32_t> colour, depth;  // framebuffer regions
+  // Values a scheme keeps between frames (e.g. a predictor's fitted rates).
+  std::map<std::string, std::vector<double>> values;
+};
 
 class FrameSim {
  public:
@@ -83,9 +94,10 @@ class FrameSim {
   SchemeInput m_in;
   MemorySpec m_memory_spec;
   TimingSpec m_timing_spec;
-  std::unique_ptr<AddressMap> m_map;
-  std::unique_ptr<SceneLayout> m_layout;
-  std::unique_ptr<MemorySystem> m_memory;
+  std::shared_ptr<AddressMap> m_map;
+  std::shared_ptr<SceneLayout> m_layout;
+  std::shared_ptr<MemorySystem> m_memory;
+  TrafficTotals m_before;  // the memory system's totals when this frame began
   TimingEngine m_engine;
   std::unique_ptr<MachineModel> m_machine;
   std::vector<uint32_t> m_colour, m_depth;

@@ -21,12 +21,20 @@
 
 namespace oovr {
 
+// What carries over from one frame to the next when a scheme renders frames
+// in sequence (frame_sim.h defines it): the memory system, so that pages
+// stay where first touch or pre-allocation put them, as a GPU's memory does
+// between frames, and values a scheme learns at run time.
+struct CarriedState;
+
 struct SchemeInput {
   const Scene* scene = nullptr;
   // Consecutive frames' traces; frames[0] is the frame simulated. Schemes
   // with frames in flight (AFR) use as many as they need.
   std::vector<const FrameTrace*> frames;
   Config config;  // the machine (preset + --set); schemes may override keys
+  // Shared by the frames of one sequence (null: a frame on its own, cold).
+  std::shared_ptr<CarriedState> carried;
 };
 
 struct SchemeResult {
@@ -76,21 +84,25 @@ struct SchemeFactory {
 using Schemes = Registry<SchemeFactory>;
 
 // Runs a scheme by name on `frames` (rendered with the memory system's
-// line size). Throws Error for an unknown scheme.
+// line size), continuing from `carried` when given. Throws Error for an
+// unknown scheme.
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
-                        const Config& config);
+                        const Config& config, std::shared_ptr<CarriedState> carried = nullptr);
 // Frames of trace `name` needs with this configuration (1 for unknown names:
 // run_scheme reports those).
 int scheme_frames_needed(const std::string& name, const Config& config);
 
 // Runs `name` over the first `window` of `frames`: a scheme with m frames in
 // flight (AFR: one per GPM) on each group of m frames, any other on each
-// frame alone, so that every scheme is measured on the same frames. The
-// summary has the mean frame latency, the throughput over the window, and
-// per-frame means of traffic, DRAM bytes and GPM busy time; its per-tile
-// traffic and owners are those of the first run (frames[0]). `runs`, when
-// given, receives every run's own result. Throws Error when `window` is
-// not a multiple of m or frames are missing.
+// frame in turn, so that every scheme is measured on the same frames. The
+// frames run in sequence on one memory system, after an unmeasured warm-up
+// run of the first group: the measured frames see data where the frames
+// before left it (the steady state of a running game), not a cold start.
+// The summary has the mean frame latency, the throughput over the window,
+// and per-frame means of traffic, DRAM bytes and GPM busy time; its
+// per-tile traffic and owners are those of the first measured run
+// (frames[0]). `runs`, when given, receives every run's own result. Throws
+// Error when `window` is not a multiple of m or frames are missing.
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                                const Config& config, int window, std::vector<SchemeResult>* runs = nullptr);
 
