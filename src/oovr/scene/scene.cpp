@@ -51,11 +51,14 @@ void Scene::validate() const {
       if (i >= mesh.vertices.size())
         throw Error(where("mesh '" + mesh.name + "' has an index past its vertices"));
   }
-  for (const auto& o : objects) {
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const Object& o = objects[k];
     if (o.mesh < 0 || o.mesh >= int(meshes.size()))
       throw Error(where("object '" + o.name + "' names a mesh that does not exist"));
     if (o.material < 0 || o.material >= int(materials.size()))
       throw Error(where("object '" + o.name + "' names a material that does not exist"));
+    for (uint32_t p : o.after)
+      if (p >= k) throw Error(where("object '" + o.name + "' must follow a draw that is not before it"));
   }
   if (camera.frames.empty()) throw Error(where("camera path has no frames"));
 }

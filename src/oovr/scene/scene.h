@@ -49,6 +49,12 @@ struct Object {
   int mesh = 0;
   int material = 0;
   Mat4 world_from_object;
+  // Earlier draws this one must follow (an application's ordering
+  // constraint, e.g. a decal after its wall, a blended surface after what is
+  // behind it). Indices are smaller than this object's own. Rendering ignores
+  // them (draw order already respects them); OO-VR's middleware keeps such
+  // objects in one batch, in this order (paper Section 5.1).
+  std::vector<uint32_t> after;
 };
 
 // One camera pose of a path: the head (centre between the eyes).

@@ -5,6 +5,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
+#include "oovr/framework/oo_spec.h"
 
 namespace oovr {
 
@@ -160,7 +161,8 @@ std::vector<int> FrameSim::tiles_together(const std::vector<TileJob>& jobs, cons
   for (size_t k = 0; k < rounds; ++k)
     for (size_t i = 0; i < n; ++i) {
       const size_t j = (k + i) % n;
-      if (k < jobs[j].records.size()) replay(jobs[j].gpm, *jobs[j].records[k], jobs[j].fb, frame, traffic[j], work[j]);
+      if (k < jobs[j].records.size())
+        replay(jobs[j].gpm, *jobs[j].records[k], jobs[j].fbs.empty() ? jobs[j].fb : jobs[j].fbs[k], frame, traffic[j], work[j]);
     }
   std::vector<int> units;
   for (size_t j = 0; j < n; ++j) units.push_back(add(jobs[j].gpm, work[j], traffic[j], jobs[j].after));
@@ -183,6 +185,26 @@ int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector
   return m_engine.add_unit(std::move(u));
 }
 
+int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vector<int> after) {
+  UnitTraffic t;
+  t.reset(gpms(), int(m_memory->topology().links().size()));
+  uint64_t copied = 0;
+  for (uint32_t r : regions) {
+    const Region& reg = m_map->region(r);
+    copied += m_memory->preallocate(reg.base, reg.bytes, gpm, t);
+  }
+  if (copied == 0) return -1;
+  TimingEngine::Unit u;
+  u.queue = -1;
+  u.demand = m_machine->demand(gpm, WorkCounts{}, t);  // the copies' DRAM reads, writes and links
+  u.after = std::move(after);
+  u.after.erase(std::remove(u.after.begin(), u.after.end(), -1), u.after.end());
+  u.latency = m_memory_spec.link_latency.value;
+  ++m_result.units;
+  m_unit_gpm.push_back(-1);
+  return m_engine.add_unit(std::move(u));
+}
+
 int FrameSim::compose(int gpm, uint64_t pixels, std::vector<int> after) {
   WorkCounts w;
   w.composed = pixels;
@@ -191,8 +213,8 @@ int FrameSim::compose(int gpm, uint64_t pixels, std::vector<int> after) {
   return add(gpm, w, t, std::move(after), false);
 }
 
-SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight) {
-  const TimingEngine::Result r = m_engine.run();
+SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, const std::function<void(int)>& on_finish) {
+  const TimingEngine::Result r = m_engine.run(on_finish);
   SchemeResult& s = m_result;
   s.scheme = scheme;
   s.gpms = gpms();
@@ -310,6 +332,9 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
   in.config = config;
   in.carried = std::move(carried);
   scheme->configure(in.config);
+  // OO-VR's keys are known to every scheme (a compare with --set oo.* runs
+  // them all), and checked even where unused.
+  OOSpec::check(in.config);
   return scheme->run(in);
 }
 

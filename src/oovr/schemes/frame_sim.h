@@ -69,10 +69,16 @@ class FrameSim {
     std::vector<int> after;
     int from = -1;
     uint64_t incoming = 0;
+    std::vector<int> fbs;  // per record, when records write different framebuffers (else fb)
   };
   std::vector<int> tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame);
   // Moves `bytes` from one GPM to another.
   int transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after = {});
+  // The pre-allocation unit of `gpm` copies the pages of every region in
+  // `regions` it does not hold yet into its DRAM (MemorySystem::preallocate):
+  // a unit outside the GPM's pipeline, on the links and DRAMs. Returns -1
+  // when there was nothing to copy.
+  int preallocate(int gpm, std::span<const uint32_t> regions, std::vector<int> after = {});
   // ROP work merging `pixels` on `gpm` (composition). It runs beside the
   // GPM's pipeline, not in its queue (the colour output stage works
   // asynchronously with shading, paper Section 5.3), sharing its ROPs with
@@ -81,7 +87,13 @@ class FrameSim {
 
   // Runs the timing engine; fills the result's timing, traffic and memory
   // numbers. `frames_in_flight` frames complete in the makespan.
-  SchemeResult finish(const std::string& scheme, int frames_in_flight = 1);
+  // `on_finish(unit)` is called as units end and may add units (a runtime
+  // scheduler); engine() then answers questions about progress.
+  SchemeResult finish(const std::string& scheme, int frames_in_flight = 1,
+                      const std::function<void(int unit)>& on_finish = {});
+  const TimingEngine& engine() const { return m_engine; }
+  // The GPM a unit belongs to (-1 for transfers).
+  int gpm_of(int unit) const { return m_unit_gpm[size_t(unit)]; }
 
   // Units added so far per GPM (the last one, or -1).
   int last_unit(int gpm) const { return m_last[size_t(gpm)]; }

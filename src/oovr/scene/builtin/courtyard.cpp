@@ -111,11 +111,12 @@ Scene make_courtyard() {
   // Floor and walls.
   b.object("ground", b.mesh(grid(2 * kHalf, 2 * kHalf, 40, 40, 12, 12)), mat_ground, Mat4::identity());
   const int wall_mesh = b.mesh(wall(2 * kHalf, 6, 20, 3, 10, 2));
+  int walls[4];
   for (int i = 0; i < 4; ++i) {
     // Walls face inwards: rotate the +Z-facing wall about Y.
     const float a = kPi * 0.5f * float(i);
     const Mat4 t = rotate({0, 1, 0}, a) * translate({0, 0, -kHalf});
-    b.object("wall-" + std::to_string(i), wall_mesh, mat_brick, t);
+    walls[i] = b.object("wall-" + std::to_string(i), wall_mesh, mat_brick, t);
   }
 
   // Colonnade: every pillar is its own draw and samples the same stone texture.
@@ -130,9 +131,11 @@ Scene make_courtyard() {
   }
 
   // Fountain: basin wall, rim, water, pedestal and a dense statue.
-  b.object("fountain-basin", b.mesh(cylinder(3.0f, 0.6f, 64, 2, 8, 1, false)), mat_marble, Mat4::identity());
+  const int basin = b.object("fountain-basin", b.mesh(cylinder(3.0f, 0.6f, 64, 2, 8, 1, false)), mat_marble, Mat4::identity());
   b.object("fountain-rim", b.mesh(torus(3.0f, 0.22f, 96, 16, 12, 1)), mat_marble, translate({0, 0.6f, 0}));
-  b.object("fountain-water", b.mesh(disc(2.9f, 64, 0.45f, 3)), mat_water, Mat4::identity());
+  // The water is what an engine would blend over the basin: it must follow it.
+  const int water = b.object("fountain-water", b.mesh(disc(2.9f, 64, 0.45f, 3)), mat_water, Mat4::identity());
+  b.scene().objects[size_t(water)].after.push_back(uint32_t(basin));
   b.object("statue-pedestal", b.mesh(cylinder(0.7f, 2.0f, 32, 4, 3, 2, true)), mat_marble, Mat4::identity());
   b.object("statue", b.mesh(sphere(1.0f, 96, 48, 4, 2)), mat_bronze, translate({0, 3.0f, 0}));
 
@@ -178,7 +181,9 @@ Scene make_courtyard() {
     const int mat = b.material(bm);
     const float side = float(i % 4), along = (i < 4) ? -6.0f : 6.0f;
     const Mat4 t = rotate({0, 1, 0}, kPi * 0.5f * side) * translate({along, 2.0f, -kHalf + 0.03f});
-    b.object("banner-" + std::to_string(i), banner_mesh, mat, t);
+    // Banners hang 3 cm in front of their wall, as decals: after the wall.
+    const int banner = b.object("banner-" + std::to_string(i), banner_mesh, mat, t);
+    b.scene().objects[size_t(banner)].after.push_back(uint32_t(walls[i % 4]));
   }
 
   // Sky dome last: with the early depth test only the pixels nothing else

@@ -1,0 +1,41 @@
+#include "oovr/framework/oo_spec.h"
+
+#include <string>
+
+#include "oovr/core/error.h"
+
+namespace oovr {
+
+OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
+  OOSpec s = m;
+  const OOSpec d;
+  s.tsl_threshold = c.get_double("oo.tsl_threshold", d.tsl_threshold);
+  if (!(s.tsl_threshold >= 0 && s.tsl_threshold <= 1)) throw Error("configuration key 'oo.tsl_threshold' must be from 0 to 1");
+  const auto positive = [&](const char* key, int def, int max) {
+    const int64_t v = c.get_int(key, def);
+    if (v < 1 || v > max) throw Error(std::string("configuration key '") + key + "' must be from 1 to " + std::to_string(max));
+    return int(v);
+  };
+  s.batch_triangles = positive("oo.batch_triangles", d.batch_triangles, 1 << 30);
+  s.warmup_batches = positive("oo.warmup_batches", d.warmup_batches, 1 << 20);
+  s.batch_queue = positive("oo.batch_queue", d.batch_queue, 1 << 20);
+  s.tiles_per_unit = positive("oo.tiles_per_unit", d.tiles_per_unit, 1 << 20);
+  s.predictor = c.get_bool("oo.predictor", m.predictor);
+  s.prealloc = c.get_bool("oo.prealloc", m.prealloc);
+  s.split = c.get_bool("oo.split", m.split);
+  s.distributed_composition =
+      c.get_choice("oo.composition", m.distributed_composition ? "distributed" : "root", {"root", "distributed"}) ==
+      "distributed";
+  return s;
+}
+
+void OOSpec::check(const Config& c) {
+  OOSpec any;
+  bool present = false;
+  for (const char* k : {"oo.tsl_threshold", "oo.batch_triangles", "oo.warmup_batches", "oo.batch_queue", "oo.tiles_per_unit",
+                        "oo.predictor", "oo.prealloc", "oo.split", "oo.composition"})
+    present = present || c.has(k);
+  if (present) (void)from_config(c, any);
+}
+
+}  // namespace oovr

@@ -1,0 +1,43 @@
+// OO-VR's parameters and mechanism switches, from the configuration.
+//
+// Parameters (in configs/paper-table1.toml, values from Section 5):
+//   oo.tsl_threshold   texture sharing level above which objects batch (0.5)
+//   oo.batch_triangles triangles that close a batch (4096)
+//   oo.warmup_batches  batches dealt round-robin to fit the predictor (8)
+//   oo.batch_queue     batches the engine holds assigned but not started (4)
+//   oo.tiles_per_unit  screen tiles of a batch's fragment work per work unit,
+//                      the grain the fine-grained split moves (32, assumed)
+// Mechanisms, each a switch so that ablations can measure it (the scheme
+// sets its own defaults: oo-app all off, oo-vr all on):
+//   oo.predictor   batches go to the GPM predicted free first (else round-robin)
+//   oo.prealloc    pre-allocation units copy a batch's data to its GPM ahead of use
+//   oo.split       leftover work of large batches is split over idle GPMs
+//   oo.composition "root" (all colour to GPM 0) or "distributed" (DHC: N
+//                  vertical strips, each composed by its owner's ROPs)
+#pragma once
+
+#include <cstdint>
+
+#include "oovr/core/config.h"
+
+namespace oovr {
+
+struct OOSpec {
+  double tsl_threshold = 0.5;
+  int batch_triangles = 4096;
+  int warmup_batches = 8;
+  int batch_queue = 4;
+  int tiles_per_unit = 32;
+  bool predictor = true;
+  bool prealloc = true;
+  bool split = true;
+  bool distributed_composition = true;
+
+  // `mechanisms` gives the switches' defaults (the scheme's own).
+  static OOSpec from_config(const Config& c, const OOSpec& mechanisms);
+  // Reads (and so checks) the oo.* keys present, for schemes that do not
+  // use them: a key of OO-VR is not unknown to them, a misspelt one is.
+  static void check(const Config& c);
+};
+
+}  // namespace oovr

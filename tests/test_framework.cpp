@@ -1,0 +1,196 @@
+// OO-VR's mechanisms on hand-made cases: the texture sharing level
+// (Equation 1), batching, the predictor (Equation 3), the distribution
+// engine's choice and its storage (Section 5.4).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "oovr/core/error.h"
+#include "oovr/framework/distribution.h"
+#include "oovr/framework/middleware.h"
+#include "oovr/framework/oo_application.h"
+#include "oovr/framework/oo_spec.h"
+#include "oovr/scene/builtin.h"
+
+namespace oovr {
+namespace {
+
+TEST(Framework, TextureSharingLevelFollowsEquation1) {
+  // Root: A (300 B) and B (100 B): P_r(A) = 0.75, P_r(B) = 0.25.
+  const TextureSet root = {{0, 300}, {1, 100}};
+  // Next: A (100 B) and C (100 B): P_n(A) = 0.5. Shared: A only.
+  // TSL = 0.75 * 0.5 / 0.75 = 0.5.
+  EXPECT_DOUBLE_EQ(texture_sharing_level(root, {{0, 100}, {2, 100}}), 0.5);
+  // Next: B only (P_n(B) = 1): TSL = 0.25 * 1 / 0.25 = 1.
+  EXPECT_DOUBLE_EQ(texture_sharing_level(root, {{1, 50}}), 1.0);
+  // Next: A and B (P_n = 0.2 and 0.8): (0.75*0.2 + 0.25*0.8) / (0.75 + 0.25) = 0.35.
+  EXPECT_NEAR(texture_sharing_level(root, {{0, 20}, {1, 80}}), 0.35, 1e-12);
+  EXPECT_EQ(texture_sharing_level(root, {{7, 10}}), 0.0) << "nothing shared";
+  EXPECT_EQ(texture_sharing_level(root, {}), 0.0);
+  EXPECT_EQ(texture_sharing_level({}, root), 0.0);
+}
+
+// A scene of draws with the given triangle counts, textures and
+// dependencies; texture t is (8 << t) texels square, one level: 256 B,
+// 1 KB, 4 KB, 16 KB.
+struct Spec {
+  uint64_t triangles;
+  std::vector<uint32_t> textures;
+  std::vector<uint32_t> after;
+};
+OOApplication app_of(const std::vector<Spec>& objects, int textures = 4) {
+  Scene s;
+  s.name = "hand-made";
+  for (int t = 0; t < textures; ++t) {
+    Texture tex;
+    tex.name = "t" + std::to_string(t);
+    const int w = 8 << t;
+    tex.levels.push_back({w, w, std::vector<uint8_t>(size_t(w) * size_t(w) * 4, 0)});
+    s.textures.push_back(tex);
+  }
+  OOApplication app;
+  for (size_t i = 0; i < objects.size(); ++i) {
+    Mesh m;
+    m.vertices.resize(3);
+    for (uint64_t k = 0; k < objects[i].triangles; ++k) m.indices.insert(m.indices.end(), {0, 1, 2});
+    s.meshes.push_back(m);
+    Material mat;
+    mat.diffuse = objects[i].textures.size() > 0 ? int(objects[i].textures[0]) : -1;
+    mat.lightmap = objects[i].textures.size() > 1 ? int(objects[i].textures[1]) : -1;
+    s.materials.push_back(mat);
+    Object o;
+    o.mesh = int(i);
+    o.material = int(i);
+    s.objects.push_back(o);
+    app.add_object_auto(s, uint32_t(i), {0, 0, 320, 480});
+    for (uint32_t p : objects[i].after) app.add_dependency(uint32_t(i), p);
+  }
+  return app;
+}
+
+std::vector<std::vector<uint32_t>> members(const std::vector<Batch>& b) {
+  std::vector<std::vector<uint32_t>> r;
+  for (const auto& x : b) r.push_back(x.objects);
+  return r;
+}
+
+TEST(Framework, TheAutoModelShiftsTheViewportAlongX) {
+  const OOApplication app = app_of({{1, {0}, {}}});
+  const OOObject& o = app.objects()[0];
+  EXPECT_EQ(o.viewport[0].x, 0);
+  EXPECT_EQ(o.viewport[1].x, 320);
+  EXPECT_EQ(o.viewport[1].width, 320);
+  EXPECT_EQ(o.viewport[1].height, 480);
+  EXPECT_THROW(OOApplication().add_dependency(0, 0), Error);
+}
+
+TEST(Framework, BatchesGroupObjectsThatShareTextures) {
+  // 0, 2 and 3 use texture 0; 1 uses texture 1; 4 uses 1 (1 KB) and 0 (256 B).
+  const auto b = make_batches(app_of({{10, {0}, {}}, {10, {1}, {}}, {10, {0}, {}}, {10, {0}, {}}, {10, {1, 0}, {}}}), {});
+  // Root 0 takes 2 and 3 (TSL 1) but not 4 (texture 0 is 20% of its bytes:
+  // TSL 0.2); root 1 takes 4 (texture 1 is 80% of 4's bytes: TSL 0.8).
+  EXPECT_EQ(members(b), (std::vector<std::vector<uint32_t>>{{0, 2, 3}, {1, 4}}));
+  EXPECT_EQ(b[0].triangles, 30u);
+  EXPECT_EQ(b[0].textures.size(), 1u);
+  EXPECT_EQ(b[1].textures.size(), 2u) << "the union of its objects' textures";
+}
+
+TEST(Framework, ABatchClosesOnceItHoldsMoreThanTheCap) {
+  // Five objects of 2000 triangles, all on one texture: 2000, 4000, then
+  // 6000 > 4096 closes the batch.
+  std::vector<Spec> objects(5, Spec{2000, {0}, {}});
+  const auto b = make_batches(app_of(objects), {0.5, 4096});
+  EXPECT_EQ(members(b), (std::vector<std::vector<uint32_t>>{{0, 1, 2}, {3, 4}}));
+  // A lower threshold and cap are configuration.
+  EXPECT_EQ(make_batches(app_of(objects), {0.5, 1000}).size(), 5u);
+}
+
+TEST(Framework, DependentObjectsJoinTheBatchInOrderWhateverTheCap) {
+  // 1 (texture 1) must follow 0 (texture 0); 3 must follow 1. The batch of
+  // 0 would close at the cap, but 1 and then 3 join it, in order.
+  const auto b = make_batches(app_of({{5000, {0}, {}}, {100, {1}, {0}}, {100, {0}, {}}, {100, {2}, {1}}}), {0.5, 4096});
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_EQ(b[0].objects, (std::vector<uint32_t>{0, 1, 3}));
+  EXPECT_EQ(b[1].objects, (std::vector<uint32_t>{2}));
+  // An object that follows one still waiting is not taken by an unrelated
+  // root ahead of it: 2 shares 0's texture but must follow 1.
+  const auto c = make_batches(app_of({{10, {0}, {}}, {10, {1}, {}}, {10, {0}, {1}}}), {});
+  EXPECT_EQ(members(c), (std::vector<std::vector<uint32_t>>{{0}, {1, 2}}));
+  // Every object in exactly one batch, and every batch in order.
+  for (const auto& x : b) EXPECT_TRUE(std::is_sorted(x.objects.begin(), x.objects.end()));
+}
+
+TEST(Framework, TheCourtyardBatchesItsPillarsAndKeepsItsDecalsWithTheirWalls) {
+  const Scene s = BuiltinScenes::find("courtyard")->make();
+  const auto b = make_batches(make_application(s, 1280, 1024), {});
+  std::vector<int> batch_of(s.objects.size(), -1);
+  for (size_t k = 0; k < b.size(); ++k)
+    for (uint32_t o : b[k].objects) {
+      EXPECT_EQ(batch_of[o], -1) << "object in two batches";
+      batch_of[o] = int(k);
+    }
+  for (int x : batch_of) EXPECT_GE(x, 0) << "object in no batch";
+  for (uint32_t o = 0; o < s.objects.size(); ++o)
+    for (uint32_t p : s.objects[o].after) EXPECT_EQ(batch_of[o], batch_of[p]) << s.objects[o].name;
+  EXPECT_LT(b.size(), s.objects.size()) << "objects sharing textures batch together";
+}
+
+TEST(Framework, ThePredictorRecoversKnownRates) {
+  // Batches timed with c0 = 2 ns per triangle and c1 = 1 ns per vertex plus
+  // c2 = 0.25 ns per pixel (made consistent by choosing the vertex counts).
+  std::vector<BatchSample> s;
+  for (int k = 1; k <= 8; ++k) {
+    const double tri = 1000.0 * k, pixels = 4000.0 * k + 500.0 * (k % 3);
+    const double seconds = 2e-9 * tri;
+    const double vertices = (seconds - 0.25e-9 * pixels) / 1e-9;
+    s.push_back({tri, vertices, pixels, seconds});
+  }
+  const Rates r = Rates::fit(s);
+  EXPECT_NEAR(r.c0, 2e-9, 1e-18);
+  EXPECT_NEAR(r.c1, 1e-9, 1e-15);
+  EXPECT_NEAR(r.c2, 0.25e-9, 1e-15);
+  EXPECT_THROW(Rates::fit(std::vector<BatchSample>{}), Error);
+}
+
+TEST(Framework, TheEnginePicksTheGpmPredictedFreeFirst) {
+  DistributionEngine e(3, Rates{1e-9, 1e-9, 0});
+  EXPECT_EQ(e.earliest_free(), 0) << "all free: the lowest id";
+  e.assign(0, 0, 1000);  // GPM 0: 1000 ns to do
+  e.assign(1, 1, 3000);  // GPM 1: 3000 ns
+  e.assign(2, 2, 2000);  // GPM 2: 2000 ns
+  EXPECT_EQ(e.earliest_free(), 0);
+  // GPM 1 has done 2500 vertices' worth: 500 ns left, less than GPM 0's.
+  e.set_elapsed(1, 2500, 0);
+  EXPECT_DOUBLE_EQ(e.remaining(1), 500e-9);
+  EXPECT_EQ(e.earliest_free(), 1);
+  // Done early: never negative; a GPM holding nothing wins the tie.
+  e.set_elapsed(1, 9000, 0);
+  EXPECT_EQ(e.remaining(1), 0.0);
+  e.finish(2);
+  EXPECT_EQ(e.remaining(2), 0.0);
+  EXPECT_EQ(e.earliest_free(), 2);
+}
+
+TEST(Framework, EngineStorageIs960BitsForThePapersMachine) {
+  EXPECT_EQ(engine_storage(4, 4).total(), 960);
+  EXPECT_EQ(engine_storage(8, 4).total(), 8 * 128 + 64 + 8 * 96);
+}
+
+TEST(Framework, SpecReadsItsKeysAndRefusesBadValues) {
+  Config c;
+  c.set("oo.tsl_threshold=0.3");
+  c.set("oo.composition=root");
+  const OOSpec s = OOSpec::from_config(c, OOSpec{});
+  EXPECT_DOUBLE_EQ(s.tsl_threshold, 0.3);
+  EXPECT_FALSE(s.distributed_composition);
+  EXPECT_TRUE(s.prealloc) << "the scheme's default";
+  Config bad;
+  bad.set("oo.composition=everywhere");
+  EXPECT_THROW(OOSpec::check(bad), Error);
+  Config bad2;
+  bad2.set("oo.batch_triangles=0");
+  EXPECT_THROW(OOSpec::check(bad2), Error);
+}
+
+}  // namespace
+}  // namespace oovr
