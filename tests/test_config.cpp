@@ -7,6 +7,7 @@
 #include "oovr/core/error.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/timing/gpm_model.h"
+#include "oovr/framework/oo_spec.h"
 #include "oovr/memory/memory_system.h"
 
 namespace oovr {
@@ -102,6 +103,7 @@ TEST(Config, EveryPresetLoads) {
     const Config c = Config::from_toml_file(e.path().string());
     const MemorySpec spec = MemorySpec::from_config(c);
     (void)TimingSpec::from_config(c);
+    (void)OOSpec::parameters(c);
     EXPECT_NO_THROW(c.check_all_used());
     AddressMap map(spec.page, spec.line);
     map.add("buffer", Category::texture, 1 << 20);
@@ -120,6 +122,8 @@ TEST(Config, TheTable1PresetIsTheDefault) {
   (void)MemorySpec::from_config(empty);
   (void)TimingSpec::from_config(preset);
   (void)TimingSpec::from_config(empty);
+  (void)OOSpec::parameters(preset);
+  (void)OOSpec::parameters(empty);
   preset.check_all_used();
   EXPECT_EQ(preset.resolved(), empty.resolved());
 }

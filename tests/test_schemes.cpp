@@ -48,8 +48,8 @@ SchemeResult run(const std::string& scheme, std::initializer_list<const char*> s
 }
 
 TEST(Schemes, EveryImplementationIsRegistered) {
-  EXPECT_EQ(Schemes::names(), (std::vector<std::string>{"afr", "baseline", "baseline-1tb", "ideal", "object", "sfr-h",
-                                                        "sfr-v", "single-gpm"}));
+  EXPECT_EQ(Schemes::names(), (std::vector<std::string>{"afr", "baseline", "baseline-1tb", "ideal", "object", "oo-app",
+                                                        "oo-vr", "sfr-h", "sfr-v", "single-gpm"}));
   EXPECT_THROW(run("no-such-scheme"), Error);
 }
 
@@ -68,7 +68,7 @@ TEST(Schemes, EveryCoveredFragmentIsRasterisedExactlyOnce) {
 }
 
 TEST(Schemes, IdenticalWhateverTheThreadCount) {
-  for (const char* name : {"baseline", "object", "sfr-v"}) {
+  for (const char* name : {"baseline", "object", "sfr-v", "oo-vr"}) {
     const SchemeResult a = run(name, {}, 1), b = run(name, {}, 2);
     EXPECT_EQ(a.frame_latency_s, b.frame_latency_s) << name;
     EXPECT_EQ(a.inter_gpm_bytes, b.inter_gpm_bytes) << name;
@@ -178,9 +178,9 @@ TEST(Schemes, AWindowAveragesTheSameFramesForEveryScheme) {
   std::vector<SchemeResult> runs;
   const SchemeResult w = run_scheme_window("sfr-v", r.scene, r.traces, c, 4, &runs);
   ASSERT_EQ(runs.size(), 4u);
-  // The same by hand: warm up on frame 0, then frames 0 to 3 in turn.
+  // The same by hand: warm up on frames 0 to 3, then measure them in turn.
   const auto carried = std::make_shared<CarriedState>();
-  (void)run_scheme("sfr-v", r.scene, {r.traces[0]}, c, carried);
+  for (size_t k = 0; k < 4; ++k) (void)run_scheme("sfr-v", r.scene, {r.traces[k]}, c, carried);
   double sum = 0;
   uint64_t bytes = 0;
   for (size_t k = 0; k < 4; ++k) {
@@ -220,6 +220,74 @@ TEST(Schemes, PlacementCarriesOverFromFrameToFrame) {
   EXPECT_LE(again.total_inter_gpm_bytes(), first.total_inter_gpm_bytes() * 11 / 10);
   EXPECT_GE(again.total_inter_gpm_bytes(), first.total_inter_gpm_bytes() / 2);
   EXPECT_THROW(run_scheme("object", r.scene, {r.traces[0]}, c, carried), Error) << "laid out for another scheme";
+}
+
+// OO-VR's distributed composition moves exactly the lines a GPM wrote in
+// another GPM's strip (colour and depth), and nothing else is composition.
+TEST(Schemes, DistributedCompositionMovesOnlyPixelsRenderedAwayFromTheirOwner) {
+  const Rendered& r = courtyard();
+  const FrameTrace& t = *r.traces[0];
+  for (const char* comp : {"distributed", "root"}) {
+    Config c;
+    c.set("oo.composition", comp);
+    const SchemeResult s = run_scheme("oo-vr", r.scene, {&t}, c);
+    uint64_t lines = 0;
+    for (const TileWork& w : t.tiles) {
+      const auto it = s.owner.find({w.object, uint32_t(w.tile_y) * uint32_t(t.tiles_x) + w.tile_x});
+      ASSERT_NE(it, s.owner.end());
+      const int dest = std::string(comp) == "root" ? 0 : vertical_strip_owner(w.tile_x, t.tiles_x, 4);
+      if (it->second != dest) lines += uint64_t(__builtin_popcount(w.write_mask));
+    }
+    EXPECT_EQ(s.inter_gpm_bytes[size_t(Category::composition)], lines * t.line_bytes * 2) << comp;
+    EXPECT_GT(lines, 0u) << comp;
+  }
+}
+
+// Pre-allocation copies a page to a GPM once: a second pass over the same
+// frame with the same batch placement (round-robin, no split) copies
+// nothing, and the first copies no more than each GPM's share of the data.
+TEST(Schemes, PreAllocationNeverCopiesTwice) {
+  const Rendered& r = courtyard();
+  Config c;
+  c.set("oo.predictor", "false");
+  c.set("oo.split", "false");
+  const auto carried = std::make_shared<CarriedState>();
+  const SchemeResult first = run_scheme("oo-vr", r.scene, {r.traces[0]}, c, carried);
+  const SchemeResult second = run_scheme("oo-vr", r.scene, {r.traces[0]}, c, carried);
+  EXPECT_GT(first.inter_gpm_bytes[size_t(Category::prealloc)], 0u);
+  EXPECT_EQ(second.inter_gpm_bytes[size_t(Category::prealloc)], 0u);
+  uint64_t data = 0;
+  for (const auto& t : r.scene.textures) data += t.bytes();
+  for (const auto& m : r.scene.meshes) data += m.vertices.size() * sizeof(Vertex) + m.indices.size() * 4 + 2 * 128;
+  EXPECT_LE(first.inter_gpm_bytes[size_t(Category::prealloc)], 3 * data) << "at most a copy per other GPM";
+}
+
+// The predictor learns its rates in the first frame (the first batches go
+// round-robin) and keeps them for the next frames.
+TEST(Schemes, TheDistributionEngineFitsItsRatesOnceAndKeepsThem) {
+  const Rendered& r = courtyard();
+  const Config c;
+  const auto carried = std::make_shared<CarriedState>();
+  const SchemeResult first = run_scheme("oo-vr", r.scene, {r.traces[0]}, c, carried);
+  ASSERT_EQ(carried->values.count("oo.rates"), 1u);
+  const auto rates = carried->values["oo.rates"];
+  EXPECT_GT(rates[0], 0) << "c0";
+  EXPECT_GT(rates[1] + rates[2], 0) << "c1, c2";
+  (void)run_scheme("oo-vr", r.scene, {r.traces[1]}, c, carried);
+  EXPECT_EQ(carried->values["oo.rates"], rates);
+  bool noted = false;
+  for (const auto& n : first.notes) noted = noted || n.find("960 bits") != std::string::npos;
+  EXPECT_TRUE(noted) << "the engine's storage is reported";
+}
+
+// OO_APP deals batches round-robin and composes on the root; OO-VR's engine
+// balances the GPMs better than round-robin on this scene.
+TEST(Schemes, TheDistributionEngineBalancesBetterThanRoundRobin) {
+  const Rendered& r = courtyard();
+  const SchemeResult app = run_scheme_window("oo-app", r.scene, r.traces, Config{}, 4);
+  const SchemeResult vr = run_scheme_window("oo-vr", r.scene, r.traces, Config{}, 4);
+  EXPECT_LT(vr.best_to_worst(), app.best_to_worst());
+  EXPECT_LT(vr.frame_latency_s, app.frame_latency_s);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
+#include "oovr/framework/oo_spec.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/schemes/i_scheme.h"
 #include "oovr/timing/gpm_model.h"
@@ -105,6 +106,8 @@ int cmd_config(const ConfigArgs& a) {
   const Config c = cli::machine_config(a.file, a.settings);
   (void)MemorySpec::from_config(c);
   (void)TimingSpec::from_config(c);
+  (void)OOSpec::parameters(c);
+  OOSpec::check(c);  // the mechanism switches, when set
   c.check_all_used();
   // Printed as TOML (dotted keys), so that the output is itself a preset.
   fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
@@ -210,7 +213,8 @@ int main(int argc, char** argv) {
   std::string scheme_list;
   // The paper's order first (Sections 3 and 4), then the bounds, then any
   // other registered scheme.
-  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "single-gpm", "ideal"};
+  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
+                                      "single-gpm", "ideal"};
   ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
                 ordered.end());
   for (const auto& n : Schemes::names())

@@ -6,8 +6,8 @@
 
 namespace oovr {
 
-OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
-  OOSpec s = m;
+OOSpec OOSpec::parameters(const Config& c) {
+  OOSpec s;
   const OOSpec d;
   s.tsl_threshold = c.get_double("oo.tsl_threshold", d.tsl_threshold);
   if (!(s.tsl_threshold >= 0 && s.tsl_threshold <= 1)) throw Error("configuration key 'oo.tsl_threshold' must be from 0 to 1");
@@ -20,6 +20,11 @@ OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
   s.warmup_batches = positive("oo.warmup_batches", d.warmup_batches, 1 << 20);
   s.batch_queue = positive("oo.batch_queue", d.batch_queue, 1 << 20);
   s.tiles_per_unit = positive("oo.tiles_per_unit", d.tiles_per_unit, 1 << 20);
+  return s;
+}
+
+OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
+  OOSpec s = parameters(c);
   s.predictor = c.get_bool("oo.predictor", m.predictor);
   s.prealloc = c.get_bool("oo.prealloc", m.prealloc);
   s.split = c.get_bool("oo.split", m.split);

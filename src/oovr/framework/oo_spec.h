@@ -35,6 +35,8 @@ struct OOSpec {
 
   // `mechanisms` gives the switches' defaults (the scheme's own).
   static OOSpec from_config(const Config& c, const OOSpec& mechanisms);
+  // The parameters alone (the machine-wide keys a preset holds).
+  static OOSpec parameters(const Config& c);
   // Reads (and so checks) the oo.* keys present, for schemes that do not
   // use them: a key of OO-VR is not unknown to them, a misspelt one is.
   static void check(const Config& c);

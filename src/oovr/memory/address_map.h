@@ -3,6 +3,7 @@
 // page-aligned, so a page belongs to exactly one region.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -31,6 +32,13 @@ class AddressMap {
   // The region holding a page (pages are allocated densely from 0).
   uint32_t region_of_page(uint64_t page) const { return m_page_region[size_t(page)]; }
   uint64_t pages() const { return m_page_region.size(); }
+  // Bytes of a page its region uses (a region's last page may be partly
+  // empty; a small buffer uses a small part of its only page).
+  uint64_t page_used_bytes(uint64_t page) const {
+    const Region& r = m_regions[m_page_region[size_t(page)]];
+    const uint64_t start = page * m_page, end = r.base + r.bytes;
+    return end <= start ? 0 : std::min<uint64_t>(m_page, end - start);
+  }
   uint64_t page_bytes() const { return m_page; }
   uint64_t line_bytes() const { return m_line; }
   uint64_t end() const { return m_page_region.size() * m_page; }

@@ -194,14 +194,17 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
       continue;
     }
     if (m_copies[page] & (1u << gpm)) continue;  // already there
+    // The page's data, in whole lines: the unused end of a small buffer's
+    // page holds nothing to copy.
+    const uint64_t bytes_here = (m_map.page_used_bytes(page) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
     const int src = nearest_holder(page, gpm);
-    out.dram_read_bytes[size_t(src)] += m_page_bytes;
-    m_totals.dram_read_bytes[size_t(src)][size_t(Category::prealloc)] += m_page_bytes;
-    move(src, gpm, m_page_bytes, Category::prealloc, out);
-    out.dram_write_bytes[size_t(gpm)] += m_page_bytes;
-    m_totals.dram_write_bytes[size_t(gpm)][size_t(Category::prealloc)] += m_page_bytes;
+    out.dram_read_bytes[size_t(src)] += bytes_here;
+    m_totals.dram_read_bytes[size_t(src)][size_t(Category::prealloc)] += bytes_here;
+    move(src, gpm, bytes_here, Category::prealloc, out);
+    out.dram_write_bytes[size_t(gpm)] += bytes_here;
+    m_totals.dram_write_bytes[size_t(gpm)][size_t(Category::prealloc)] += bytes_here;
     m_copies[page] |= 1u << gpm;
-    copied += m_page_bytes;
+    copied += bytes_here;
   }
   return copied;
 }
@@ -234,7 +237,10 @@ std::vector<uint64_t> MemorySystem::resident_bytes() const {
   std::vector<uint64_t> r(size_t(m_spec.gpms), 0);
   for (size_t p = 0; p < m_home.size(); ++p) {
     if (m_home[p] < 0) continue;
-    for (uint32_t m = m_copies[p]; m; m &= m - 1) r[size_t(__builtin_ctz(m))] += m_page_bytes;
+    // Data bytes, not whole pages: a small buffer alone in its page counts
+    // its own size, as a driver packing small buffers would allocate.
+    const uint64_t used = m_map.page_used_bytes(p);
+    for (uint32_t m = m_copies[p]; m; m &= m - 1) r[size_t(__builtin_ctz(m))] += used;
   }
   return r;
 }

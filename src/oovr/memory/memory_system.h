@@ -104,7 +104,8 @@ class MemorySystem {
     return page < m_home.size() ? m_home[page] : -1;
   }
   bool holds(int gpm, uint64_t address) const;
-  // Bytes of pages resident in each GPM's DRAM (homes and copies).
+  // Data bytes resident in each GPM's DRAM (homes and copies; the used part
+  // of each page).
   std::vector<uint64_t> resident_bytes() const;
   uint64_t footprint_bytes() const;
 

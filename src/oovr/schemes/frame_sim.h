@@ -69,7 +69,7 @@ class FrameSim {
     std::vector<int> after;
     int from = -1;
     uint64_t incoming = 0;
-    std::vector<int> fbs;  // per record, when records write different framebuffers (else fb)
+    std::vector<int> fbs = {};  // per record, when records write different framebuffers (else fb)
   };
   std::vector<int> tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame);
   // Moves `bytes` from one GPM to another.
@@ -140,6 +140,14 @@ void sort_first(FrameSim& sim, const std::function<int(int tile_x, int tile_y, i
 // (the tiles of one page), so that first touch makes each GPM's pixels
 // local instead of sharing every page.
 std::function<int(int, int, int)> eye_groups_interleaved(int gpms, const SceneLayout& layout);
+
+// Vertical strips of whole tile columns, one per GPM (the last may be
+// narrower): the owner of tile column `tile_x` (tile SFR-V, and OO-VR's
+// distributed framebuffer, which maps memory as SFR-V does: Section 5.3).
+inline int vertical_strip_owner(int tile_x, int tiles_x, int gpms) {
+  const int width = (tiles_x + gpms - 1) / gpms;
+  return std::min(gpms - 1, tile_x / width);
+}
 
 // The tile records of one object, grouped by eye (in trace order).
 struct ObjectRecords {

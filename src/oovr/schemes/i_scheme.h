@@ -96,7 +96,7 @@ int scheme_frames_needed(const std::string& name, const Config& config);
 // flight (AFR: one per GPM) on each group of m frames, any other on each
 // frame in turn, so that every scheme is measured on the same frames. The
 // frames run in sequence on one memory system, after an unmeasured warm-up
-// run of the first group: the measured frames see data where the frames
+// pass over the same frames: the measured frames see data where the frames
 // before left it (the steady state of a running game), not a cold start.
 // The summary has the mean frame latency, the throughput over the window,
 // and per-frame means of traffic, DRAM bytes and GPM busy time; its

@@ -17,9 +17,8 @@ class SfrV final : public Scheme {
  public:
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
-    const int n = sim.gpms();
-    const int width = (sim.frame().tiles_x + n - 1) / n;
-    sort_first(sim, [&](int tx, int, int) { return std::min(n - 1, tx / width); }, Geometry::duplicated_per_eye);
+    const int n = sim.gpms(), tiles_x = sim.frame().tiles_x;
+    sort_first(sim, [&](int tx, int, int) { return vertical_strip_owner(tx, tiles_x, n); }, Geometry::duplicated_per_eye);
     return sim.finish("sfr-v");
   }
 };
