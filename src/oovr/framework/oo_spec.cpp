@@ -35,12 +35,15 @@ OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
 }
 
 void OOSpec::check(const Config& c) {
-  OOSpec any;
-  bool present = false;
-  for (const char* k : {"oo.tsl_threshold", "oo.batch_triangles", "oo.warmup_batches", "oo.batch_queue", "oo.tiles_per_unit",
-                        "oo.predictor", "oo.prealloc", "oo.split", "oo.composition"})
-    present = present || c.has(k);
-  if (present) (void)from_config(c, any);
+  // Only the keys given: a switch's default belongs to the scheme.
+  for (const char* k : {"oo.tsl_threshold", "oo.batch_triangles", "oo.warmup_batches", "oo.batch_queue", "oo.tiles_per_unit"})
+    if (c.has(k)) {
+      (void)parameters(c);
+      break;
+    }
+  for (const char* k : {"oo.predictor", "oo.prealloc", "oo.split"})
+    if (c.has(k)) (void)c.get_bool(k, true);
+  if (c.has("oo.composition")) (void)c.get_choice("oo.composition", "distributed", {"root", "distributed"});
 }
 
 }  // namespace oovr
