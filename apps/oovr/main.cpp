@@ -214,7 +214,7 @@ int main(int argc, char** argv) {
   // The paper's order first (Sections 3 and 4), then the bounds, then any
   // other registered scheme.
   std::vector<std::string> ordered = {"baseline", "baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
-                                      "single-gpm", "ideal"};
+                                      "single-gpm", "ideal", "two-pass"};
   ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
                 ordered.end());
   for (const auto& n : Schemes::names())

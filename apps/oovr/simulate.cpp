@@ -14,7 +14,7 @@
 #include "oovr/core/parallel.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
-#include "oovr/pipeline/trace_cache.h"
+#include "oovr/experiments/frames.h"
 #include "oovr/scene/load.h"
 #include "oovr/schemes/i_scheme.h"
 
@@ -23,49 +23,19 @@ namespace {
 
 std::string mb(uint64_t b) { return fmt::format("{:.2f} MB", double(b) / 1e6); }
 
-struct Frames {
-  Scene scene;
-  StereoRig rig;
-  std::vector<FrameOutput> outputs;  // image and object ids only where rendered
-  std::vector<const FrameTrace*> traces;
-  int cached = 0;
-};
+using Frames = FrameWindow;
 
-// The traces of `count` consecutive frames from a.frame (wrapping around the
-// camera path), with the memory system's line size: from the trace cache
-// when they are there, rendered (and cached) otherwise. The first frame is
-// always rendered when its image is needed.
+// The traces of the window from a.frame, from the cache when there.
 Frames render_frames(const SimulateArgs& a, const Config& config, int count, bool need_first_image = false) {
-  Frames f{load_scene(a.scene), a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
-                                                          : parse_eye_resolution(a.eye_resolution), {}, {}, 0};
-  Config probe = config;
-  PipelineSettings p;
-  p.max_anisotropy = a.aniso;
-  p.line_bytes = uint32_t(MemorySpec::from_config(probe).line.value);
-  p.validate();
-  const int path = int(f.scene.camera.frames.size());
-  if (a.frame < 0 || a.frame >= path)
-    throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) + " frames");
-  const TraceCache cache;
-  const uint64_t fingerprint = a.no_cache ? 0 : scene_fingerprint(f.scene);
-  for (int k = 0; k < count; ++k) {
-    const int frame = (a.frame + k) % path;
-    const StereoView view = make_stereo_view(f.scene.camera, frame, f.rig);
-    const std::string key = cache.key(fingerprint, frame, view, p);
-    if (!a.no_cache && !(k == 0 && need_first_image)) {
-      if (auto t = cache.load(key)) {
-        FrameOutput o;
-        o.trace = std::move(*t);
-        f.outputs.push_back(std::move(o));
-        ++f.cached;
-        continue;
-      }
-    }
-    f.outputs.push_back(render_frame(f.scene, view, p, frame));
-    if (!a.no_cache) cache.store(key, f.outputs.back().trace);
-  }
-  for (const auto& o : f.outputs) f.traces.push_back(&o.trace);
-  return f;
+  WindowRequest r;
+  r.first = a.frame;
+  r.count = count;
+  r.aniso = a.aniso;
+  r.use_cache = !a.no_cache;
+  r.need_first_image = need_first_image;
+  return load_window(load_scene(a.scene),
+                     a.eye_resolution.empty() ? parse_frame_resolution(a.resolution) : parse_eye_resolution(a.eye_resolution),
+                     config, r);
 }
 
 nlohmann::ordered_json to_json(const SchemeResult& r) {
@@ -260,8 +230,10 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
     const double lat = base ? base->frame_latency_s / r.frame_latency_s : 0;
     const double thr = base ? r.throughput_fps / base->throughput_fps : 0;
     const double traffic = base && base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0;
-    fmt::print("  {:<13} {:>10.3f} {:>8.2f}x {:>9.1f} {:>9.2f}x {:>9} {:>10.2f}x {:>8.2f}\n", r.scheme, r.frame_latency_s * 1e3,
-               lat, r.throughput_fps, thr, mb(r.total_inter_gpm_bytes()), traffic, r.best_to_worst());
+    // Without the baseline in the list there is nothing to normalise to.
+    const auto ratio = [&](double v) { return base ? fmt::format("{:.2f}x", v) : std::string("-"); };
+    fmt::print("  {:<13} {:>10.3f} {:>9} {:>9.1f} {:>10} {:>9} {:>11} {:>8.2f}\n", r.scheme, r.frame_latency_s * 1e3,
+               ratio(lat), r.throughput_fps, ratio(thr), mb(r.total_inter_gpm_bytes()), ratio(traffic), r.best_to_worst());
   }
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, window,
