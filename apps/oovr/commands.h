@@ -22,9 +22,24 @@ struct SimulateArgs {
   bool no_cache = false;
 };
 
+struct PaperArgs {
+  std::string scenes;       // comma-separated; empty: the default list
+  std::string resolutions = "640x480,1280x1024,1600x1200";
+  std::string sweep_resolution = "1280x1024";
+  int frame = 0;
+  int frames = 4;
+  int aniso = 16;
+  std::string config;
+  std::vector<std::string> settings;
+  std::string out = "docs/paper";
+  std::string doc = "docs/paper-comparison.md";
+  std::string command;  // the command line, for the document
+};
+
 // A preset (or the built-in defaults) with --set overrides.
 Config machine_config(const std::string& file, const std::vector<std::string>& settings);
 int simulate(const SimulateArgs& a);
 int compare(const SimulateArgs& a, const std::vector<std::string>& schemes);
+int paper(const PaperArgs& a);
 
 }  // namespace oovr::cli

@@ -228,6 +228,19 @@ int main(int argc, char** argv) {
   cmp_cmd->add_option("--schemes", scheme_list, "Comma-separated schemes (default: all: " + all_schemes + ")");
 
   RenderArgs render;
+  cli::PaperArgs paper;
+  auto* paper_cmd = app.add_subcommand("paper", "Run the paper's evaluation and rewrite docs/paper-comparison.md");
+  paper_cmd->add_option("--scenes", paper.scenes, "Comma-separated scenes (default: the built-in scenes and installed game levels)");
+  paper_cmd->add_option("--resolutions", paper.resolutions, "Comma-separated stereo frame sizes of Figure 15")->capture_default_str();
+  paper_cmd->add_option("--sweep-resolution", paper.sweep_resolution, "Frame size of the claims, sweeps and ablations")->capture_default_str();
+  paper_cmd->add_option("--frame", paper.frame, "First frame of the camera path")->capture_default_str()->check(CLI::NonNegativeNumber);
+  paper_cmd->add_option("--frames", paper.frames, "Frames per run (a multiple of the GPM count, for AFR)")->capture_default_str()->check(CLI::Range(1, 1000));
+  paper_cmd->add_option("--aniso", paper.aniso, "Maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
+  paper_cmd->add_option("--config", paper.config, "TOML machine preset (default: the paper's Table 1)");
+  paper_cmd->add_option("--set", paper.settings, "Override a configuration key (repeatable)");
+  paper_cmd->add_option("--out", paper.out, "Folder for results.json, CSV files and SVG plots (empty: none)")->capture_default_str();
+  paper_cmd->add_option("--doc", paper.doc, "The comparison document to write (empty: none)")->capture_default_str();
+
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
   render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
@@ -246,7 +259,7 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;
       for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
-      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, config; see --help)");
+      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, paper, config; see --help)");
     }
     app.parse(argc, argv);
     if (render_cmd->count("--resolution") && render_cmd->count("--eye-resolution"))
@@ -267,6 +280,11 @@ int main(int argc, char** argv) {
       return cli::compare(cmp, list);
     }
     if (app.got_subcommand(render_cmd)) return cmd_render(render);
+    if (app.got_subcommand(paper_cmd)) {
+      paper.command = "oovr";
+      for (int i = 1; i < argc; ++i) paper.command += std::string(" ") + argv[i];
+      return cli::paper(paper);
+    }
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
     std::fprintf(stderr, "oovr: error: %s\n", e.what());

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <numeric>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,8 @@
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/experiments/frames.h"
+#include "oovr/experiments/paper.h"
+#include "oovr/experiments/result_json.h"
 #include "oovr/scene/load.h"
 #include "oovr/schemes/i_scheme.h"
 
@@ -36,30 +39,6 @@ Frames render_frames(const SimulateArgs& a, const Config& config, int count, boo
   return load_window(load_scene(a.scene),
                      a.eye_resolution.empty() ? parse_frame_resolution(a.resolution) : parse_eye_resolution(a.eye_resolution),
                      config, r);
-}
-
-nlohmann::ordered_json to_json(const SchemeResult& r) {
-  nlohmann::ordered_json j;
-  j["scheme"] = r.scheme;
-  j["gpms"] = r.gpms;
-  j["frame_latency_cycles"] = r.frame_latency_cycles();
-  j["frame_latency_ms"] = r.frame_latency_s * 1e3;
-  j["throughput_fps"] = r.throughput_fps;
-  j["frames_in_flight"] = r.frames_in_flight;
-  j["inter_gpm_bytes"] = r.total_inter_gpm_bytes();
-  nlohmann::ordered_json cat = nlohmann::ordered_json::object();
-  for (int c = 0; c < kCategories; ++c) cat[category_name(Category(c))] = r.inter_gpm_bytes[size_t(c)];
-  j["inter_gpm_bytes_by_category"] = cat;
-  j["local_dram_bytes"] = r.local_dram_bytes;
-  j["footprint_bytes"] = r.footprint_bytes;
-  nlohmann::ordered_json busy = nlohmann::ordered_json::array();
-  for (double b : r.gpm_busy_s) busy.push_back(b * r.frequency_hz);
-  j["gpm_busy_cycles"] = busy;
-  j["best_to_worst"] = r.best_to_worst();
-  j["work_units"] = r.units;
-  j["notes"] = r.notes;
-  j["config"] = r.config;
-  return j;
 }
 
 void print_result(const SchemeResult& r) {
@@ -259,6 +238,55 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
     j["schemes"] = arr;
     write_json(a.json, j);
   }
+  return 0;
+}
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> v;
+  for (size_t i = 0; i <= text.size();) {
+    const size_t comma = std::min(text.find(',', i), text.size());
+    if (comma > i) v.push_back(text.substr(i, comma - i));
+    i = comma + 1;
+  }
+  return v;
+}
+
+}  // namespace
+
+int paper(const PaperArgs& a) {
+  PaperOptions o;
+  o.scenes = split_list(a.scenes);
+  o.resolutions = split_list(a.resolutions);
+  if (o.resolutions.empty()) throw Error("--resolutions names no resolution");
+  o.sweep_resolution = a.sweep_resolution;
+  o.first_frame = a.frame;
+  o.frames = a.frames;
+  o.aniso = a.aniso;
+  o.config = machine_config(a.config, a.settings);
+  o.command = a.command;
+  // Fail before the work, not after: the outputs must be writable.
+  if (!a.out.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.out, ec);
+    if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
+  }
+  if (!a.doc.empty()) {
+    const auto parent = std::filesystem::absolute(a.doc).parent_path();
+    if (!std::filesystem::is_directory(parent))
+      throw Error("cannot write '" + a.doc + "': the folder " + parent.string() + " does not exist (give --doc FILE)");
+  }
+  o.progress = [](const std::string& line) {
+    fmt::print("  {}\n", line);
+    std::fflush(stdout);
+  };
+  fmt::print("oovr paper: the paper's evaluation ({} frames per run, from frame {})\n", o.frames, o.first_frame);
+  const PaperResults r = run_paper(o);
+  if (!a.out.empty()) write_paper_outputs(r, o, a.out);
+  if (!a.doc.empty()) write_paper_doc(r, o, a.doc, a.out);
+  fmt::print("{} scenes, {} runs in {:.0f} s{}{}\n", r.scenes.size(), r.runs.size(), r.seconds,
+             a.out.empty() ? "" : "; results, CSV and plots in " + a.out, a.doc.empty() ? "" : "; comparison in " + a.doc);
   return 0;
 }
 

@@ -54,7 +54,7 @@ struct Object {
   // behind it). Indices are smaller than this object's own. Rendering ignores
   // them (draw order already respects them); OO-VR's middleware keeps such
   // objects in one batch, in this order (paper Section 5.1).
-  std::vector<uint32_t> after;
+  std::vector<uint32_t> after = {};
 };
 
 // One camera pose of a path: the head (centre between the eyes).

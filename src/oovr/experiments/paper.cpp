@@ -1,0 +1,348 @@
+#include "oovr/experiments/paper.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "oovr/core/error.h"
+#include "oovr/core/parallel.h"
+#include "oovr/experiments/frames.h"
+#include "oovr/experiments/paper_figures.h"
+#include "oovr/experiments/result_json.h"
+#include "oovr/scene/load.h"
+#include "oovr/timing/gpm_model.h"
+
+namespace oovr {
+namespace fs = std::filesystem;
+using namespace paper;
+
+namespace {
+
+struct Job {
+  std::string scheme, variant;
+};
+
+Config with_variant(const Config& base, const std::string& variant) {
+  Config c = base;
+  std::stringstream in(variant);
+  std::string item;
+  while (std::getline(in, item, ';'))
+    if (!item.empty()) c.set(item);
+  return c;
+}
+
+}  // namespace
+
+const SchemeResult* PaperResults::find(const std::string& scene, const std::string& resolution, const std::string& scheme,
+                                       const std::string& variant) const {
+  for (const auto& r : runs)
+    if (r.scene == scene && r.resolution == resolution && r.scheme == scheme && r.variant == variant) return &r.result;
+  return nullptr;
+}
+
+std::vector<std::string> paper_default_scenes() {
+  return {"courtyard", "crowd", "oa:oa_dm4", "oa:ctf_inyard", "oa:am_underworks2", "torcs:forza"};
+}
+
+PaperResults run_paper(const PaperOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PaperResults res;
+  for (const auto& s : kSchemes)
+    if (!Schemes::find(s)) throw Error("the paper's evaluation needs scheme '" + s + "', which is not registered");
+  std::vector<std::string> resolutions = o.resolutions;
+  if (std::find(resolutions.begin(), resolutions.end(), o.sweep_resolution) == resolutions.end())
+    resolutions.push_back(o.sweep_resolution);
+  for (const auto& r : resolutions) (void)parse_frame_resolution(r);  // a bad one fails before any work
+  const std::vector<std::string> scenes = o.scenes.empty() ? paper_default_scenes() : o.scenes;
+
+  for (const auto& name : scenes) {
+    Scene scene;
+    try {
+      scene = load_scene(name);
+    } catch (const Error& e) {
+      // Explicitly named scenes must load; the default list skips what is not installed.
+      if (!o.scenes.empty()) throw;
+      res.skipped.push_back(name + ": " + e.what());
+      if (o.progress) o.progress(fmt::format("{}: skipped ({})", name, e.what()));
+      continue;
+    }
+    res.scenes.push_back(name);
+    for (const auto& resolution : resolutions) {
+      const auto ts = std::chrono::steady_clock::now();
+      WindowRequest w;
+      w.first = o.first_frame;
+      w.count = o.frames;
+      w.aniso = o.aniso;
+      const FrameWindow window = load_window(scene, parse_frame_resolution(resolution), o.config, w);
+      if (resolution == o.sweep_resolution) {
+        PaperSceneStats st;
+        st.draws = scene.objects.size();
+        for (const auto& ob : scene.objects) st.triangles += scene.meshes[size_t(ob.mesh)].indices.size() / 3;
+        for (const auto& t : scene.textures) st.texture_bytes += t.bytes();
+        Config probe = o.config;
+        const TimingSpec timing = TimingSpec::from_config(probe);
+        double vi = 0, fi = 0;
+        for (const auto& ow : window.traces[0]->objects) vi += double(ow.vertices) * timing.vertex_instructions;
+        for (const auto& tw : window.traces[0]->tiles) fi += double(tw.quads) * 4.0 * timing.fragment_instructions;
+        st.vertex_share = vi + fi > 0 ? vi / (vi + fi) : 0;
+        res.stats[name] = st;
+      }
+      std::vector<Job> jobs;
+      if (std::find(o.resolutions.begin(), o.resolutions.end(), resolution) != o.resolutions.end() ||
+          resolution == o.sweep_resolution)
+        for (const auto& s : kSchemes) jobs.push_back({s, ""});
+      if (resolution == o.sweep_resolution) {
+        for (const auto& s : kSweepSchemes) {
+          for (const auto& [bw, gbps] : kLinks)
+            if (!link_variant(bw).empty()) jobs.push_back({s, link_variant(bw)});
+          for (int n : kGpms)
+            if (!gpm_variant(n).empty()) jobs.push_back({s, gpm_variant(n)});
+        }
+        for (const auto& [label, key] : kMechanisms) {
+          jobs.push_back({"oo-vr", key + "=" + off_value(key)});
+          jobs.push_back({"oo-app", key + "=" + on_value(key)});
+        }
+      }
+      std::vector<SchemeResult> out(jobs.size());
+      parallel_for(jobs.size(), 0, [&](size_t i) {
+        out[i] = run_scheme_window(jobs[i].scheme, window.scene, window.traces, with_variant(o.config, jobs[i].variant), o.frames);
+      });
+      for (size_t i = 0; i < jobs.size(); ++i) res.runs.push_back({name, resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
+      if (o.progress)
+        o.progress(fmt::format("{} {}: {} runs of {} frames ({} traces cached) in {:.1f} s", name, resolution, jobs.size(),
+                               o.frames, window.cached,
+                               std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count()));
+    }
+  }
+  if (res.scenes.empty()) throw Error("no scene of the evaluation could be loaded");
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+// ---------------------------------------------------------------------------
+// Outputs: JSON, CSV, SVG.
+
+namespace {
+
+void write_file(const fs::path& path, const std::string& text) {
+  std::error_code ec;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw Error("cannot write '" + path.string() + "'");
+}
+
+std::string xml(const std::string& s) {
+  std::string r;
+  for (char c : s) {
+    if (c == '<') r += "&lt;";
+    else if (c == '>') r += "&gt;";
+    else if (c == '&') r += "&amp;";
+    else r += c;
+  }
+  return r;
+}
+
+const char* kColours[] = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948",
+                          "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac", "#1f77b4"};
+
+// Grouped bars: one group per label, one bar per series; a line at `ref`.
+std::string bar_chart(const std::string& title, const std::string& y_label, const std::vector<std::string>& groups,
+                      const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, double ref) {
+  const double w = 920, h = 420, left = 60, right = 160, top = 40, bottom = 70;
+  double vmax = ref;
+  for (const auto& row : values)
+    for (double v : row)
+      if (std::isfinite(v)) vmax = std::max(vmax, v);
+  vmax *= 1.1;
+  const double pw = w - left - right, ph = h - top - bottom;
+  const auto y = [&](double v) { return top + ph - v / vmax * ph; };
+  std::string s = fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{}\" y=\"22\" font-size=\"15\">{}</text>\n",
+      w, h, left, xml(title));
+  for (int k = 0; k <= 5; ++k) {
+    const double v = vmax * k / 5;
+    s += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", left, left + pw, y(v), y(v));
+    s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:.2f}</text>\n", left - 5, y(v) + 4, v);
+  }
+  const double gw = pw / double(std::max<size_t>(1, groups.size()));
+  const double bw = gw * 0.8 / double(std::max<size_t>(1, series.size()));
+  for (size_t g = 0; g < groups.size(); ++g) {
+    for (size_t k = 0; k < series.size(); ++k) {
+      const double v = values[g][k];
+      if (!std::isfinite(v)) continue;
+      const double x = left + gw * double(g) + gw * 0.1 + bw * double(k);
+      s += fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"{}\"><title>{} {}: {:.3f}</title></rect>\n",
+                       x, y(v), bw * 0.95, top + ph - y(v), kColours[k % 11], xml(groups[g]), xml(series[k]), v);
+    }
+    s += fmt::format("<text x=\"{:.1f}\" y=\"{}\" text-anchor=\"end\" transform=\"rotate(-30 {:.1f} {})\">{}</text>\n",
+                     left + gw * (double(g) + 0.5), top + ph + 16, left + gw * (double(g) + 0.5), top + ph + 16, xml(groups[g]));
+  }
+  s += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"black\" stroke-dasharray=\"4 3\"/>\n", left,
+                   left + pw, y(ref), y(ref));
+  s += fmt::format("<text x=\"14\" y=\"{}\" transform=\"rotate(-90 14 {})\" text-anchor=\"middle\">{}</text>\n", top + ph / 2,
+                   top + ph / 2, xml(y_label));
+  for (size_t k = 0; k < series.size(); ++k)
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"12\" height=\"12\" fill=\"{}\"/><text x=\"{}\" y=\"{}\">{}</text>\n",
+                     left + pw + 15, top + 18 * double(k), kColours[k % 11], left + pw + 32, top + 18 * double(k) + 10,
+                     xml(series[k]));
+  return s + "</svg>\n";
+}
+
+// Lines over x values (log scale when `log_x`), one per series.
+std::string line_chart(const std::string& title, const std::string& x_label, const std::string& y_label,
+                       const std::vector<double>& xs, const std::vector<std::string>& x_names,
+                       const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, bool log_x) {
+  const double w = 620, h = 400, left = 60, right = 130, top = 40, bottom = 50;
+  double vmax = 0;
+  for (const auto& row : values)
+    for (double v : row)
+      if (std::isfinite(v)) vmax = std::max(vmax, v);
+  vmax *= 1.1;
+  const double pw = w - left - right, ph = h - top - bottom;
+  const auto fx = [&](double x) { return log_x ? std::log(x) : x; };
+  const double x0 = fx(xs.front()), x1 = fx(xs.back());
+  const auto X = [&](double x) { return left + (fx(x) - x0) / (x1 - x0) * pw; };
+  const auto Y = [&](double v) { return top + ph - v / vmax * ph; };
+  std::string s = fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{}\" y=\"22\" font-size=\"15\">{}</text>\n",
+      w, h, left, xml(title));
+  for (int k = 0; k <= 5; ++k) {
+    const double v = vmax * k / 5;
+    s += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", left, left + pw, Y(v), Y(v));
+    s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:.2f}</text>\n", left - 5, Y(v) + 4, v);
+  }
+  for (size_t i = 0; i < xs.size(); ++i)
+    s += fmt::format("<text x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", X(xs[i]), top + ph + 16, xml(x_names[i]));
+  s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", left + pw / 2, top + ph + 36, xml(x_label));
+  s += fmt::format("<text x=\"14\" y=\"{}\" transform=\"rotate(-90 14 {})\" text-anchor=\"middle\">{}</text>\n", top + ph / 2,
+                   top + ph / 2, xml(y_label));
+  for (size_t k = 0; k < series.size(); ++k) {
+    std::string pts;
+    for (size_t i = 0; i < xs.size(); ++i)
+      if (std::isfinite(values[k][i])) pts += fmt::format("{:.1f},{:.1f} ", X(xs[i]), Y(values[k][i]));
+    s += fmt::format("<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>\n", pts, kColours[k % 11]);
+    for (size_t i = 0; i < xs.size(); ++i)
+      if (std::isfinite(values[k][i]))
+        s += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3\" fill=\"{}\"><title>{} {}: {:.3f}</title></circle>\n",
+                         X(xs[i]), Y(values[k][i]), kColours[k % 11], xml(series[k]), xml(x_names[i]), values[k][i]);
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"12\" height=\"12\" fill=\"{}\"/><text x=\"{}\" y=\"{}\">{}</text>\n",
+                     left + pw + 15, top + 18 * double(k), kColours[k % 11], left + pw + 32, top + 18 * double(k) + 10,
+                     xml(series[k]));
+  }
+  return s + "</svg>\n";
+}
+
+}  // namespace
+
+void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std::string& dir) {
+  const fs::path d(dir);
+  Figures F{r, o};
+  nlohmann::ordered_json j;
+  j["command"] = o.command;
+  j["scenes"] = r.scenes;
+  j["skipped"] = r.skipped;
+  j["frames"] = o.frames;
+  j["first_frame"] = o.first_frame;
+  j["seconds"] = r.seconds;
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  for (const auto& x : r.runs) {
+    nlohmann::ordered_json e;
+    e["scene"] = x.scene;
+    e["resolution"] = x.resolution;
+    e["variant"] = x.variant;
+    e["result"] = to_json(x.result);
+    runs.push_back(e);
+  }
+  j["runs"] = runs;
+  write_file(d / "results.json", j.dump(1) + "\n");
+
+  std::string fig15 = "scene,resolution,scheme,latency_ms,throughput_fps,speedup_vs_baseline,throughput_vs_baseline\n";
+  std::string fig16 = "scene,resolution,scheme,inter_gpm_bytes,traffic_vs_baseline";
+  for (int c = 0; c < kCategories; ++c) fig16 += std::string(",") + category_name(Category(c));
+  fig16 += "\n";
+  for (const auto& x : r.runs) {
+    if (!x.variant.empty()) continue;
+    const SchemeResult* base = r.find(x.scene, x.resolution, "baseline");
+    fig15 += fmt::format("{},{},{},{:.6f},{:.2f},{:.4f},{:.4f}\n", x.scene, x.resolution, x.scheme, x.result.frame_latency_s * 1e3,
+                         x.result.throughput_fps, base->frame_latency_s / x.result.frame_latency_s,
+                         x.result.throughput_fps / base->throughput_fps);
+    fig16 += fmt::format("{},{},{},{},{:.4f}", x.scene, x.resolution, x.scheme, x.result.total_inter_gpm_bytes(),
+                         F.traffic(x.scene, x.resolution, x.scheme));
+    for (int c = 0; c < kCategories; ++c) fig16 += fmt::format(",{}", x.result.inter_gpm_bytes[size_t(c)]);
+    fig16 += "\n";
+  }
+  write_file(d / "fig15-speedup.csv", fig15);
+  write_file(d / "fig16-traffic.csv", fig16);
+  std::string fig17 = "scene,scheme,link_GBps,speedup_vs_baseline_64GBps\n", fig18 = "scene,scheme,gpms,speedup_vs_1_gpm\n";
+  for (const auto& s : r.scenes)
+    for (const auto& sc : kSweepSchemes) {
+      for (const auto& [bw, gbps] : kLinks) fig17 += fmt::format("{},{},{},{:.4f}\n", s, sc, gbps, F.link(s, sc, bw));
+      for (int n : kGpms) fig18 += fmt::format("{},{},{},{:.4f}\n", s, sc, n, F.gpms(s, sc, n));
+    }
+  write_file(d / "fig17-links.csv", fig17);
+  write_file(d / "fig18-gpms.csv", fig18);
+  std::string abl = "scene,scheme,variant,speedup_vs_baseline\n";
+  for (const auto& s : r.scenes)
+    for (const auto& [label, key] : kMechanisms) {
+      abl += fmt::format("{},oo-vr,{}={},{:.4f}\n", s, key, off_value(key), F.speedup(s, o.sweep_resolution, "oo-vr", key + "=" + off_value(key)));
+      abl += fmt::format("{},oo-app,{}={},{:.4f}\n", s, key, on_value(key), F.speedup(s, o.sweep_resolution, "oo-app", key + "=" + on_value(key)));
+    }
+  write_file(d / "ablations.csv", abl);
+
+  // Plots at the sweep resolution.
+  const std::vector<std::string> shown = {"baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr"};
+  std::vector<std::vector<double>> sp, tr;
+  std::vector<std::string> groups = r.scenes;
+  groups.push_back("geomean");
+  for (const auto& s : r.scenes) {
+    sp.emplace_back();
+    tr.emplace_back();
+    for (const auto& sc : shown) {
+      sp.back().push_back(F.speedup(s, o.sweep_resolution, sc));
+      tr.back().push_back(F.traffic(s, o.sweep_resolution, sc));
+    }
+  }
+  sp.emplace_back();
+  tr.emplace_back();
+  for (const auto& sc : shown) {
+    sp.back().push_back(F.mean([&](const std::string& s) { return F.speedup(s, o.sweep_resolution, sc); }));
+    tr.back().push_back(F.mean([&](const std::string& s) { return F.traffic(s, o.sweep_resolution, sc); }));
+  }
+  write_file(d / "fig15-speedup.svg", bar_chart("Single-frame speed-up over the baseline (" + o.sweep_resolution + ")",
+                                                "speed-up (baseline = 1)", groups, shown, sp, 1.0));
+  write_file(d / "fig16-traffic.svg", bar_chart("Inter-GPM traffic against the baseline (" + o.sweep_resolution + ")",
+                                                "traffic (baseline = 1)", groups, shown, tr, 1.0));
+  std::vector<double> xs;
+  std::vector<std::string> xn;
+  for (const auto& [bw, gbps] : kLinks) {
+    xs.push_back(gbps);
+    xn.push_back(gbps >= 1000 ? "1 TB/s" : fmt::format("{:.0f}", gbps));
+  }
+  std::vector<std::vector<double>> lv, gv;
+  for (const auto& sc : kSweepSchemes) {
+    lv.emplace_back();
+    for (const auto& [bw, gbps] : kLinks) lv.back().push_back(F.mean([&](const std::string& s) { return F.link(s, sc, bw); }));
+    gv.emplace_back();
+    for (int n : kGpms) gv.back().push_back(F.mean([&](const std::string& s) { return F.gpms(s, sc, n); }));
+  }
+  write_file(d / "fig17-links.svg", line_chart("Speed-up over the baseline at 64 GB/s (geomean of scenes)", "link bandwidth (GB/s)",
+                                               "speed-up", xs, xn, kSweepSchemes, lv, true));
+  std::vector<double> gx;
+  std::vector<std::string> gn;
+  for (int n : kGpms) {
+    gx.push_back(n);
+    gn.push_back(std::to_string(n));
+  }
+  write_file(d / "fig18-gpms.svg", line_chart("Speed-up over one GPM (geomean of scenes)", "GPMs", "speed-up", gx, gn,
+                                              kSweepSchemes, gv, true));
+}
+
+}  // namespace oovr

@@ -1,0 +1,29 @@
+#include "oovr/experiments/result_json.h"
+
+namespace oovr {
+
+nlohmann::ordered_json to_json(const SchemeResult& r) {
+  nlohmann::ordered_json j;
+  j["scheme"] = r.scheme;
+  j["gpms"] = r.gpms;
+  j["frame_latency_cycles"] = r.frame_latency_cycles();
+  j["frame_latency_ms"] = r.frame_latency_s * 1e3;
+  j["throughput_fps"] = r.throughput_fps;
+  j["frames_in_flight"] = r.frames_in_flight;
+  j["inter_gpm_bytes"] = r.total_inter_gpm_bytes();
+  nlohmann::ordered_json cat = nlohmann::ordered_json::object();
+  for (int c = 0; c < kCategories; ++c) cat[category_name(Category(c))] = r.inter_gpm_bytes[size_t(c)];
+  j["inter_gpm_bytes_by_category"] = cat;
+  j["local_dram_bytes"] = r.local_dram_bytes;
+  j["footprint_bytes"] = r.footprint_bytes;
+  nlohmann::ordered_json busy = nlohmann::ordered_json::array();
+  for (double b : r.gpm_busy_s) busy.push_back(b * r.frequency_hz);
+  j["gpm_busy_cycles"] = busy;
+  j["best_to_worst"] = r.best_to_worst();
+  j["work_units"] = r.units;
+  j["notes"] = r.notes;
+  j["config"] = r.config;
+  return j;
+}
+
+}  // namespace oovr
