@@ -31,7 +31,7 @@ struct PaperArgs {
   int aniso = 16;
   std::string config;
   std::vector<std::string> settings;
-  std::string out = "docs/paper";
+  std::string out = "out/paper";
   std::string doc = "docs/paper-comparison.md";
   std::string command;  // the command line, for the document
 };

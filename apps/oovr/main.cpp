@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
   paper_cmd->add_option("--aniso", paper.aniso, "Maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
   paper_cmd->add_option("--config", paper.config, "TOML machine preset (default: the paper's Table 1)");
   paper_cmd->add_option("--set", paper.settings, "Override a configuration key (repeatable)");
-  paper_cmd->add_option("--out", paper.out, "Folder for results.json, CSV files and SVG plots (empty: none)")->capture_default_str();
+  paper_cmd->add_option("--out", paper.out, "Folder for results.json, CSV files and SVG plots (empty: none; the document's plots go to img/paper beside it)")->capture_default_str();
   paper_cmd->add_option("--doc", paper.doc, "The comparison document to write (empty: none)")->capture_default_str();
 
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");

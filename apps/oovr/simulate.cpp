@@ -281,10 +281,15 @@ int paper(const PaperArgs& a) {
     fmt::print("  {}\n", line);
     std::fflush(stdout);
   };
-  fmt::print("oovr paper: the paper's evaluation ({} frames per run, from frame {})\n", o.frames, o.first_frame);
   const PaperResults r = run_paper(o);
   if (!a.out.empty()) write_paper_outputs(r, o, a.out);
-  if (!a.doc.empty()) write_paper_doc(r, o, a.doc, a.out);
+  if (!a.doc.empty()) {
+    // The document's plots live beside it, so that it can be committed
+    // without the raw results.
+    const std::string plots = (std::filesystem::absolute(a.doc).parent_path() / "img" / "paper").string();
+    write_paper_plots(r, o, plots);
+    write_paper_doc(r, o, a.doc, plots);
+  }
   fmt::print("{} scenes, {} runs in {:.0f} s{}{}\n", r.scenes.size(), r.runs.size(), r.seconds,
              a.out.empty() ? "" : "; results, CSV and plots in " + a.out, a.doc.empty() ? "" : "; comparison in " + a.doc);
   return 0;

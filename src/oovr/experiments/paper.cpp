@@ -297,6 +297,12 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
     }
   write_file(d / "ablations.csv", abl);
 
+  write_paper_plots(r, o, dir);
+}
+
+void write_paper_plots(const PaperResults& r, const PaperOptions& o, const std::string& dir) {
+  const fs::path d(dir);
+  Figures F{r, o};
   // Plots at the sweep resolution.
   const std::vector<std::string> shown = {"baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr"};
   std::vector<std::vector<double>> sp, tr;

@@ -60,8 +60,10 @@ std::vector<std::string> paper_default_scenes();
 
 PaperResults run_paper(const PaperOptions& options);
 
-// Writes results.json, one CSV per figure and SVG plots into `dir`.
+// Writes results.json, one CSV per figure and the SVG plots into `dir`.
 void write_paper_outputs(const PaperResults& results, const PaperOptions& options, const std::string& dir);
+// The SVG plots of Figures 15 to 18 alone.
+void write_paper_plots(const PaperResults& results, const PaperOptions& options, const std::string& dir);
 // Writes the comparison document; `plots_dir` (may be empty) is linked
 // relative to the document.
 void write_paper_doc(const PaperResults& results, const PaperOptions& options, const std::string& path,

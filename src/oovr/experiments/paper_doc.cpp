@@ -418,8 +418,8 @@ class Doc {
                       pct(mean([&](auto& s) { return 1 / sp(s, "afr"); })), times(x6)));
     // P4
     claim(most([&](auto& s) { return sp(s, "sfr-v") > 1 && sp(s, "sfr-v", "sfr-h") > 1; }),
-          fmt::format("**P4.** Vertical strips beat the baseline on {} scenes ({}; the paper +28%) and horizontal strips on {} "
-                      "(horizontal: {}, the paper +3%). Horizontal strips are as uneven as the work is from top to bottom: "
+          fmt::format("**P4.** Vertical strips beat the baseline on {} scenes ({}; the paper +28%) and beat horizontal strips on {} "
+                      "(horizontal strips against the baseline: {}; the paper +3%). Horizontal strips are as uneven as the work is from top to bottom: "
                       "upper strips are often sky.",
                       of_n(count([&](auto& s) { return sp(s, "sfr-v") > 1; })), range(each([&](auto& s) { return sp(s, "sfr-v"); }), true),
                       of_n(count([&](auto& s) { return sp(s, "sfr-v", "sfr-h") > 1; })),
@@ -474,29 +474,49 @@ class Doc {
                       range(each([&](auto& s) { return tr(s, "oo-vr"); }), true), range(each([&](auto& s) { return tr(s, "oo-vr", "object"); }), true),
                       mbs(cat_bytes("oo-vr", Category::composition)), mbs(cat_bytes("baseline", Category::texture))));
     // P12
-    claim(std::abs(mean([&](auto& s) { return thr(s, "oo-vr", "afr"); }) - 1) < 0.2 && all([&](auto& s) { return sp(s, "oo-vr", "afr") > 1; }),
+    const double afr_lat = mean([&](auto& s) { return sp(s, "oo-vr", "afr"); });
+    const double vs_afr = mean([&](auto& s) { return thr(s, "oo-vr", "afr"); });
+    claim(std::abs(vs_afr - 1) < 0.2 && std::abs(afr_lat - 1.4) < 0.3,
           fmt::format("**P12.** OO-VR's throughput is {} of AFR's (the paper: similar), and AFR's single frame is {} slower than "
-                      "OO-VR's (the paper: +40%). AFR's frames in flight use every GPM fully without any traffic; OO-VR pays "
-                      "composition and imbalance within each frame.",
-                      range(each([&](auto& s) { return thr(s, "oo-vr", "afr"); }), false), range(each([&](auto& s) { return sp(s, "oo-vr", "afr"); }), true)));
+                      "OO-VR's (the paper: +40%). {}",
+                      range(each([&](auto& s) { return thr(s, "oo-vr", "afr"); }), false), range(each([&](auto& s) { return sp(s, "oo-vr", "afr"); }), true),
+                      afr_lat > 1.7 ? fmt::format("AFR's frame is much slower than in the paper for the reason of P3: one GPM "
+                                                  "against a baseline NUMA hardly slows (X6). OO-VR's throughput stays below "
+                                                  "AFR's because AFR's frames in flight keep every GPM busy with no traffic at "
+                                                  "all, while OO-VR pays composition ({}, X2) within each frame.",
+                                                  mbs(cat_bytes("oo-vr", Category::composition)))
+                                    : "AFR's frames in flight keep every GPM busy with no traffic; OO-VR pays composition within "
+                                      "each frame."));
     // P13
     const auto spread = [&](const std::string& scheme) {
       return mean([&](auto& s) { return F.link(s, scheme, "1TBps") / F.link(s, scheme, "32GBps"); });
     };
-    claim(spread("oo-vr") < spread("baseline"),
+    const bool flat = spread("oo-vr") - 1 < 0.5 * (spread("baseline") - 1);
+    claim(flat,
           fmt::format("**P13.** From 32 GB/s to 1 TB/s links OO-VR gains {}, the baseline {} and object-level SFR {} (the "
-                      "paper: OO-VR nearly flat, the others steep). OO-VR's remaining traffic is composition, which DHC "
-                      "spreads over all links; object-level SFR's loss is mostly imbalance (X7), which links do not fix.",
-                      pct(spread("oo-vr")), pct(spread("baseline")), pct(spread("object"))));
+                      "paper: OO-VR nearly flat, the others steep). {}",
+                      pct(spread("oo-vr")), pct(spread("baseline")), pct(spread("object")),
+                      flat ? "OO-VR keeps its data local; what it still moves, composition, DHC spreads over all links."
+                           : fmt::format("OO-VR no longer reads textures remotely, but what it moves instead, composition "
+                                         "({}, X2) and copies ({}, X4), is as large as the baseline's texture traffic (X1), so "
+                                         "it needs the links about as much. Object-level SFR gains most: its composition all "
+                                         "enters one GPM.",
+                                         mbs(cat_bytes("oo-vr", Category::composition)), mbs(cat_bytes("oo-vr", Category::prealloc)))));
     // P14
     const auto at = [&](const std::string& scheme, int g) { return mean([&](auto& s) { return F.gpms(s, scheme, g); }); };
-    claim(at("oo-vr", 8) > at("object", 8) && at("object", 8) > at("baseline", 8),
+    const bool order = at("oo-vr", 8) > at("object", 8) && at("object", 8) > at("baseline", 8);
+    claim(order && std::abs(at("oo-vr", 8) - 6.27) < 1,
           fmt::format("**P14.** Over one GPM, at 8 GPMs OO-VR reaches {}, object-level SFR {} and the baseline {} (the paper "
-                      "6.27x, 3.47x, 2.08x); at 4 GPMs OO-VR {} (3.64x); at 16 GPMs {}, {} and {}. Object-level SFR scales "
-                      "with the largest object, not with the GPMs; OO-VR stops scaling when the frame has too few batches "
-                      "to keep every GPM busy and each GPM's strip is thin, so almost every written line moves (X8).",
+                      "6.27x, 3.47x, 2.08x); at 4 GPMs OO-VR {} (3.64x); at 16 GPMs {}, {} and {}. {}",
                       times(at("oo-vr", 8)), times(at("object", 8)), times(at("baseline", 8)), times(at("oo-vr", 4)),
-                      times(at("oo-vr", 16)), times(at("object", 16)), times(at("baseline", 16))));
+                      times(at("oo-vr", 16)), times(at("object", 16)), times(at("baseline", 16)),
+                      at("oo-vr", 8) > at("baseline", 8) && at("baseline", 8) > at("object", 8)
+                          ? "OO-VR scales best, as in the paper. The baseline scales better than the paper's because NUMA "
+                            "costs it little here (X6); object-level SFR scales worst, not better than the baseline as in the "
+                            "paper: its time is set by the GPM that draws the largest objects and composes for all (X3), "
+                            "which more GPMs do not shorten."
+                          : "The order differs from the paper's; X3 and X6 show how balanced each scheme is and what NUMA "
+                            "costs the baseline."));
     // P15
     double vs_lo = 1, vs_hi = 0;
     for (const auto& s : r.scenes) {
