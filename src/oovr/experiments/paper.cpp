@@ -148,28 +148,41 @@ std::string xml(const std::string& s) {
   return r;
 }
 
+// A round axis top and its tick step (1, 2 or 5 times a power of ten).
+std::pair<double, double> nice_axis(double vmax) {
+  if (!(vmax > 0)) return {1, 0.2};
+  const double raw = vmax / 5, p = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = p;
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * p >= raw) {
+      step = m * p;
+      break;
+    }
+  return {std::ceil(vmax / step) * step, step};
+}
+
 const char* kColours[] = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948",
                           "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac", "#1f77b4"};
 
 // Grouped bars: one group per label, one bar per series; a line at `ref`.
 std::string bar_chart(const std::string& title, const std::string& y_label, const std::vector<std::string>& groups,
                       const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, double ref) {
-  const double w = 920, h = 420, left = 60, right = 160, top = 40, bottom = 70;
+  const double w = 920, h = 440, left = 90, right = 160, top = 40, bottom = 100;
   double vmax = ref;
   for (const auto& row : values)
     for (double v : row)
       if (std::isfinite(v)) vmax = std::max(vmax, v);
-  vmax *= 1.1;
+  const auto [top_value, step] = nice_axis(vmax * 1.05);
+  vmax = top_value;
   const double pw = w - left - right, ph = h - top - bottom;
   const auto y = [&](double v) { return top + ph - v / vmax * ph; };
   std::string s = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n"
       "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{}\" y=\"22\" font-size=\"15\">{}</text>\n",
       w, h, left, xml(title));
-  for (int k = 0; k <= 5; ++k) {
-    const double v = vmax * k / 5;
+  for (double v = 0; v <= vmax * (1 + 1e-9); v += step) {
     s += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", left, left + pw, y(v), y(v));
-    s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:.2f}</text>\n", left - 5, y(v) + 4, v);
+    s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:g}</text>\n", left - 5, y(v) + 4, v);
   }
   const double gw = pw / double(std::max<size_t>(1, groups.size()));
   const double bw = gw * 0.8 / double(std::max<size_t>(1, series.size()));
@@ -204,7 +217,8 @@ std::string line_chart(const std::string& title, const std::string& x_label, con
   for (const auto& row : values)
     for (double v : row)
       if (std::isfinite(v)) vmax = std::max(vmax, v);
-  vmax *= 1.1;
+  const auto [top_value, step] = nice_axis(vmax * 1.05);
+  vmax = top_value;
   const double pw = w - left - right, ph = h - top - bottom;
   const auto fx = [&](double x) { return log_x ? std::log(x) : x; };
   const double x0 = fx(xs.front()), x1 = fx(xs.back());
@@ -214,10 +228,9 @@ std::string line_chart(const std::string& title, const std::string& x_label, con
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n"
       "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{}\" y=\"22\" font-size=\"15\">{}</text>\n",
       w, h, left, xml(title));
-  for (int k = 0; k <= 5; ++k) {
-    const double v = vmax * k / 5;
+  for (double v = 0; v <= vmax * (1 + 1e-9); v += step) {
     s += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", left, left + pw, Y(v), Y(v));
-    s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:.2f}</text>\n", left - 5, Y(v) + 4, v);
+    s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:g}</text>\n", left - 5, Y(v) + 4, v);
   }
   for (size_t i = 0; i < xs.size(); ++i)
     s += fmt::format("<text x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", X(xs[i]), top + ph + 16, xml(x_names[i]));

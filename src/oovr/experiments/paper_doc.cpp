@@ -21,7 +21,11 @@ using namespace paper;
 
 namespace {
 
-std::string pct(double ratio) { return std::isfinite(ratio) ? fmt::format("{:+.0f}%", (ratio - 1) * 100) : "n/a"; }
+std::string pct(double ratio) {
+  if (!std::isfinite(ratio)) return "n/a";
+  const double p = (ratio - 1) * 100;
+  return std::abs(p) < 0.5 ? "0%" : fmt::format("{:+.0f}%", p);
+}
 std::string times(double ratio) { return std::isfinite(ratio) ? fmt::format("{:.2f}x", ratio) : "n/a"; }
 std::string mb(double bytes) { return fmt::format("{:.1f} MB", bytes / 1e6); }
 

@@ -1,6 +1,6 @@
 // The scene model: what every loader produces and every later stage reads.
 //
-// An Object is one draw call (the paper's unit of work, Section 3.3): a mesh,
+// An Object is one draw call (the paper's unit of work; Section 3, Table 2 counts draw commands): a mesh,
 // a transform and a material (texture set), issued in the order of
 // Scene::objects. Textures are shared by index, never copied, so texture
 // sharing between objects (the basis of OO-VR's batching, Section 5.1) is
