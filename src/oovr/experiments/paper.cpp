@@ -348,7 +348,10 @@ void write_paper_plots(const PaperResults& r, const PaperOptions& o, const std::
   std::vector<std::vector<double>> lv, gv;
   for (const auto& sc : kSweepSchemes) {
     lv.emplace_back();
-    for (const auto& [bw, gbps] : kLinks) lv.back().push_back(F.mean([&](const std::string& s) { return F.link(s, sc, bw); }));
+    for (const auto& link : kLinks) {
+      const std::string& bw = link.first;  // (Clang 14 cannot capture structured bindings.)
+      lv.back().push_back(F.mean([&](const std::string& s) { return F.link(s, sc, bw); }));
+    }
     gv.emplace_back();
     for (int n : kGpms) gv.back().push_back(F.mean([&](const std::string& s) { return F.gpms(s, sc, n); }));
   }

@@ -24,10 +24,11 @@ double texture_sharing_level(const TextureSet& root, const TextureSet& next) {
   const double root_total = double(total_bytes(root)), next_total = double(total_bytes(next));
   if (root_total <= 0 || next_total <= 0) return 0;
   double num = 0, den = 0;
-  for (const auto& [t, bytes] : root) {
+  for (const auto& entry : root) {
+    const uint32_t t = entry.first;  // (Clang 14 cannot capture structured bindings.)
     const auto it = std::find_if(next.begin(), next.end(), [&](const auto& y) { return y.first == t; });
     if (it == next.end()) continue;
-    const double pr = double(bytes) / root_total, pn = double(it->second) / next_total;
+    const double pr = double(entry.second) / root_total, pn = double(it->second) / next_total;
     num += pr * pn;
     den += pr;
   }
