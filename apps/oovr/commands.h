@@ -36,6 +36,9 @@ struct PaperArgs {
   std::string command;  // the command line, for the document
 };
 
+// "a,b,,c" -> {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& text);
+
 // A preset (or the built-in defaults) with --set overrides.
 Config machine_config(const std::string& file, const std::vector<std::string>& settings);
 int simulate(const SimulateArgs& a);

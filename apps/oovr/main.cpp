@@ -269,13 +269,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand(config_cmd)) return cmd_config(config);
     if (app.got_subcommand(sim_cmd)) return cli::simulate(sim);
     if (app.got_subcommand(cmp_cmd)) {
-      std::vector<std::string> list;
-      std::string rest = scheme_list.empty() ? all_schemes : scheme_list;
-      for (size_t i = 0; i <= rest.size();) {
-        const size_t comma = std::min(rest.find(',', i), rest.size());
-        if (comma > i) list.push_back(rest.substr(i, comma - i));
-        i = comma + 1;
-      }
+      const std::vector<std::string> list = cli::split_list(scheme_list.empty() ? all_schemes : scheme_list);
       if (list.empty()) throw Error("--schemes names no scheme");
       return cli::compare(cmp, list);
     }

@@ -241,8 +241,6 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   return 0;
 }
 
-namespace {
-
 std::vector<std::string> split_list(const std::string& text) {
   std::vector<std::string> v;
   for (size_t i = 0; i <= text.size();) {
@@ -252,8 +250,6 @@ std::vector<std::string> split_list(const std::string& text) {
   }
   return v;
 }
-
-}  // namespace
 
 int paper(const PaperArgs& a) {
   PaperOptions o;

@@ -93,9 +93,7 @@ PaperResults run_paper(const PaperOptions& o) {
         res.stats[name] = st;
       }
       std::vector<Job> jobs;
-      if (std::find(o.resolutions.begin(), o.resolutions.end(), resolution) != o.resolutions.end() ||
-          resolution == o.sweep_resolution)
-        for (const auto& s : kSchemes) jobs.push_back({s, ""});
+      for (const auto& s : kSchemes) jobs.push_back({s, ""});
       if (resolution == o.sweep_resolution) {
         for (const auto& s : kSweepSchemes) {
           for (const auto& [bw, gbps] : kLinks)
@@ -192,16 +190,19 @@ std::string svg_legend(double x, double top, const std::vector<std::string>& ser
   return s;
 }
 
+// The largest finite value, at least `floor`.
+double finite_max(const std::vector<std::vector<double>>& values, double floor) {
+  for (const auto& row : values)
+    for (double v : row)
+      if (std::isfinite(v)) floor = std::max(floor, v);
+  return floor;
+}
+
 // Grouped bars: one group per label, one bar per series; a line at `ref`.
 std::string bar_chart(const std::string& title, const std::string& y_label, const std::vector<std::string>& groups,
                       const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, double ref) {
   const double w = 920, h = 440, left = 90, right = 160, top = 40, bottom = 100;
-  double vmax = ref;
-  for (const auto& row : values)
-    for (double v : row)
-      if (std::isfinite(v)) vmax = std::max(vmax, v);
-  const auto [top_value, step] = nice_axis(vmax * 1.05);
-  vmax = top_value;
+  const auto [vmax, step] = nice_axis(finite_max(values, ref) * 1.05);
   const double pw = w - left - right, ph = h - top - bottom;
   const auto y = [&](double v) { return top + ph - v / vmax * ph; };
   std::string s = svg_open(w, h, left, title) + svg_grid(left, pw, vmax, step, y);
@@ -228,12 +229,7 @@ std::string line_chart(const std::string& title, const std::string& x_label, con
                        const std::vector<double>& xs, const std::vector<std::string>& x_names,
                        const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, bool log_x) {
   const double w = 620, h = 400, left = 60, right = 130, top = 40, bottom = 50;
-  double vmax = 0;
-  for (const auto& row : values)
-    for (double v : row)
-      if (std::isfinite(v)) vmax = std::max(vmax, v);
-  const auto [top_value, step] = nice_axis(vmax * 1.05);
-  vmax = top_value;
+  const auto [vmax, step] = nice_axis(finite_max(values, 0) * 1.05);
   const double pw = w - left - right, ph = h - top - bottom;
   const auto fx = [&](double x) { return log_x ? std::log(x) : x; };
   const double x0 = fx(xs.front()), x1 = fx(xs.back());

@@ -387,28 +387,21 @@ class Doc {
     const double x6 = mean([&](auto& s) { return 1 / sp(s, "single-gpm"); });
 
     // P1
-    const bool p1_mono = all([&](const std::string& s) {
+    // The baseline never slows as the links get faster.
+    const auto monotone = [&](const std::string& s) {
       double prev = 0;
-      for (const auto& [bw, g] : kLinks) {
-        const double l = lat(s, "baseline", link_variant(bw));
+      for (const auto& link : kLinks) {
+        const double l = lat(s, "baseline", link_variant(link.first));
         if (prev > 0 && !(l <= prev * (1 + 1e-9))) return false;
         prev = l;
       }
       return true;
-    });
+    };
     const auto loss = [&](const std::string& bw) {
       return (1 - mean([&](auto& s) { return lat(s, "baseline", "link.bandwidth=1TBps") / lat(s, "baseline", link_variant(bw)); })) * 100;
     };
-    claim(p1_mono, fmt::format("**P1, direction.** The baseline gets faster with every step up in link bandwidth on {} scenes.",
-                               of_n(count([&](const std::string& s) {
-                                 double prev = 0;
-                                 for (const auto& [bw, g] : kLinks) {
-                                   const double l = lat(s, "baseline", link_variant(bw));
-                                   if (prev > 0 && !(l <= prev * (1 + 1e-9))) return false;
-                                   prev = l;
-                                 }
-                                 return true;
-                               }))));
+    claim(all(monotone), fmt::format("**P1, direction.** The baseline gets faster with every step up in link bandwidth on {} scenes.",
+                                     of_n(count(monotone))));
     claim(std::abs(loss("64GBps") - 42) < 10,
           fmt::format("**P1, magnitude.** At 64 GB/s the baseline loses {:.0f}% of its 1 TB/s frame rate (the paper: 42%), at "
                       "32 GB/s {:.0f}% (the paper: 65%). The loss follows the remote texture traffic (X1): {}.",

@@ -173,13 +173,18 @@ int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector
   UnitTraffic t;
   t.reset(gpms(), int(m_memory->topology().links().size()));
   m_memory->transfer(from, to, bytes, c, t);
+  // A transfer between GPMs waits for the link latency of every hop.
+  return add_movement(m_machine->transfer_demand(t), std::move(after),
+                      m_memory_spec.link_latency.value * double(m_memory->topology().route(from, to).size()));
+}
+
+int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency) {
   TimingEngine::Unit u;
   u.queue = -1;
-  u.demand = m_machine->transfer_demand(t);
+  u.demand = std::move(demand);
   u.after = std::move(after);
   u.after.erase(std::remove(u.after.begin(), u.after.end(), -1), u.after.end());
-  // A transfer between GPMs waits for the link latency of every hop.
-  u.latency = m_memory_spec.link_latency.value * double(m_memory->topology().route(from, to).size());
+  u.latency = latency;
   ++m_result.units;
   m_unit_gpm.push_back(-1);
   return m_engine.add_unit(std::move(u));
@@ -194,15 +199,8 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
     copied += m_memory->preallocate(reg.base, reg.bytes, gpm, t);
   }
   if (copied == 0) return -1;
-  TimingEngine::Unit u;
-  u.queue = -1;
-  u.demand = m_machine->demand(gpm, WorkCounts{}, t);  // the copies' DRAM reads, writes and links
-  u.after = std::move(after);
-  u.after.erase(std::remove(u.after.begin(), u.after.end(), -1), u.after.end());
-  u.latency = m_memory_spec.link_latency.value;
-  ++m_result.units;
-  m_unit_gpm.push_back(-1);
-  return m_engine.add_unit(std::move(u));
+  // The copies' DRAM reads and writes and their links.
+  return add_movement(m_machine->demand(gpm, WorkCounts{}, t), std::move(after), m_memory_spec.link_latency.value);
 }
 
 int FrameSim::compose(int gpm, uint64_t pixels, std::vector<int> after) {

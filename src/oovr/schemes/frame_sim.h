@@ -100,6 +100,8 @@ class FrameSim {
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
+  // A unit of data movement (transfer, copy) outside every GPM's pipeline.
+  int add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency);
   // Replays one record's memory accesses on `gpm` into `total` and `w`.
   void replay(int gpm, const TileWork& r, int fb, const FrameTrace& frame, UnitTraffic& total, WorkCounts& w);
 

@@ -84,7 +84,6 @@ class Run {
     const std::vector<ObjectRecords> records = records_by_object(m_f, m_sim.scene().objects.size());
     for (size_t b = 0; b < m_batches_in.size(); ++b) {
       BatchRun r;
-      r.warmup = false;
       for (uint32_t o : m_batches_in[b].objects) {
         Item geo;
         geo.object = o;
