@@ -7,7 +7,7 @@
 #include "oovr/core/error.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/timing/gpm_model.h"
-#include "oovr/framework/oo_spec.h"
+#include "oovr/core/config_sections.h"
 #include "oovr/memory/memory_system.h"
 
 namespace oovr {
@@ -102,9 +102,7 @@ TEST(Config, EveryPresetLoads) {
     SCOPED_TRACE(e.path().filename().string());
     const Config c = Config::from_toml_file(e.path().string());
     const MemorySpec spec = MemorySpec::from_config(c);
-    (void)TimingSpec::from_config(c);
-    (void)OOSpec::parameters(c);
-    EXPECT_NO_THROW(c.check_all_used());
+    EXPECT_NO_THROW(check_config(c));
     AddressMap map(spec.page, spec.line);
     map.add("buffer", Category::texture, 1 << 20);
     MemorySystem mem(spec, map);
@@ -118,13 +116,8 @@ TEST(Config, TheTable1PresetIsTheDefault) {
   // The code's defaults and configs/paper-table1.toml must not drift apart.
   const Config preset = Config::from_toml_file(std::string(OOVR_SOURCE_DIR) + "/configs/paper-table1.toml");
   const Config empty;
-  (void)MemorySpec::from_config(preset);
-  (void)MemorySpec::from_config(empty);
-  (void)TimingSpec::from_config(preset);
-  (void)TimingSpec::from_config(empty);
-  (void)OOSpec::parameters(preset);
-  (void)OOSpec::parameters(empty);
-  preset.check_all_used();
+  check_config(preset);
+  check_config(empty);
   EXPECT_EQ(preset.resolved(), empty.resolved());
 }
 

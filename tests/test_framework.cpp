@@ -9,6 +9,7 @@
 #include "oovr/framework/distribution.h"
 #include "oovr/framework/middleware.h"
 #include "oovr/framework/oo_application.h"
+#include "oovr/core/config_sections.h"
 #include "oovr/framework/oo_spec.h"
 #include "oovr/scene/builtin.h"
 
@@ -184,12 +185,21 @@ TEST(Framework, SpecReadsItsKeysAndRefusesBadValues) {
   EXPECT_DOUBLE_EQ(s.tsl_threshold, 0.3);
   EXPECT_FALSE(s.distributed_composition);
   EXPECT_TRUE(s.prealloc) << "the scheme's default";
+  // Declared by OO-VR's own configuration section: checked whatever runs.
   Config bad;
   bad.set("oo.composition=everywhere");
-  EXPECT_THROW(OOSpec::check(bad), Error);
+  EXPECT_THROW(check_config(bad), Error);
   Config bad2;
   bad2.set("oo.batch_triangles=0");
-  EXPECT_THROW(OOSpec::check(bad2), Error);
+  EXPECT_THROW(check_config(bad2), Error);
+  Config given;
+  given.set("oo.split=false");
+  EXPECT_NO_THROW(check_config(given));
+  EXPECT_EQ(Config{}.resolved().count("oo.split"), 0u);
+  Config none;
+  check_config(none);
+  EXPECT_EQ(none.resolved().count("oo.split"), 0u) << "a switch's default is the scheme's, not the machine's";
+  EXPECT_EQ(none.resolved().count("oo.batch_queue"), 1u);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "oovr/core/error.h"
+#include "oovr/core/rng.h"
 #include "oovr/timing/engine.h"
 
 namespace oovr {
@@ -145,6 +146,111 @@ TEST(Timing, ManyUnitsDeterministic) {
   EXPECT_EQ(a.makespan, b.makespan);
   for (size_t i = 0; i < a.units.size(); ++i) EXPECT_EQ(a.units[i].finish, b.units[i].finish);
   EXPECT_GT(a.makespan, 0);
+}
+
+}  // namespace
+}  // namespace oovr
+
+// --- Work-conserving (max-min fair) sharing: units of unequal demand ---
+
+namespace oovr {
+namespace {
+
+TEST(Sharing, AUnitLimitedElsewhereLeavesTheRestOfALinkToTheOther) {
+  // A is bound by its own shader to 1 ms and needs 30% of the link at that
+  // pace; B wants the whole link. Fair: A runs at full speed and B gets the
+  // other 70% (44.8 GB/s) until A ends at 1 ms, then all of it: 44.8 MB +
+  // 19.2 MB / 64 GB/s = 1.3 ms, the link busy all along. Split equally, B
+  // gets 32 GB/s while A uses 19.2, and ends at 1.5 ms.
+  for (Sharing s : {Sharing::fair, Sharing::equal}) {
+    TimingEngine e;
+    e.set_sharing(s);
+    const int link = e.add_resource("link", kLink);
+    const int shader = e.add_resource("shader", 1e9);
+    e.add_unit({-1, {{shader, 1e6}, {link, 19.2e6}}, 0, {}});
+    e.add_unit({-1, {{link, 64e6}}, 0, {}});
+    const auto r = e.run();
+    EXPECT_NEAR(r.units[0].finish, 1e-3, 1e-15);
+    EXPECT_NEAR(r.units[1].finish, s == Sharing::fair ? 1.3e-3 : 1.5e-3, 1e-15);
+    EXPECT_EQ(e.unconverged(), 0u);
+  }
+}
+
+TEST(Sharing, ThreeUnitsOfUnequalDemandShareALinkByWaterFilling) {
+  // Link of 1 unit/s. At full speed A would use 0.2 of it, B 0.5, C all.
+  // Water level 0.4: A keeps 0.2, B and C get 0.4 each (B at 0.8 speed).
+  // A ends at 1 s; B then gets its 0.5 (C 0.5) and ends at 1.2 s with
+  // 0.2 of work left at full speed; C has 0.5 left at 1.2 s, alone: 1.7 s,
+  // when the link has carried all 1.7 units, never idle.
+  TimingEngine e;
+  const int link = e.add_resource("link", 1.0);
+  const int pa = e.add_resource("a", 1.0), pb = e.add_resource("b", 1.0);
+  e.add_unit({-1, {{pa, 1.0}, {link, 0.2}}, 0, {}});
+  e.add_unit({-1, {{pb, 1.0}, {link, 0.5}}, 0, {}});
+  e.add_unit({-1, {{link, 1.0}}, 0, {}});
+  const auto r = e.run();
+  EXPECT_NEAR(r.units[0].finish, 1.0, 1e-12);
+  EXPECT_NEAR(r.units[1].finish, 1.2, 1e-12);
+  EXPECT_NEAR(r.units[2].finish, 1.7, 1e-12);
+  EXPECT_NEAR(r.resource_used[size_t(link)], 1.7, 1e-12);
+}
+
+TEST(Sharing, AUnitBoundOnOneResourceLeavesItsShareOfAnotherToItsNeighbour) {
+  // A uses X and Y; B uses X; C and D use Y (all demands 1, capacities 1).
+  // Y is split three ways, so A runs at 1/3 and B takes the other 2/3 of X
+  // (equal sharing would hold B at 1/2). B ends at 1.5; A, C and D have
+  // 0.5 left each, at 1/3: 3.0.
+  for (Sharing s : {Sharing::fair, Sharing::equal}) {
+    TimingEngine e;
+    e.set_sharing(s);
+    const int x = e.add_resource("x", 1.0), y = e.add_resource("y", 1.0);
+    e.add_unit({-1, {{x, 1.0}, {y, 1.0}}, 0, {}});
+    e.add_unit({-1, {{x, 1.0}}, 0, {}});
+    e.add_unit({-1, {{y, 1.0}}, 0, {}});
+    e.add_unit({-1, {{y, 1.0}}, 0, {}});
+    const auto r = e.run();
+    EXPECT_NEAR(r.units[1].finish, s == Sharing::fair ? 1.5 : 2.0, 1e-12);
+    if (s == Sharing::fair)
+      for (int u : {0, 2, 3}) EXPECT_NEAR(r.units[size_t(u)].finish, 3.0, 1e-12) << u;
+  }
+}
+
+TEST(Sharing, RandomUnitsAlwaysFitAndEachHasAFullBottleneckWhereNoOneGetsMore) {
+  // The defining properties of the fair rates, on random machines: no
+  // resource is asked for more than it has; every unit has a bottleneck, a
+  // full resource on which no other user gets more than it (so no unit could
+  // go faster without taking from one that gets no more).
+  Rng rng(7);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int resources = 1 + int(rng.uniform() * 6), units = 1 + int(rng.uniform() * 8);
+    std::vector<double> capacity;
+    for (int r = 0; r < resources; ++r) capacity.push_back(0.5 + rng.uniform() * 4);
+    std::vector<Demand> demand(static_cast<size_t>(units));
+    for (auto& d : demand) {
+      for (int r = 0; r < resources; ++r)
+        if (rng.uniform() < 0.5) d.push_back({r, 0.01 + rng.uniform() * 3});
+      if (d.empty()) d.push_back({int(rng.uniform() * resources), 1.0});
+    }
+    std::vector<const Demand*> ptrs;
+    for (const auto& d : demand) ptrs.push_back(&d);
+    ResourceSharing sharing(capacity);
+    const std::vector<double> rate = sharing.rates(ptrs, Sharing::fair);
+    ASSERT_EQ(sharing.unconverged(), 0u) << trial;
+    std::vector<double> used(size_t(resources), 0), most(size_t(resources), 0);
+    for (int u = 0; u < units; ++u)
+      for (const auto& [r, a] : demand[size_t(u)]) {
+        used[size_t(r)] += a * rate[size_t(u)];
+        most[size_t(r)] = std::max(most[size_t(r)], a * rate[size_t(u)]);
+      }
+    for (int r = 0; r < resources; ++r) ASSERT_LE(used[size_t(r)], capacity[size_t(r)] * (1 + 1e-9)) << trial;
+    for (int u = 0; u < units; ++u) {
+      bool bottleneck = false;
+      for (const auto& [r, a] : demand[size_t(u)])
+        bottleneck = bottleneck || (used[size_t(r)] >= capacity[size_t(r)] * (1 - 1e-9) &&
+                                    a * rate[size_t(u)] >= most[size_t(r)] * (1 - 1e-9));
+      ASSERT_TRUE(bottleneck) << "trial " << trial << " unit " << u;
+    }
+  }
 }
 
 }  // namespace

@@ -11,10 +11,8 @@
 #include "commands.h"
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
-#include "oovr/framework/oo_spec.h"
-#include "oovr/memory/memory_spec.h"
+#include "oovr/core/config_sections.h"
 #include "oovr/schemes/i_scheme.h"
-#include "oovr/timing/gpm_model.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -104,11 +102,7 @@ struct ConfigArgs {
 
 int cmd_config(const ConfigArgs& a) {
   const Config c = cli::machine_config(a.file, a.settings);
-  (void)MemorySpec::from_config(c);
-  (void)TimingSpec::from_config(c);
-  (void)OOSpec::parameters(c);
-  OOSpec::check(c);  // the mechanism switches, when set
-  c.check_all_used();
+  check_config(c);
   // Printed as TOML (dotted keys), so that the output is itself a preset.
   fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
   for (const auto& [k, v] : c.resolved()) {

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 
 namespace oovr {
@@ -34,16 +35,19 @@ OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
   return s;
 }
 
-void OOSpec::check(const Config& c) {
-  // Only the keys given: a switch's default belongs to the scheme.
-  for (const char* k : {"oo.tsl_threshold", "oo.batch_triangles", "oo.warmup_batches", "oo.batch_queue", "oo.tiles_per_unit"})
-    if (c.has(k)) {
-      (void)parameters(c);
-      break;
-    }
-  for (const char* k : {"oo.predictor", "oo.prealloc", "oo.split"})
-    if (c.has(k)) (void)c.get_bool(k, true);
-  if (c.has("oo.composition")) (void)c.get_choice("oo.composition", "distributed", {"root", "distributed"});
-}
+namespace {
+
+// OO-VR's keys: the parameters with their defaults; a switch only when
+// given, since its default belongs to the scheme (oo-app: all off, oo-vr:
+// all on) and is no machine value.
+const ConfigSections::Add reg("oo", {"OO-VR's parameters (Section 5) and mechanism switches", [](const Config& c) {
+                                       (void)OOSpec::parameters(c);
+                                       for (const char* k : {"oo.predictor", "oo.prealloc", "oo.split"})
+                                         if (c.has(k)) (void)c.get_bool(k, true);
+                                       if (c.has("oo.composition"))
+                                         (void)c.get_choice("oo.composition", "distributed", {"root", "distributed"});
+                                     }});
+
+}  // namespace
 
 }  // namespace oovr

@@ -35,11 +35,10 @@ struct OOSpec {
 
   // `mechanisms` gives the switches' defaults (the scheme's own).
   static OOSpec from_config(const Config& c, const OOSpec& mechanisms);
-  // The parameters alone (the machine-wide keys a preset holds).
+  // The parameters alone (the machine-wide keys a preset holds). The keys
+  // are declared, and checked whatever scheme runs, by this file's
+  // configuration section (core/config_sections.h).
   static OOSpec parameters(const Config& c);
-  // Reads (and so checks) the oo.* keys present, for schemes that do not
-  // use them: a key of OO-VR is not unknown to them, a misspelt one is.
-  static void check(const Config& c);
 };
 
 }  // namespace oovr

@@ -1,5 +1,6 @@
 #include "oovr/memory/memory_spec.h"
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/memory/placement/i_placement.h"
 #include "oovr/memory/replacement/i_replacement.h"
@@ -21,6 +22,9 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
   s.size = c.get_bytes(prefix + ".size", def.size);
   s.ways = int(c.get_int(prefix + ".ways", def.ways));
   s.replacement = c.get_string(prefix + ".replacement", def.replacement);
+  s.latency = c.get_time(prefix + ".latency", def.latency);
+  if (!(s.latency.value >= 0 && s.latency.value <= 1e-3))
+    throw Error("configuration key '" + prefix + ".latency' must be from 0 to 1 ms");
   if (!ReplacementPolicies::find(s.replacement))
     throw Error("configuration key '" + prefix + ".replacement' must be one of " + names(ReplacementPolicies::names()) +
                 ", not '" + s.replacement + "'");
@@ -67,7 +71,21 @@ MemorySpec MemorySpec::from_config(const Config& c) {
                 s.topology + "'");
   if (!(s.dram_bandwidth.value > 0)) throw Error("configuration key 'dram.bandwidth' must be positive");
   if (!(s.link_bandwidth.value > 0)) throw Error("configuration key 'link.bandwidth' must be positive");
+  for (const auto& [key, t] : {std::pair{"dram.latency", s.dram_latency}, std::pair{"link.latency", s.link_latency}})
+    if (!(t.value >= 0 && t.value <= 1e-3)) throw Error(std::string("configuration key '") + key + "' must be from 0 to 1 ms");
+  s.copy_capacity = c.get_bytes("memory.copies.capacity", d.copy_capacity);
+  if (s.copy_capacity.value != 0 && s.copy_capacity.value < s.page.value)
+    throw Error("configuration key 'memory.copies.capacity' must be 0 (no limit) or at least a page (" +
+                format_bytes(s.page) + "), not " + format_bytes(s.copy_capacity));
+  s.copy_eviction = c.get_choice("memory.copies.eviction", d.copy_eviction, {"lru", "fifo"});
   return s;
 }
+
+namespace {
+
+const ConfigSections::Add reg("memory", {"the memory system: GPMs, caches, DRAM, links, placement and copies",
+                                         [](const Config& c) { (void)MemorySpec::from_config(c); }});
+
+}  // namespace
 
 }  // namespace oovr

@@ -14,6 +14,7 @@ struct CacheSpec {
   Bytes size;
   int ways = 16;
   std::string replacement = "lru";
+  Seconds latency{0};  // from a request to its data, for a hit in this cache
 };
 
 struct MemorySpec {
@@ -22,15 +23,23 @@ struct MemorySpec {
   Bytes line{128};       // cache line
   Bytes page{64 << 10};  // placement granularity
   std::string placement = "first-touch";
-  CacheSpec l1{{128 << 10}, 4, "lru"};       // per SM (Table 1: 128 KB)
-  CacheSpec l2{{1 << 20}, 16, "lru"};        // per GPM (Table 1: 4 MB total, 16-way)
-  CacheSpec remote{{1 << 20}, 16, "lru"};    // per GPM, lines homed elsewhere (MCM-GPU's L1.5)
+  // Latencies: Accel-Sim's TITAN X (Pascal) model has 82 cycles of L1 hit;
+  // an L2 hit (and a remote-cache hit, a lookup of the same kind) is
+  // assumed at 200 cycles, all at Table 1's 1 GHz.
+  CacheSpec l1{{128 << 10}, 4, "lru", {82e-9}};      // per SM (Table 1: 128 KB)
+  CacheSpec l2{{1 << 20}, 16, "lru", {200e-9}};      // per GPM (Table 1: 4 MB total, 16-way)
+  CacheSpec remote{{1 << 20}, 16, "lru", {200e-9}};  // per GPM, lines homed elsewhere (MCM-GPU's L1.5)
   std::string remote_invalidate = "frame";   // draw, frame or never
   BytesPerSecond dram_bandwidth{1e12};       // per GPM (Table 1: 1 TB/s)
-  Seconds dram_latency{100e-9};
+  Seconds dram_latency{100e-9};              // beyond the L2 (assumed; Accel-Sim's dram_latency: 100 cycles)
   BytesPerSecond link_bandwidth{64e9};       // per direction per GPM pair (Table 1: 64 GB/s)
-  Seconds link_latency{32e-9};
+  Seconds link_latency{32e-9};               // one way, per hop (assumed)
   std::string topology = "fully-connected";  // fully-connected, ring or switch
+  // Copies made ahead of use (pre-allocation, Section 5.2) live in DRAM the
+  // homes leave unused: at most this many bytes per GPM (0: no limit), the
+  // least recently used (or the oldest, "fifo") dropped to make room.
+  Bytes copy_capacity{16 << 20};
+  std::string copy_eviction = "lru";
 
   // Reads every memory key of `c` (defaults above for missing ones) and
   // checks the values. Throws Error naming a bad key.

@@ -11,6 +11,26 @@ void UnitTraffic::reset(int gpms, int links) {
   link_bytes.assign(size_t(links), 0);
 }
 
+UnitTraffic& UnitTraffic::operator+=(const UnitTraffic& o) {
+  accesses += o.accesses;
+  l1_hits += o.l1_hits;
+  l2_hits += o.l2_hits;
+  remote_hits += o.remote_hits;
+  home_l2_hits += o.home_l2_hits;
+  dram_lines += o.dram_lines;
+  l2_read_hits += o.l2_read_hits;
+  local_dram_reads += o.local_dram_reads;
+  remote_dram_reads += o.remote_dram_reads;
+  remote_hops += o.remote_hops;
+  for (size_t g = 0; g < o.dram_read_bytes.size(); ++g) {
+    dram_read_bytes[g] += o.dram_read_bytes[g];
+    dram_write_bytes[g] += o.dram_write_bytes[g];
+  }
+  for (size_t l = 0; l < o.link_bytes.size(); ++l) link_bytes[l] += o.link_bytes[l];
+  for (size_t c = 0; c < inter_gpm_bytes.size(); ++c) inter_gpm_bytes[c] += o.inter_gpm_bytes[c];
+  return *this;
+}
+
 uint64_t UnitTraffic::total_link_bytes() const {
   uint64_t s = 0;
   for (uint64_t b : link_bytes) s += b;
@@ -40,6 +60,10 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
   }
   m_home.assign(map.pages(), -1);
   m_copies.assign(map.pages(), 0);
+  m_copy_bytes.assign(size_t(spec.gpms), 0);
+  m_made.assign(map.pages(), 0);
+  m_copy_stamp.assign(map.pages() * size_t(spec.gpms), 0);
+  m_copy_lru = spec.copy_eviction == "lru";
   const size_t links = m_topology->links().size();
   m_totals.link_bytes.assign(links, PerCategory{});
   m_totals.dram_read_bytes.assign(size_t(spec.gpms), PerCategory{});
@@ -118,8 +142,10 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   const uint64_t end = m_home.size() * m_page_bytes;
   // Hit counters stay in registers; the hot path (an L1 hit) touches only
   // the L1's own arrays.
-  uint64_t l1_hits = 0, l2_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0, local_delivered = 0;
+  uint64_t l1_hits = 0, l2_hits = 0, l2_read_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0,
+           local_delivered = 0, remote_dram = 0, hops = 0;
   const uint64_t dram_before = out.dram_lines;
+  const uint64_t now = ++m_clock;
   for (const LineAccess& a : lines) {
     if (a.address >= end) [[unlikely]]
       throw Error("memory access at address " + std::to_string(a.address) + ", past the address map");
@@ -136,8 +162,10 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     const int h = home(page, gpm);
     if (h == gpm || (m_copies[page] & me)) {
       // Local: this GPM's L2, then its DRAM.
+      if (m_copy_lru && h != gpm) m_copy_stamp[page * uint64_t(m_spec.gpms) + uint64_t(gpm)] = now;
       if (l2.access(line, a.write, a.category, ev)) {
         ++l2_hits;
+        l2_read_hits += !a.write;
       } else if (!a.write) {
         ++local_dram;
         out.dram_read_bytes[size_t(gpm)] += m_line_bytes;
@@ -162,6 +190,8 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     const uint64_t before = out.dram_lines;
     serve(src, line, false, a.category, out);
     if (out.dram_lines == before) ++home_l2_hits;
+    else ++remote_dram;
+    hops += m_topology->route(src, gpm).size();
     move(src, gpm, m_line_bytes, a.category, out);
     m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
   }
@@ -171,6 +201,10 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   out.l2_hits += l2_hits;
   out.remote_hits += remote_hits;
   out.home_l2_hits += home_l2_hits;
+  out.l2_read_hits += l2_read_hits;
+  out.local_dram_reads += local_dram;
+  out.remote_dram_reads += remote_dram;
+  out.remote_hops += hops;
   m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += local_delivered;
   m_totals.dram_lines += out.dram_lines - dram_before;
   m_totals.accesses += lines.size();
@@ -180,12 +214,37 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   m_totals.home_l2_hits += home_l2_hits;
 }
 
+bool MemorySystem::make_room(int gpm, uint64_t bytes) {
+  const uint64_t capacity = m_spec.copy_capacity.value;
+  const uint64_t n = uint64_t(m_spec.gpms);
+  while (capacity && m_copy_bytes[size_t(gpm)] + bytes > capacity) {
+    // The copy used longest ago (LRU) or made first (FIFO), not one of the
+    // current batch; ties to the lowest page.
+    uint64_t victim = ~uint64_t(0), oldest = ~uint64_t(0);
+    for (uint64_t p = 0; p < m_home.size(); ++p) {
+      if (!(m_made[p] & (1u << gpm))) continue;
+      const uint64_t stamp = m_copy_stamp[p * n + uint64_t(gpm)];
+      if (stamp < m_batch_start && stamp < oldest) {
+        oldest = stamp;
+        victim = p;
+      }
+    }
+    if (victim == ~uint64_t(0)) return false;
+    m_copies[victim] &= ~(1u << gpm);
+    m_made[victim] &= ~(1u << gpm);
+    m_copy_bytes[size_t(gpm)] -= (m_map.page_used_bytes(victim) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
+    ++m_totals.copies_evicted;
+  }
+  return true;
+}
+
 uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, UnitTraffic& out) {
   if (gpm < 0 || gpm >= m_spec.gpms) throw Error("pre-allocation to GPM " + std::to_string(gpm) + ", which does not exist");
   if (bytes == 0) return 0;
   if (address + bytes > m_home.size() * m_page_bytes) throw Error("pre-allocation past the end of the address map");
   shape(out);
   uint64_t copied = 0;
+  const uint64_t n = uint64_t(m_spec.gpms);
   for (uint64_t page = address >> m_page_shift; page <= (address + bytes - 1) >> m_page_shift; ++page) {
     if (m_home[page] < 0) {
       // Untouched data is placed where it is needed: nothing to copy.
@@ -193,10 +252,18 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
       m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
       continue;
     }
-    if (m_copies[page] & (1u << gpm)) continue;  // already there
+    if (m_copies[page] & (1u << gpm)) {
+      // Already there; a copy is now in use by this batch.
+      if (m_home[page] != gpm) m_copy_stamp[page * n + uint64_t(gpm)] = m_clock;
+      continue;
+    }
     // The page's data, in whole lines: the unused end of a small buffer's
     // page holds nothing to copy.
     const uint64_t bytes_here = (m_map.page_used_bytes(page) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
+    if (!make_room(gpm, bytes_here)) {
+      ++m_totals.copies_refused;
+      continue;
+    }
     const int src = nearest_holder(page, gpm);
     out.dram_read_bytes[size_t(src)] += bytes_here;
     m_totals.dram_read_bytes[size_t(src)][size_t(Category::prealloc)] += bytes_here;
@@ -204,6 +271,9 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
     out.dram_write_bytes[size_t(gpm)] += bytes_here;
     m_totals.dram_write_bytes[size_t(gpm)][size_t(Category::prealloc)] += bytes_here;
     m_copies[page] |= 1u << gpm;
+    m_made[page] |= 1u << gpm;
+    m_copy_bytes[size_t(gpm)] += bytes_here;
+    m_copy_stamp[page * n + uint64_t(gpm)] = m_clock;
     copied += bytes_here;
   }
   return copied;
@@ -218,9 +288,14 @@ void MemorySystem::transfer(int from, int to, uint64_t bytes, Category category,
 
 void MemorySystem::pin(uint32_t region, int gpm) { m_policy->pin(region, gpm); }
 
-void MemorySystem::end_draw() {
-  if (m_spec.remote_invalidate == "draw")
+void MemorySystem::end_draw(int gpm) {
+  if (m_spec.remote_invalidate != "draw") return;
+  if (gpm < 0) {
     for (Cache& c : m_remote) c.invalidate_all();
+  } else {
+    if (gpm >= m_spec.gpms) throw Error("end of a draw on GPM " + std::to_string(gpm) + ", which does not exist");
+    m_remote[size_t(gpm)].invalidate_all();
+  }
 }
 
 void MemorySystem::end_frame() {

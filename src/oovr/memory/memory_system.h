@@ -42,15 +42,24 @@ using PerCategory = std::array<uint64_t, kCategories>;
 struct UnitTraffic {
   uint64_t accesses = 0;
   uint64_t l1_hits = 0;       // in the requesting SM's L1
-  uint64_t l2_hits = 0;       // local data, in the requester's L2
+  uint64_t l2_hits = 0;       // local data, in the requester's L2 (reads and writes)
   uint64_t remote_hits = 0;   // remote data, in the requester's remote cache
   uint64_t home_l2_hits = 0;  // remote data, in its home's L2
   uint64_t dram_lines = 0;    // lines read from a DRAM (local or remote)
+  // Where each read was served, for its latency (writes are posted: they
+  // cost bandwidth, not latency): L1 hits, remote-cache hits and home-L2
+  // hits above are reads; these are the rest.
+  uint64_t l2_read_hits = 0;       // local reads served by the requester's L2
+  uint64_t local_dram_reads = 0;   // local reads served by its DRAM
+  uint64_t remote_dram_reads = 0;  // remote reads served by the holder's DRAM
+  uint64_t remote_hops = 0;        // link hops of remote reads, summed over the reads
   std::vector<uint64_t> dram_read_bytes, dram_write_bytes;  // per GPM
   std::vector<uint64_t> link_bytes;                         // per link
   PerCategory inter_gpm_bytes{};  // bytes moved between GPMs, once per transfer however many hops
 
   void reset(int gpms, int links);
+  // Adds another unit's (or record's) costs; both shaped for one machine.
+  UnitTraffic& operator+=(const UnitTraffic& o);
   uint64_t total_link_bytes() const;
   uint64_t total_inter_gpm_bytes() const;
 };
@@ -65,6 +74,8 @@ struct TrafficTotals {
   // DRAM) delivered to requester dst; used to check conservation.
   std::vector<uint64_t> delivered;
   uint64_t accesses = 0, l1_hits = 0, l2_hits = 0, remote_hits = 0, home_l2_hits = 0, dram_lines = 0;
+  uint64_t copies_evicted = 0;  // pre-allocated pages dropped to make room for others
+  uint64_t copies_refused = 0;  // pages not copied: their GPM's room was taken by the same batch
 };
 
 class MemorySystem {
@@ -86,16 +97,25 @@ class MemorySystem {
   // Copies the pages of [address, address + bytes) into GPM `gpm`'s DRAM
   // ahead of use, as whole pages, from their homes; pages already held by
   // `gpm` are not copied again; untouched pages are placed on `gpm`. The
-  // copy's bytes are link traffic of category prealloc. Returns bytes copied.
+  // copy's bytes are link traffic of category prealloc. Copies share the
+  // GPM's copy capacity (MemorySpec::copy_capacity): to make room, the
+  // least recently used (or oldest) copies are dropped, never one of the
+  // current batch (since begin_batch()). Returns bytes copied.
   uint64_t preallocate(uint64_t address, uint64_t bytes, int gpm, UnitTraffic& out);
+  // Starts a batch of pre-allocations: what it copies is kept until the
+  // next batch begins.
+  void begin_batch() { m_batch_start = ++m_clock; }
+  // Bytes of copies each GPM holds now.
+  uint64_t copy_bytes(int gpm) const { return m_copy_bytes[size_t(gpm)]; }
   // Moves `bytes` from GPM `from` to GPM `to` (composition, commands):
   // counted on every link of the route and once as inter-GPM traffic.
   void transfer(int from, int to, uint64_t bytes, Category category, UnitTraffic& out);
 
   // Names a region's home (pinned placement only).
   void pin(uint32_t region, int gpm);
-  // Boundaries at which the remote caches are invalidated (per the spec).
-  void end_draw();
+  // Boundaries at which the remote caches are invalidated (per the spec):
+  // GPM `gpm` finished a draw (-1: every GPM did), the frame ended.
+  void end_draw(int gpm = -1);
   void end_frame();
 
   // -1 when nobody touched the page yet (or the address is past the map).
@@ -121,6 +141,9 @@ class MemorySystem {
   void serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out);
   void move(int from, int to, uint64_t bytes, Category c, UnitTraffic& out);
   void writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out);
+  // Drops copies of `gpm` (not of the current batch) until `bytes` more fit;
+  // false when they cannot.
+  bool make_room(int gpm, uint64_t bytes);
   // Sizes `out`'s per-GPM and per-link vectors for this machine when they are not.
   void shape(UnitTraffic& out) const;
 
@@ -131,6 +154,13 @@ class MemorySystem {
   std::vector<Cache> m_l1, m_l2, m_remote;
   std::vector<int8_t> m_home;      // per page
   std::vector<uint32_t> m_copies;  // per page: bit g set when GPM g holds a copy
+  // Copies ahead of use: bytes per GPM, and per (page, GPM) when the copy
+  // was made or (LRU) last read, in batches and units.
+  std::vector<uint64_t> m_copy_bytes;
+  std::vector<uint32_t> m_made;  // per page: bit g set when g's copy was made by preallocate()
+  std::vector<uint64_t> m_copy_stamp;
+  uint64_t m_clock = 1, m_batch_start = 1;
+  bool m_copy_lru = true;
   uint64_t m_page_bytes, m_line_bytes;
   int m_line_shift, m_page_shift;
   TrafficTotals m_totals;

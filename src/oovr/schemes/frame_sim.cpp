@@ -5,7 +5,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
-#include "oovr/framework/oo_spec.h"
+#include "oovr/core/config_sections.h"
 
 namespace oovr {
 
@@ -36,7 +36,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   if (!in.scene || in.frames.empty()) throw Error("a scheme needs a scene and at least one frame");
   m_memory_spec = MemorySpec::from_config(in.config);
   m_timing_spec = TimingSpec::from_config(in.config);
-  in.config.check_all_used();
+  check_config(in.config);
   const FrameTrace& f = *in.frames[0];
   CarriedState* carried = in.carried.get();
   if (carried && carried->memory) {
@@ -77,6 +77,12 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_result.config = in.config.resolved();
 }
 
+UnitTraffic FrameSim::empty_traffic() const {
+  UnitTraffic t;
+  t.reset(gpms(), int(m_memory->topology().links().size()));
+  return t;
+}
+
 int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue) {
   TimingEngine::Unit u;
   u.queue = in_queue ? m_machine->queue(gpm) : -1;
@@ -87,6 +93,20 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
   if (in_queue) m_last[size_t(gpm)] = id;
   m_unit_gpm.push_back(gpm);
   m_result.covered_fragments += w.covered;
+  m_result.vertices += w.vertices;
+  ++m_result.units;
+  return id;
+}
+
+int FrameSim::command(int gpm, int draws) {
+  if (gpm < 0 || gpm >= gpms()) throw Error("a draw sent to GPM " + std::to_string(gpm) + ", which does not exist");
+  TimingEngine::Unit u;
+  u.queue = m_machine->queue(gpm);
+  u.latency = m_machine->draw_seconds(draws);
+  const int id = m_engine.add_unit(std::move(u));
+  m_last[size_t(gpm)] = id;
+  m_unit_gpm.push_back(gpm);
+  m_result.draws += uint64_t(draws);
   ++m_result.units;
   return id;
 }
@@ -100,7 +120,7 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   const Region& ib = m_map->region(m_layout->index_region(o.mesh));
   for (uint64_t a = 0; a < mesh.vertices.size() * sizeof(Vertex); a += line) m_scratch.push_back({vb.base + a, Category::vertex, false});
   for (uint64_t a = 0; a < mesh.indices.size() * sizeof(uint32_t); a += line) m_scratch.push_back({ib.base + a, Category::index, false});
-  UnitTraffic t;
+  UnitTraffic t = empty_traffic();
   m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
   WorkCounts w;
   w.vertices = uint64_t(vertex_passes) * mesh.vertices.size();
@@ -108,32 +128,27 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   return add(gpm, w, t, std::move(after));
 }
 
-void FrameSim::replay(int gpm, const TileWork& r, int fb, const FrameTrace& frame, UnitTraffic& total, WorkCounts& w) {
+void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
+                      WorkCounts& w) {
   m_scratch.clear();
   for (uint32_t k = 0; k < r.tex_count; ++k)
     m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + k]), Category::texture, false});
   for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
     if (r.depth_read_mask & (1u << l))
-      m_scratch.push_back({m_layout->frame_line(depth(fb), r.tile_x, r.tile_y, l), Category::depth, false});
+      m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, false});
     if (r.write_mask & (1u << l)) {
-      m_scratch.push_back({m_layout->frame_line(depth(fb), r.tile_x, r.tile_y, l), Category::depth, true});
-      m_scratch.push_back({m_layout->frame_line(colour(fb), r.tile_x, r.tile_y, l), Category::colour, true});
+      m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, true});
+      m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, true});
     }
   }
-  UnitTraffic t;
+  UnitTraffic t = empty_traffic();
   const uint32_t tile = uint32_t(r.tile_y) * uint32_t(frame.tiles_x) + r.tile_x;
   m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, t);
   if (&frame == m_in.frames[0]) {
     m_result.tile_inter_gpm_bytes[tile] += t.total_inter_gpm_bytes();
     m_result.owner[{r.object, tile}] = gpm;
   }
-  // Accumulate the record's traffic into the unit's.
-  total.accesses += t.accesses;
-  for (size_t g = 0; g < t.dram_read_bytes.size(); ++g) {
-    total.dram_read_bytes[g] += t.dram_read_bytes[g];
-    total.dram_write_bytes[g] += t.dram_write_bytes[g];
-  }
-  for (size_t l = 0; l < t.link_bytes.size(); ++l) total.link_bytes[l] += t.link_bytes[l];
+  total += t;
   w.covered += r.covered;
   w.quads += r.quads;
   w.samples += r.samples;
@@ -148,30 +163,34 @@ int FrameSim::tiles(int gpm, std::span<const TileWork* const> records, int fb, c
 
 std::vector<int> FrameSim::tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame) {
   const size_t n = jobs.size();
-  std::vector<UnitTraffic> traffic(n);
+  std::vector<UnitTraffic> traffic(n, empty_traffic());
   std::vector<WorkCounts> work(n);
+  std::vector<std::vector<int>> after(n);
   size_t rounds = 0;
   for (size_t j = 0; j < n; ++j) {
-    traffic[j].reset(gpms(), int(m_memory->topology().links().size()));
     const TileJob& job = jobs[j];
+    after[j] = job.after;
+    // The set-up triangles come over the links first (with their latency).
     if (job.from >= 0 && job.from != job.gpm && job.incoming)
-      m_memory->transfer(job.from, job.gpm, job.incoming, Category::vertex, traffic[j]);
+      after[j].push_back(transfer(job.from, job.gpm, job.incoming, Category::vertex, job.after));
     rounds = std::max(rounds, job.records.size());
   }
   for (size_t k = 0; k < rounds; ++k)
     for (size_t i = 0; i < n; ++i) {
       const size_t j = (k + i) % n;
-      if (k < jobs[j].records.size())
-        replay(jobs[j].gpm, *jobs[j].records[k], jobs[j].fbs.empty() ? jobs[j].fb : jobs[j].fbs[k], frame, traffic[j], work[j]);
+      const TileJob& job = jobs[j];
+      if (k >= job.records.size()) continue;
+      const int colour_fb = job.fbs.empty() ? job.fb : job.fbs[k];
+      const int depth_fb = job.depth_fbs.empty() ? colour_fb : job.depth_fbs[k];
+      replay(job.gpm, *job.records[k], colour_fb, depth_fb, frame, traffic[j], work[j]);
     }
   std::vector<int> units;
-  for (size_t j = 0; j < n; ++j) units.push_back(add(jobs[j].gpm, work[j], traffic[j], jobs[j].after));
+  for (size_t j = 0; j < n; ++j) units.push_back(add(jobs[j].gpm, work[j], traffic[j], std::move(after[j])));
   return units;
 }
 
 int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after) {
-  UnitTraffic t;
-  t.reset(gpms(), int(m_memory->topology().links().size()));
+  UnitTraffic t = empty_traffic();
   m_memory->transfer(from, to, bytes, c, t);
   // A transfer between GPMs waits for the link latency of every hop.
   return add_movement(m_machine->transfer_demand(t), std::move(after),
@@ -191,8 +210,8 @@ int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vect
 }
 
 int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vector<int> after) {
-  UnitTraffic t;
-  t.reset(gpms(), int(m_memory->topology().links().size()));
+  UnitTraffic t = empty_traffic();
+  m_memory->begin_batch();
   uint64_t copied = 0;
   for (uint32_t r : regions) {
     const Region& reg = m_map->region(r);
@@ -206,9 +225,7 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
 int FrameSim::compose(int gpm, uint64_t pixels, std::vector<int> after) {
   WorkCounts w;
   w.composed = pixels;
-  UnitTraffic t;
-  t.reset(gpms(), int(m_memory->topology().links().size()));
-  return add(gpm, w, t, std::move(after), false);
+  return add(gpm, w, empty_traffic(), std::move(after), false);
 }
 
 SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, const std::function<void(int)>& on_finish) {
@@ -251,137 +268,6 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
       s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
                             t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
   s.footprint_bytes = m_memory->footprint_bytes();
-  return s;
-}
-
-void sort_first(FrameSim& sim, const std::function<int(int, int, int)>& owner, Geometry geometry) {
-  const FrameTrace& f = sim.frame();
-  const std::vector<ObjectRecords> objects = records_by_object(f, sim.scene().objects.size());
-  const int n = sim.gpms();
-  std::vector<std::vector<const TileWork*>> mine(static_cast<size_t>(n));
-  for (uint32_t o = 0; o < objects.size(); ++o) {
-    for (auto& m : mine) m.clear();
-    std::vector<int> eyes_of(size_t(n), 0);  // bit e: the GPM owns tiles of eye e
-    std::vector<uint64_t> triangles_of(size_t(n), 0);
-    for (int e = 0; e < 2; ++e)
-      for (const TileWork* r : objects[o].eye[e]) {
-        const int g = owner(r->tile_x, r->tile_y, e);
-        mine[size_t(g)].push_back(r);
-        eyes_of[size_t(g)] |= 1 << e;
-        triangles_of[size_t(g)] += r->triangles;
-      }
-    const ObjectWork& ow = f.objects[o];
-    if (geometry == Geometry::shared) {
-      // One GPM transforms the draw for both eyes; the owners receive the
-      // set-up triangles of their tiles.
-      const int geo_gpm = int(o % uint32_t(n));
-      const int geo = sim.geometry(geo_gpm, o, 1, uint64_t(ow.setup[0]) + ow.setup[1]);
-      std::vector<FrameSim::TileJob> jobs;
-      for (int g = 0; g < n; ++g)
-        if (!mine[size_t(g)].empty())
-          jobs.push_back({g, mine[size_t(g)], 0, {geo}, geo_gpm, triangles_of[size_t(g)] * uint64_t(sim.timing().triangle_bytes)});
-      sim.tiles_together(jobs, f);
-      continue;
-    }
-    std::vector<FrameSim::TileJob> jobs;
-    for (int g = 0; g < n; ++g) {
-      if (mine[size_t(g)].empty()) continue;
-      const int eyes = __builtin_popcount(unsigned(eyes_of[size_t(g)]));
-      uint64_t tris = 0;
-      for (int e = 0; e < 2; ++e)
-        if (eyes_of[size_t(g)] & (1 << e)) tris += ow.setup[e];
-      const int passes = geometry == Geometry::duplicated_smp ? 1 : eyes;
-      jobs.push_back({g, mine[size_t(g)], 0, {sim.geometry(g, o, passes, tris)}});
-    }
-    sim.tiles_together(jobs, f);
-  }
-}
-
-std::function<int(int, int, int)> eye_groups_interleaved(int n, const SceneLayout& layout) {
-  const int group = std::max(1, n / 2);
-  return [=, &layout](int tx, int ty, int eye) {
-    const int first = n >= 2 ? eye * group : 0;
-    const int size = n >= 2 ? (eye == 0 ? group : n - group) : 1;
-    return first + layout.block_of(tx, ty) % size;
-  };
-}
-
-int scheme_frames_needed(const std::string& name, const Config& config) {
-  const SchemeFactory* f = Schemes::find(name);
-  if (!f) return 1;
-  Config c = config;
-  const auto scheme = f->make();
-  scheme->configure(c);
-  return scheme->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms)));
-}
-
-SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
-                        const Config& config, std::shared_ptr<CarriedState> carried) {
-  const SchemeFactory* f = Schemes::find(name);
-  if (!f) {
-    std::string names;
-    for (const auto& n : Schemes::names()) names += (names.empty() ? "" : ", ") + n;
-    throw Error("unknown scheme '" + name + "' (schemes: " + names + ")");
-  }
-  const auto scheme = f->make();
-  SchemeInput in;
-  in.scene = &scene;
-  in.frames = frames;
-  in.config = config;
-  in.carried = std::move(carried);
-  scheme->configure(in.config);
-  // OO-VR's keys are known to every scheme (a compare with --set oo.* runs
-  // them all), and checked even where unused.
-  OOSpec::check(in.config);
-  return scheme->run(in);
-}
-
-SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
-                               const Config& config, int window, std::vector<SchemeResult>* runs) {
-  const int m = scheme_frames_needed(name, config);
-  if (window < 1 || window % m != 0)
-    throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
-                std::to_string(window) + ") must be a multiple of " + std::to_string(m));
-  if (int(frames.size()) < window)
-    throw Error("not enough frames of trace: " + std::to_string(window) + " needed, " + std::to_string(frames.size()) + " given");
-  // In sequence on one memory system, after an unmeasured warm-up pass over
-  // the same frames: data is then where a game running these views would
-  // have it (pre-allocated copies included), and the distribution engine's
-  // rates are fitted.
-  const auto group = [&](size_t i) {
-    const auto first = frames.begin() + std::ptrdiff_t(i) * m;
-    return std::vector<const FrameTrace*>(first, first + m);
-  };
-  const auto carried = std::make_shared<CarriedState>();
-  for (size_t i = 0; i < size_t(window / m); ++i) (void)run_scheme(name, scene, group(i), config, carried);
-  std::vector<SchemeResult> all;
-  for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_scheme(name, scene, group(i), config, carried));
-  SchemeResult s = all.front();
-  s.frame_latencies_s.clear();
-  double time = 0;  // seconds the window's frames take, frames in flight overlapping
-  for (auto& x : s.inter_gpm_bytes) x = 0;
-  s.local_dram_bytes = s.covered_fragments = s.units = 0;
-  std::vector<double> busy(s.gpm_busy_s.size(), 0);
-  for (const SchemeResult& r : all) {
-    s.frame_latencies_s.insert(s.frame_latencies_s.end(), r.frame_latencies_s.begin(), r.frame_latencies_s.end());
-    time += double(r.frames_in_flight) / r.throughput_fps;
-    for (size_t c = 0; c < s.inter_gpm_bytes.size(); ++c) s.inter_gpm_bytes[c] += r.inter_gpm_bytes[c];
-    s.local_dram_bytes += r.local_dram_bytes;
-    s.covered_fragments += r.covered_fragments;
-    s.units += r.units;
-    s.footprint_bytes = std::max(s.footprint_bytes, r.footprint_bytes);
-    for (size_t g = 0; g < busy.size(); ++g) busy[g] += r.gpm_busy_s[g] / double(all.size());
-  }
-  // Per frame: bytes summed over the window's frames, divided by them.
-  const auto per_frame = [&](uint64_t v) { return (v + uint64_t(window) / 2) / uint64_t(window); };
-  for (auto& x : s.inter_gpm_bytes) x = per_frame(x);
-  s.local_dram_bytes = per_frame(s.local_dram_bytes);
-  s.gpm_busy_s = busy;
-  double sum = 0;
-  for (double l : s.frame_latencies_s) sum += l;
-  s.frame_latency_s = sum / double(s.frame_latencies_s.size());
-  s.throughput_fps = double(window) / time;
-  if (runs) *runs = std::move(all);
   return s;
 }
 

@@ -3,6 +3,13 @@
 // pieces of a FrameTrace into work units on GPMs. Units replay their memory
 // accesses when they are added, so schemes add them in the order the GPMs
 // would issue them (draw order, GPMs interleaved).
+//
+// What a GPM does for a draw, as units in its queue: its front end receives
+// the draw (command(): per-draw cost), transforms its vertices (geometry()),
+// then rasterises, shades and writes its tiles (tiles()). Data that moves
+// between GPMs outside a unit's own memory accesses (set-up triangles handed
+// over, composition, copies) is a transfer unit on the links, with the link
+// latency of every hop.
 #pragma once
 
 #include <algorithm>
@@ -33,7 +40,7 @@ struct CarriedState {
 class FrameSim {
  public:
   // `framebuffers`: colour + depth buffer pairs (one per GPM for schemes
-  // that render into private buffers).
+  // that render into private buffers). Checks the whole configuration.
   FrameSim(const SchemeInput& in, int framebuffers = 1);
 
   int gpms() const { return m_memory_spec.gpms; }
@@ -43,10 +50,16 @@ class FrameSim {
   const MachineModel& machine() const { return *m_machine; }
   const TimingSpec& timing() const { return m_timing_spec; }
   const Scene& scene() const { return *m_in.scene; }
+  const Config& config() const { return m_in.config; }
   const FrameTrace& frame(int k = 0) const { return *m_in.frames[size_t(k)]; }
   uint32_t colour(int fb) const { return m_colour[size_t(fb)]; }
   uint32_t depth(int fb) const { return m_depth[size_t(fb)]; }
 
+  // GPM `gpm`'s front end receives `draws` draws: command processing, state
+  // and bindings, gpm.draw_cycles each, in its queue before what follows
+  // (it waits for nothing else). Every GPM that works on a draw receives it;
+  // a broadcast (baseline, tile SFR) reaches every GPM.
+  int command(int gpm, int draws = 1);
   // Vertex shading and triangle setup of `object` on `gpm`: its vertex and
   // index buffers are read; `vertex_passes` is 1 with SMP (both eyes share
   // the transform) and the number of eyes without; `triangles` is the number
@@ -67,23 +80,34 @@ class FrameSim {
     std::vector<const TileWork*> records;
     int fb = 0;
     std::vector<int> after;
+    // Set-up triangles handed over from GPM `from` (a transfer unit the
+    // job's unit waits for; nothing when from is -1 or the job's own GPM).
     int from = -1;
     uint64_t incoming = 0;
-    std::vector<int> fbs = {};  // per record, when records write different framebuffers (else fb)
+    // Per record, when records write different framebuffers: colour (else
+    // fb) and depth (else as colour).
+    std::vector<int> fbs = {};
+    std::vector<int> depth_fbs = {};
   };
   std::vector<int> tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame);
-  // Moves `bytes` from one GPM to another.
+  // Moves `bytes` from one GPM to another: a unit on the links of the route,
+  // with the link latency of every hop.
   int transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after = {});
   // The pre-allocation unit of `gpm` copies the pages of every region in
-  // `regions` it does not hold yet into its DRAM (MemorySystem::preallocate):
-  // a unit outside the GPM's pipeline, on the links and DRAMs. Returns -1
-  // when there was nothing to copy.
+  // `regions` it does not hold yet into its DRAM (MemorySystem::preallocate,
+  // one batch): a unit outside the GPM's pipeline, on the links and DRAMs.
+  // Returns -1 when there was nothing to copy.
   int preallocate(int gpm, std::span<const uint32_t> regions, std::vector<int> after = {});
   // ROP work merging `pixels` on `gpm` (composition). It runs beside the
   // GPM's pipeline, not in its queue (the colour output stage works
   // asynchronously with shading, paper Section 5.3), sharing its ROPs with
   // whatever the GPM is rendering; it counts as busy time of the GPM.
   int compose(int gpm, uint64_t pixels, std::vector<int> after = {});
+  // GPM `gpm` (-1: every GPM) finished a draw: the boundary at which
+  // `cache.remote.invalidate = "draw"` drops its remote cache (MCM-GPU
+  // flushes its L1.5 at kernel boundaries). Call it after adding the draw's
+  // units on that GPM.
+  void end_draw(int gpm = -1) { m_memory->end_draw(gpm); }
 
   // Runs the timing engine; fills the result's timing, traffic and memory
   // numbers. `frames_in_flight` frames complete in the makespan.
@@ -103,7 +127,9 @@ class FrameSim {
   // A unit of data movement (transfer, copy) outside every GPM's pipeline.
   int add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency);
   // Replays one record's memory accesses on `gpm` into `total` and `w`.
-  void replay(int gpm, const TileWork& r, int fb, const FrameTrace& frame, UnitTraffic& total, WorkCounts& w);
+  void replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
+              WorkCounts& w);
+  UnitTraffic empty_traffic() const;
 
   SchemeInput m_in;
   MemorySpec m_memory_spec;
@@ -120,36 +146,6 @@ class FrameSim {
   std::vector<LineAccess> m_scratch;
   SchemeResult m_result;
 };
-
-// Sort-first rendering of frames[0]: every screen tile has an owner GPM that
-// rasterises and shades it (for baseline, tile SFR).
-enum class Geometry {
-  // Once per draw on one GPM (draw index modulo the GPMs), SMP for both
-  // eyes; set-up triangles are sent to the GPMs owning their tiles.
-  shared,
-  // On every GPM that owns tiles the draw covers: the whole draw, SMP for
-  // both eyes (primitive duplication, tile SFR with horizontal strips).
-  duplicated_smp,
-  // The same, but once per eye covered, without SMP (vertical strips
-  // separate the eyes).
-  duplicated_per_eye,
-};
-void sort_first(FrameSim& sim, const std::function<int(int tile_x, int tile_y, int eye)>& owner, Geometry geometry);
-
-// The baseline's tile owners: the first half of the GPMs renders the left
-// eye, the second half the right; an eye's tiles are interleaved over its
-// half (one GPM renders everything when there is one) by framebuffer block
-// (the tiles of one page), so that first touch makes each GPM's pixels
-// local instead of sharing every page.
-std::function<int(int, int, int)> eye_groups_interleaved(int gpms, const SceneLayout& layout);
-
-// Vertical strips of whole tile columns, one per GPM (the last may be
-// narrower): the owner of tile column `tile_x` (tile SFR-V, and OO-VR's
-// distributed framebuffer, which maps memory as SFR-V does: Section 5.3).
-inline int vertical_strip_owner(int tile_x, int tiles_x, int gpms) {
-  const int width = (tiles_x + gpms - 1) / gpms;
-  return std::min(gpms - 1, tile_x / width);
-}
 
 // The tile records of one object, grouped by eye (in trace order).
 struct ObjectRecords {

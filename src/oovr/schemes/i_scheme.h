@@ -50,6 +50,8 @@ struct SchemeResult {
   uint64_t local_dram_bytes = 0;  // bytes read and written by every DRAM
   uint64_t footprint_bytes = 0;   // memory resident in all GPMs' DRAMs
   uint64_t covered_fragments = 0; // fragments rasterised by all units (duplicates included)
+  uint64_t vertices = 0;          // vertex shader invocations on all GPMs (duplicates included)
+  uint64_t draws = 0;             // draws received by GPM front ends, summed over the GPMs
   uint64_t units = 0;
   // Per screen tile of frames[0]: bytes moved between GPMs for its work.
   std::vector<uint64_t> tile_inter_gpm_bytes;

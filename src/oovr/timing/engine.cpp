@@ -126,23 +126,15 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
   }
 
   start_ready();
-  std::vector<double> share(m_capacity.size());
-  std::vector<int> users(m_capacity.size());
-  std::vector<double> rate;
+  ResourceSharing sharing(m_capacity);
+  std::vector<const Demand*> demands;
   while (m_done < m_units.size()) {
-    // Rates: equal shares of every resource among the units using it.
-    std::fill(users.begin(), users.end(), 0);
-    for (int i : m_running)
-      for (const auto& [r, amount] : m_units[size_t(i)].demand)
-        if (amount > 0) ++users[size_t(r)];
-    for (size_t r = 0; r < share.size(); ++r) share[r] = users[r] ? m_capacity[r] / users[r] : 0;
-    rate.assign(m_running.size(), std::numeric_limits<double>::infinity());
+    demands.clear();
+    for (int i : m_running) demands.push_back(&m_units[size_t(i)].demand);
+    const std::vector<double>& rate = sharing.rates(demands, m_sharing);
     double step = std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k < m_running.size(); ++k) {
-      for (const auto& [r, amount] : m_units[size_t(m_running[k])].demand)
-        if (amount > 0) rate[k] = std::min(rate[k], share[size_t(r)] / amount);
+    for (size_t k = 0; k < m_running.size(); ++k)
       step = std::min(step, std::isinf(rate[k]) ? 0.0 : m_left[size_t(m_running[k])] / rate[k]);
-    }
     double next_latency = std::numeric_limits<double>::infinity();
     for (const auto& [f, id] : m_in_latency) next_latency = std::min(next_latency, f);
     if (m_running.empty() && m_in_latency.empty())
@@ -187,6 +179,7 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
     }
     start_ready();
   }
+  m_unconverged = sharing.unconverged();
   return m_res;
 }
 

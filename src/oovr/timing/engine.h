@@ -6,9 +6,10 @@
 // another; units of different queues run at the same time and share every
 // resource they both use. A fluid model decides how fast each runs:
 //
-//   every resource's capacity is split equally among the running units that
-//   demand it; a unit progresses at the pace of its bottleneck, the resource
-//   whose share it would take longest to get through.
+//   a unit progresses at one rate, a fraction of its work per second, the
+//   same for all it demands; resources are shared max-min fairly and
+//   work-conservingly among the running units that demand them
+//   (timing/sharing.h).
 //
 // Between two events (a unit starting or finishing) every rate is constant,
 // so the engine jumps from event to event. A unit's latency (DRAM, link
@@ -27,13 +28,15 @@
 #include <utility>
 #include <vector>
 
+#include "oovr/timing/sharing.h"
+
 namespace oovr {
 
 class TimingEngine {
  public:
   struct Unit {
     int queue = -1;                             // -1: runs as soon as its dependencies allow
-    std::vector<std::pair<int, double>> demand;  // (resource, amount)
+    Demand demand;                               // (resource, amount) pairs
     double latency = 0;                          // seconds added after the work
     std::vector<int> after;                      // units that must finish first
   };
@@ -47,6 +50,7 @@ class TimingEngine {
     double makespan = 0;                // finish of the last unit
   };
 
+  void set_sharing(Sharing s) { m_sharing = s; }
   // Adds a resource with `capacity` units per second; returns its id.
   int add_resource(std::string name, double capacity);
   int add_queue(std::string name);
@@ -64,6 +68,10 @@ class TimingEngine {
   // start at the current time or later. Dependencies on units already
   // finished are met. Runs once per engine.
   Result run(const std::function<void(int unit)>& on_finish = {});
+
+  // Rate allocations of the last run that stopped at the iteration limit
+  // (ResourceSharing::unconverged).
+  uint64_t unconverged() const { return m_unconverged; }
 
   // While running (from on_finish): the current time, whether a unit has
   // started or ended, and the fraction of its work still to do (1 before it
@@ -98,6 +106,9 @@ class TimingEngine {
   std::vector<int> m_running;       // ids, ascending
   std::vector<std::pair<double, int>> m_in_latency;
   size_t m_done = 0;
+  Sharing m_sharing = Sharing::fair;
+  uint64_t m_unconverged = 0;
+
 };
 
 }  // namespace oovr

@@ -1,5 +1,6 @@
 #include "oovr/timing/gpm_model.h"
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 
 namespace oovr {
@@ -22,12 +23,28 @@ TimingSpec TimingSpec::from_config(const Config& c) {
   s.vertex_instructions = positive("shader.vertex_instructions", d.vertex_instructions);
   s.fragment_instructions = positive("shader.fragment_instructions", d.fragment_instructions);
   s.triangle_bytes = positive("shader.triangle_bytes", d.triangle_bytes);
+  s.requests_in_flight = int(c.get_int("gpm.requests_in_flight", d.requests_in_flight));
+  if (s.requests_in_flight < 0 || s.requests_in_flight > 1000000)
+    throw Error("configuration key 'gpm.requests_in_flight' must be from 0 (no limit) to 1000000");
+  s.draw_cycles = c.get_double("gpm.draw_cycles", d.draw_cycles);
+  if (!(s.draw_cycles >= 0 && s.draw_cycles <= 1e9)) throw Error("configuration key 'gpm.draw_cycles' must be from 0 to 1e9");
+  s.sharing = c.get_choice("timing.sharing", d.sharing == Sharing::fair ? "fair" : "equal", {"fair", "equal"}) == "fair"
+                  ? Sharing::fair
+                  : Sharing::equal;
   return s;
 }
 
+namespace {
+
+const ConfigSections::Add reg("timing", {"the GPMs' resources, shaders, front end and how units share resources",
+                                         [](const Config& c) { (void)TimingSpec::from_config(c); }});
+
+}  // namespace
+
 MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, const Topology& topology,
                            TimingEngine& engine)
-    : m_timing(timing) {
+    : m_timing(timing), m_memory(memory) {
+  engine.set_sharing(timing.sharing);
   const double f = timing.frequency.value;
   for (int g = 0; g < memory.gpms; ++g) {
     const std::string p = "gpm[" + std::to_string(g) + "].";
@@ -39,6 +56,8 @@ MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, c
     r.setup = engine.add_resource(p + "setup", double(timing.setup_triangles_per_clock) * f);
     r.rop = engine.add_resource(p + "rop", double(timing.rops) * timing.rop_pixels_per_clock * f);
     r.dram = engine.add_resource(p + "dram", memory.dram_bandwidth.value);
+    if (timing.requests_in_flight > 0)
+      r.requests = engine.add_resource(p + "requests", double(memory.sms_per_gpm) * timing.requests_in_flight);
     m_gpm.push_back(r);
     m_queue.push_back(engine.add_queue("gpm[" + std::to_string(g) + "]"));
   }
@@ -63,7 +82,19 @@ std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCoun
   }
   for (size_t l = 0; l < t.link_bytes.size(); ++l)
     if (t.link_bytes[l]) d.push_back({m_link[l], double(t.link_bytes[l])});
+  if (r.requests >= 0) {
+    const double held = read_latency(t);
+    if (held > 0) d.push_back({r.requests, held});
+  }
   return d;
+}
+
+double MachineModel::read_latency(const UnitTraffic& t) const {
+  const double l1 = m_memory.l1.latency.value, l2 = m_memory.l2.latency.value, rc = m_memory.remote.latency.value;
+  const double dram = m_memory.dram_latency.value, link = m_memory.link_latency.value;
+  return double(t.l1_hits) * l1 + double(t.l2_read_hits) * l2 + double(t.local_dram_reads) * (l2 + dram) +
+         double(t.remote_hits) * rc + double(t.home_l2_hits) * (rc + l2) + double(t.remote_dram_reads) * (rc + l2 + dram) +
+         double(t.remote_hops) * 2 * link;
 }
 
 std::vector<std::pair<int, double>> MachineModel::transfer_demand(const UnitTraffic& t) const {

@@ -11,6 +11,7 @@
 #include "oovr/memory/memory_spec.h"
 #include "oovr/memory/memory_system.h"
 #include "oovr/timing/engine.h"
+#include "oovr/timing/sharing.h"
 
 namespace oovr {
 
@@ -25,6 +26,15 @@ struct TimingSpec {
   int vertex_instructions = 32;       // per vertex (assumed)
   int fragment_instructions = 32;     // per fragment lane (assumed)
   int triangle_bytes = 96;            // a set-up triangle sent to another GPM (3 x 32 B, assumed)
+  // Reads a GPM keeps outstanding, per SM (Little's law: at most this many
+  // per latency); 0 for no limit. Accel-Sim's TITAN X (Pascal) texture
+  // cache has 128 miss entries.
+  int requests_in_flight = 128;
+  // Front-end cycles per draw a GPM receives (command processing, state,
+  // bindings), before any of its vertices; calibrated against a real GPU
+  // (docs/validation.md).
+  double draw_cycles = 0;
+  Sharing sharing = Sharing::fair;  // how running units share resources (timing/sharing.h)
 
   static TimingSpec from_config(const Config& c);
 };
@@ -41,8 +51,8 @@ struct WorkCounts {
 };
 
 // The machine's resources in a TimingEngine: per GPM shader lanes, texture
-// units, raster (fragments), setup (triangles) and ROPs, its DRAM, and every
-// link of the topology.
+// units, raster (fragments), setup (triangles), ROPs, request slots (reads
+// in flight) and its DRAM, and every link of the topology.
 class MachineModel {
  public:
   MachineModel(const TimingSpec& timing, const MemorySpec& memory, const Topology& topology, TimingEngine& engine);
@@ -51,13 +61,21 @@ class MachineModel {
   // Demands of moving `t`'s link bytes only (a transfer unit).
   std::vector<std::pair<int, double>> transfer_demand(const UnitTraffic& t) const;
   int queue(int gpm) const { return m_queue[size_t(gpm)]; }
+  // Seconds of front-end time for `draws` draws.
+  double draw_seconds(double draws) const { return draws * m_timing.draw_cycles / m_timing.frequency.value; }
+  // Request-seconds a unit's reads hold outstanding: each read for its
+  // latency where it was served (MemorySpec's latencies; a remote read
+  // pays the link hops both ways).
+  double read_latency(const UnitTraffic& t) const;
   const TimingSpec& timing() const { return m_timing; }
   double cycles(double seconds) const { return seconds * m_timing.frequency.value; }
 
  private:
   TimingSpec m_timing;
+  MemorySpec m_memory;
   struct Gpm {
     int shader, texture, raster, setup, rop, dram;
+    int requests = -1;  // request slots (requests in flight), -1 without a limit
   };
   std::vector<Gpm> m_gpm;
   std::vector<int> m_link;

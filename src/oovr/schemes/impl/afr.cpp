@@ -6,7 +6,8 @@
 // throughput of N GPMs each rendering one frame after another.
 //
 // Derived from the trace: N consecutive frames' traces, each whole (every
-// tile record of frame k on GPM k) with its objects' set-up triangles.
+// draw received and transformed by GPM k, every tile record of frame k on
+// GPM k) with its objects' set-up triangles.
 // Duplicates nothing within a frame; the data is copied N times.
 #include "oovr/schemes/frame_sim.h"
 
@@ -32,8 +33,10 @@ class Afr final : public Scheme {
         const FrameTrace& f = sim.frame(g);
         std::vector<const TileWork*> all = records[size_t(g)][o].eye[0];
         all.insert(all.end(), records[size_t(g)][o].eye[1].begin(), records[size_t(g)][o].eye[1].end());
+        sim.command(g);
         const int geo = sim.geometry(g, o, 1, uint64_t(f.objects[o].setup[0]) + f.objects[o].setup[1]);
         if (!all.empty()) sim.tiles(g, all, g, f, {geo});
+        sim.end_draw(g);
       }
     SchemeResult r = sim.finish("afr", n);
     // A frame's latency is its GPM's time to render it. In steady state

@@ -2,7 +2,7 @@
 // as fast as local DRAM, which bounds what better locality can gain.
 //
 // Derived from the trace: as baseline.
-#include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {
@@ -12,7 +12,7 @@ class Baseline1Tb final : public Scheme {
   void configure(Config& c) const override { c.set("link.bandwidth", "1TBps"); }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
-    sort_first(sim, eye_groups_interleaved(sim.gpms(), sim.layout()), Geometry::shared);
+    sort_first(sim, eye_groups_by_tile(sim.gpms(), sim.frame()), Geometry::shared);
     return sim.finish("baseline-1tb");
   }
 };

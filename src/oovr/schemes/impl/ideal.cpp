@@ -5,7 +5,7 @@
 // single-gpm does on one GPM. Duplicates nothing.
 #include <cstdio>
 
-#include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {

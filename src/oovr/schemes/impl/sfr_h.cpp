@@ -7,7 +7,7 @@
 // a draw's vertices and both eyes' set-up triangles are repeated on every
 // GPM whose strip it reaches. Duplicates geometry by definition, never
 // fragments.
-#include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {

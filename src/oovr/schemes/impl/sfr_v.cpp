@@ -8,7 +8,7 @@
 // a draw's vertices are repeated per eye on every GPM whose strip it
 // reaches, with that eye's set-up triangles. Duplicates geometry by
 // definition, never fragments.
-#include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {

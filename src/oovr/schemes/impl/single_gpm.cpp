@@ -3,7 +3,7 @@
 //
 // Derived from the trace: every record and object, in draw order, on GPM 0.
 // Duplicates nothing.
-#include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {

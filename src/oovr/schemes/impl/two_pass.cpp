@@ -4,10 +4,12 @@
 // (the paper's Section 3 reports 27% over rendering the two views in
 // sequence).
 //
-// Derived from the trace: the left view's records of every draw, then the
-// right view's; each draw's vertices are transformed once per view, with
-// that view's set-up triangles. Duplicates vertex work by definition, never
-// fragments.
+// Derived from the trace: the left view's work of every draw, then the
+// right view's. The application issues every draw in each view, so each is
+// received and transformed once per view whether or not the view shows it
+// (as single-gpm transforms every draw once): twice single-gpm's draws and
+// vertices, each view with its own set-up triangles. Duplicates vertex work
+// and draws by definition, never fragments.
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {
@@ -22,9 +24,10 @@ class TwoPass final : public Scheme {
     const std::vector<ObjectRecords> objects = records_by_object(f, sim.scene().objects.size());
     for (int e = 0; e < 2; ++e)
       for (uint32_t o = 0; o < objects.size(); ++o) {
-        if (f.objects[o].setup[e] == 0 && objects[o].eye[e].empty()) continue;
+        sim.command(0);
         const int geo = sim.geometry(0, o, 1, f.objects[o].setup[e]);
         if (!objects[o].eye[e].empty()) sim.tiles(0, objects[o].eye[e], 0, f, {geo});
+        sim.end_draw();
       }
     return sim.finish("two-pass");
   }

@@ -1,0 +1,60 @@
+#include "oovr/schemes/composition.h"
+
+#include <bit>
+
+#include "oovr/core/config_sections.h"
+
+namespace oovr {
+
+CompositionSpec CompositionSpec::from_config(const Config& c) {
+  CompositionSpec s;
+  s.depth = c.get_choice("composition.payload", "colour", {"colour", "colour+depth"}) == "colour+depth";
+  s.per_pixel = c.get_choice("composition.granularity", "line", {"line", "pixel"}) == "pixel";
+  return s;
+}
+
+namespace {
+
+const ConfigSections::Add reg("composition", {"what sort-last schemes send to the final frame's owners",
+                                              [](const Config& c) { (void)CompositionSpec::from_config(c); }});
+
+}  // namespace
+
+void Composer::target(FrameSim::TileJob& job) const {
+  job.fbs.clear();
+  job.depth_fbs.clear();
+  for (const TileWork* r : job.records) {
+    const bool mine = m_owner(*r) == job.gpm;
+    job.fbs.push_back(mine ? 0 : 1 + job.gpm);
+    job.depth_fbs.push_back(mine || !m_spec.depth ? 0 : 1 + job.gpm);
+  }
+}
+
+uint64_t Composer::bytes(const TileWork& r) const {
+  const uint64_t payloads = m_spec.depth ? 2 : 1;
+  if (m_spec.per_pixel) return uint64_t(r.passed) * 4 * payloads;
+  return uint64_t(std::popcount(r.write_mask)) * m_sim.frame().line_bytes * payloads;
+}
+
+uint64_t Composer::pixels(const TileWork& r) const {
+  if (m_spec.per_pixel) return r.passed;
+  return uint64_t(std::popcount(r.write_mask)) * (m_sim.frame().line_bytes / 4);
+}
+
+void Composer::send(const FrameSim::TileJob& job, int unit) {
+  const int n = m_sim.gpms();
+  std::vector<uint64_t> bytes(size_t(n), 0), pixels(size_t(n), 0);
+  for (const TileWork* r : job.records) {
+    const int owner = m_owner(*r);
+    if (owner == job.gpm) continue;
+    bytes[size_t(owner)] += this->bytes(*r);
+    pixels[size_t(owner)] += this->pixels(*r);
+  }
+  for (int o = 0; o < n; ++o)
+    if (bytes[size_t(o)]) {
+      const int sent = m_sim.transfer(job.gpm, o, bytes[size_t(o)], Category::composition, {unit});
+      m_sim.compose(o, pixels[size_t(o)], {sent});
+    }
+}
+
+}  // namespace oovr

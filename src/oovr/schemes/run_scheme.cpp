@@ -1,0 +1,88 @@
+// Running a scheme by name, on one frame or over a window of frames in
+// sequence (i_scheme.h).
+#include <algorithm>
+
+#include "oovr/core/error.h"
+#include "oovr/schemes/frame_sim.h"
+
+namespace oovr {
+
+int scheme_frames_needed(const std::string& name, const Config& config) {
+  const SchemeFactory* f = Schemes::find(name);
+  if (!f) return 1;
+  Config c = config;
+  const auto scheme = f->make();
+  scheme->configure(c);
+  return scheme->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms)));
+}
+
+SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const Config& config, std::shared_ptr<CarriedState> carried) {
+  const SchemeFactory* f = Schemes::find(name);
+  if (!f) {
+    std::string names;
+    for (const auto& n : Schemes::names()) names += (names.empty() ? "" : ", ") + n;
+    throw Error("unknown scheme '" + name + "' (schemes: " + names + ")");
+  }
+  const auto scheme = f->make();
+  SchemeInput in;
+  in.scene = &scene;
+  in.frames = frames;
+  in.config = config;
+  in.carried = std::move(carried);
+  scheme->configure(in.config);
+  return scheme->run(in);
+}
+
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                               const Config& config, int window, std::vector<SchemeResult>* runs) {
+  const int m = scheme_frames_needed(name, config);
+  if (window < 1 || window % m != 0)
+    throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
+                std::to_string(window) + ") must be a multiple of " + std::to_string(m));
+  if (int(frames.size()) < window)
+    throw Error("not enough frames of trace: " + std::to_string(window) + " needed, " + std::to_string(frames.size()) + " given");
+  // In sequence on one memory system, after an unmeasured warm-up pass over
+  // the same frames: data is then where a game running these views would
+  // have it (pre-allocated copies included), and the distribution engine's
+  // rates are fitted.
+  const auto group = [&](size_t i) {
+    const auto first = frames.begin() + std::ptrdiff_t(i) * m;
+    return std::vector<const FrameTrace*>(first, first + m);
+  };
+  const auto carried = std::make_shared<CarriedState>();
+  for (size_t i = 0; i < size_t(window / m); ++i) (void)run_scheme(name, scene, group(i), config, carried);
+  std::vector<SchemeResult> all;
+  for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_scheme(name, scene, group(i), config, carried));
+  SchemeResult s = all.front();
+  s.frame_latencies_s.clear();
+  double time = 0;  // seconds the window's frames take, frames in flight overlapping
+  for (auto& x : s.inter_gpm_bytes) x = 0;
+  s.local_dram_bytes = s.covered_fragments = s.vertices = s.draws = s.units = 0;
+  std::vector<double> busy(s.gpm_busy_s.size(), 0);
+  for (const SchemeResult& r : all) {
+    s.frame_latencies_s.insert(s.frame_latencies_s.end(), r.frame_latencies_s.begin(), r.frame_latencies_s.end());
+    time += double(r.frames_in_flight) / r.throughput_fps;
+    for (size_t c = 0; c < s.inter_gpm_bytes.size(); ++c) s.inter_gpm_bytes[c] += r.inter_gpm_bytes[c];
+    s.local_dram_bytes += r.local_dram_bytes;
+    s.covered_fragments += r.covered_fragments;
+    s.vertices += r.vertices;
+    s.draws += r.draws;
+    s.units += r.units;
+    s.footprint_bytes = std::max(s.footprint_bytes, r.footprint_bytes);
+    for (size_t g = 0; g < busy.size(); ++g) busy[g] += r.gpm_busy_s[g] / double(all.size());
+  }
+  // Per frame: bytes summed over the window's frames, divided by them.
+  const auto per_frame = [&](uint64_t v) { return (v + uint64_t(window) / 2) / uint64_t(window); };
+  for (auto& x : s.inter_gpm_bytes) x = per_frame(x);
+  s.local_dram_bytes = per_frame(s.local_dram_bytes);
+  s.gpm_busy_s = busy;
+  double sum = 0;
+  for (double l : s.frame_latencies_s) sum += l;
+  s.frame_latency_s = sum / double(s.frame_latencies_s.size());
+  s.throughput_fps = double(window) / time;
+  if (runs) *runs = std::move(all);
+  return s;
+}
+
+}  // namespace oovr
