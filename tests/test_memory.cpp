@@ -8,6 +8,7 @@
 #include "oovr/memory/memory_system.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/builtin.h"
+#include "oovr/timing/gpm_model.h"
 
 namespace oovr {
 namespace {
@@ -358,6 +359,100 @@ TEST(Memory, EveryImplementationIsRegistered) {
             (std::vector<std::string>{"first-touch", "interleaved", "pinned", "preallocated", "replicated"}));
   EXPECT_EQ(ReplacementPolicies::names(), (std::vector<std::string>{"fifo", "lru", "random"}));
   EXPECT_EQ(Topologies::names(), (std::vector<std::string>{"fully-connected", "ring", "switch"}));
+}
+
+}  // namespace
+}  // namespace oovr
+
+namespace oovr {
+namespace {
+
+// Where each read was served decides its latency (timing: requests in
+// flight); writes are posted and count nowhere here.
+TEST(Memory, ReadsAreCountedWhereTheyWereServed) {
+  Fixture f(spec_with({"memory.placement=pinned"}));
+  const uint32_t remote = f.map.add("remote", Category::texture, 8 << 10);
+  const uint32_t local = f.map.add("local", Category::texture, 8 << 10);
+  f.build();
+  f.mem->pin(remote, 1);
+  f.mem->pin(local, 0);
+  const auto far = reads(f.map.region(remote).base, 8 << 10), near = reads(f.map.region(local).base, 8 << 10);
+  UnitTraffic cold = f.run(0, 0, far);
+  EXPECT_EQ(cold.remote_dram_reads, 64u);
+  EXPECT_EQ(cold.remote_hops, 64u) << "one hop each on a fully connected system";
+  EXPECT_EQ(cold.home_l2_hits + cold.l2_read_hits + cold.local_dram_reads, 0u);
+  EXPECT_EQ(f.run(0, 1, far).remote_hits, 64u);
+  f.mem->end_frame();
+  const UnitTraffic warm = f.run(0, 2, far);
+  EXPECT_EQ(warm.home_l2_hits, 64u);
+  EXPECT_EQ(warm.remote_hops, 64u);
+  EXPECT_EQ(f.run(0, 0, near).local_dram_reads, 64u);
+  EXPECT_EQ(f.run(0, 1, near).l2_read_hits, 64u);
+  std::vector<LineAccess> writes;
+  for (const auto& a : near) writes.push_back({a.address, Category::colour, true});
+  const UnitTraffic w = f.run(0, 3, writes);
+  EXPECT_EQ(w.l2_read_hits + w.local_dram_reads + w.l1_hits, 0u);
+  EXPECT_EQ(w.l2_hits, 64u) << "write hits count as L2 hits, not as reads";
+
+  // Their latency, as the timing model charges it: a cold remote read pays
+  // the remote-cache lookup, the link both ways, the home's L2 and DRAM.
+  TimingEngine e;
+  const MachineModel m(TimingSpec{}, f.spec, f.mem->topology(), e);
+  const MemorySpec& s = f.spec;
+  EXPECT_DOUBLE_EQ(m.read_latency(cold), 64 * (s.remote.latency.value + 2 * s.link_latency.value + s.l2.latency.value +
+                                               s.dram_latency.value));
+  EXPECT_DOUBLE_EQ(m.read_latency(warm), 64 * (s.remote.latency.value + 2 * s.link_latency.value + s.l2.latency.value));
+}
+
+// Copies made ahead of use share a capacity per GPM: the least recently
+// used (or with FIFO the oldest) makes room; a batch never evicts its own
+// copies, and what does not fit is not copied.
+TEST(Memory, CopiesHaveACapacityAndTheLeastRecentlyUsedMakesRoom) {
+  for (const char* eviction : {"lru", "fifo"}) {
+    Fixture f(spec_with({"memory.placement=preallocated", "memory.copies.capacity=128KB",
+                         (std::string("memory.copies.eviction=") + eviction).c_str()}));
+    std::vector<uint64_t> base;
+    for (const char* name : {"a", "b", "c"}) base.push_back(f.map.region(f.map.add(name, Category::texture, kPage)).base);
+    f.build();
+    for (uint64_t b : base) f.run(1, 0, reads(b, kPage));  // homes on GPM 1
+    UnitTraffic t;
+    f.mem->begin_batch();
+    f.mem->preallocate(base[0], kPage, 0, t);
+    f.mem->begin_batch();
+    f.mem->preallocate(base[1], kPage, 0, t);
+    f.run(0, 0, {{base[0], Category::texture, false}});  // a is read again: b is now the least recently used
+    f.mem->begin_batch();
+    EXPECT_EQ(f.mem->preallocate(base[2], kPage, 0, t), kPage);
+    const bool lru = std::string(eviction) == "lru";
+    EXPECT_EQ(f.mem->holds(0, base[0]), lru) << eviction;
+    EXPECT_EQ(f.mem->holds(0, base[1]), !lru) << eviction;
+    EXPECT_TRUE(f.mem->holds(0, base[2])) << eviction;
+    EXPECT_EQ(f.mem->copy_bytes(0), 2 * kPage);
+    EXPECT_EQ(f.mem->resident_bytes()[0], 2 * kPage) << "the footprint is bounded";
+    EXPECT_EQ(f.mem->totals().copies_evicted, 1u);
+    // One batch asking for all three: its own copies stay, the third is not made.
+    f.mem->begin_batch();
+    UnitTraffic all;
+    // LRU holds a and c: a stays, c makes room for b. FIFO holds b and c:
+    // both make room, for a and b.
+    EXPECT_EQ(f.mem->preallocate(base[0], 3 * kPage, 0, all), lru ? kPage : 2 * kPage) << eviction;
+    EXPECT_EQ(f.mem->copy_bytes(0), 2 * kPage);
+    EXPECT_EQ(f.mem->totals().copies_refused, 1u);
+  }
+}
+
+TEST(Memory, TheEndOfADrawOnOneGpmDropsOnlyItsRemoteCache) {
+  Fixture f(spec_with({"memory.placement=pinned", "cache.remote.invalidate=draw"}));
+  const uint32_t tex = f.map.add("texture", Category::texture, 8 << 10);
+  f.build();
+  f.mem->pin(tex, 1);
+  const auto all = reads(f.map.region(tex).base, 8 << 10);
+  f.run(0, 0, all);
+  f.run(2, 0, all);
+  f.mem->end_draw(0);
+  EXPECT_EQ(f.run(0, 1, all).remote_hits, 0u);
+  EXPECT_EQ(f.run(2, 1, all).remote_hits, 64u);
+  EXPECT_THROW(f.mem->end_draw(9), Error);
 }
 
 }  // namespace

@@ -36,6 +36,19 @@ struct PaperArgs {
   std::string command;  // the command line, for the document
 };
 
+struct CorrelateArgs {
+  std::string hardware;  // CSV of measured frames
+  std::string scheme = "single-gpm";
+  std::string config;
+  std::vector<std::string> settings;
+  std::string json;
+  bool per_frame = false;
+  bool no_cache = false;
+  double min_r = -2;       // fail below (-2: no check)
+  double max_spread = 0;   // fail above (0: no check)
+  std::string sweep;       // "key=v1,v2,...": correlate at each value, pick the most proportional
+};
+
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& text);
 
@@ -44,5 +57,6 @@ Config machine_config(const std::string& file, const std::vector<std::string>& s
 int simulate(const SimulateArgs& a);
 int compare(const SimulateArgs& a, const std::vector<std::string>& schemes);
 int paper(const PaperArgs& a);
+int correlate(const CorrelateArgs& a);
 
 }  // namespace oovr::cli

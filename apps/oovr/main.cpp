@@ -207,7 +207,7 @@ int main(int argc, char** argv) {
   std::string scheme_list;
   // The paper's order first (Sections 3 and 4), then the bounds, then any
   // other registered scheme.
-  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
+  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
                                       "single-gpm", "ideal", "two-pass"};
   ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
                 ordered.end());
@@ -235,6 +235,21 @@ int main(int argc, char** argv) {
   paper_cmd->add_option("--out", paper.out, "Folder for results.json, CSV files and SVG plots (empty: none; the document's plots go to img/paper beside it)")->capture_default_str();
   paper_cmd->add_option("--doc", paper.doc, "The comparison document to write (empty: none)")->capture_default_str();
 
+  cli::CorrelateArgs corr;
+  auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");
+  corr_cmd->add_option("--hardware", corr.hardware, "CSV of measured frames (oovr-reference --time; docs/data/hardware/)")->required();
+  corr_cmd->add_option("--scheme", corr.scheme, "Scheme simulating the GPU")->capture_default_str();
+  corr_cmd->add_option("--config", corr.config, "TOML machine preset (default: the paper's Table 1)");
+  corr_cmd->add_option("--set", corr.settings, "Override a configuration key (repeatable)");
+  corr_cmd->add_option("--json", corr.json, "Write the points and statistics as JSON");
+  corr_cmd->add_flag("--per-frame", corr.per_frame, "Print every frame, not only the medians");
+  corr_cmd->add_flag("--no-cache", corr.no_cache, "Render every frame even when its trace is cached");
+  corr_cmd->add_option("--sweep", corr.sweep,
+                       "key=v1,v2,...: correlate at each value of a key and name the one that makes oovr most proportional to the GPU (calibration)");
+  corr_cmd->add_option("--min-r", corr.min_r, "Fail when Pearson r of the medians is below this")->check(CLI::Range(-1.0, 1.0));
+  corr_cmd->add_option("--max-spread", corr.max_spread, "Fail when the largest ratio oovr/GPU over the smallest exceeds this")
+      ->check(CLI::Range(1.0, 1e9));
+
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
   render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
@@ -253,7 +268,7 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;
       for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
-      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, paper, config; see --help)");
+      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, paper, correlate, config; see --help)");
     }
     app.parse(argc, argv);
     if (render_cmd->count("--resolution") && render_cmd->count("--eye-resolution"))
@@ -268,6 +283,7 @@ int main(int argc, char** argv) {
       return cli::compare(cmp, list);
     }
     if (app.got_subcommand(render_cmd)) return cmd_render(render);
+    if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
     if (app.got_subcommand(paper_cmd)) {
       paper.command = "oovr";
       for (int i = 1; i < argc; ++i) paper.command += std::string(" ") + argv[i];

@@ -57,6 +57,7 @@ void print_result(const SchemeResult& r) {
       first = false;
     }
   fmt::print("\n  DRAM bytes      {} (all GPMs, read and written)\n", mb(r.local_dram_bytes));
+  fmt::print("  front ends      {} draws received, {} vertices transformed (all GPMs, all frames)\n", r.draws, r.vertices);
   fmt::print("  footprint       {} resident in GPM memories\n", mb(r.footprint_bytes));
   for (const auto& n : r.notes) fmt::print("  note: {}\n", n);
 }
@@ -203,7 +204,9 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   fmt::print("{}: {}, {}x{} stereo, {} GPMs; {}{}\n", f.scene.name, frame_range(a.frame, window), f.rig.frame_width(),
              f.rig.frame_height(), results.front().gpms, window > 1 ? "means per frame" : "one frame",
              base ? ", ratios against baseline" : "");
-  fmt::print("  {:<13} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8}\n", "scheme", "latency ms", "speed-up", "frames/s",
+  size_t w = 13;  // the scheme column fits the longest name
+  for (const auto& r : results) w = std::max(w, r.scheme.size());
+  fmt::print("  {:<{}} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8}\n", "scheme", w, "latency ms", "speed-up", "frames/s",
              "throughput", "inter-GPM", "traffic", "best/worst");
   for (const auto& r : results) {
     const double lat = base ? base->frame_latency_s / r.frame_latency_s : 0;
@@ -211,7 +214,7 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
     const double traffic = base && base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0;
     // Without the baseline in the list there is nothing to normalise to.
     const auto ratio = [&](double v) { return base ? fmt::format("{:.2f}x", v) : std::string("-"); };
-    fmt::print("  {:<13} {:>10.3f} {:>9} {:>9.1f} {:>10} {:>9} {:>11} {:>8.2f}\n", r.scheme, r.frame_latency_s * 1e3,
+    fmt::print("  {:<{}} {:>10.3f} {:>9} {:>9.1f} {:>10} {:>9} {:>11} {:>8.2f}\n", r.scheme, w, r.frame_latency_s * 1e3,
                ratio(lat), r.throughput_fps, ratio(thr), mb(r.total_inter_gpm_bytes()), ratio(traffic), r.best_to_worst());
   }
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",

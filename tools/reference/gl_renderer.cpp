@@ -5,8 +5,11 @@
 #include <EGL/eglext.h>
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
 #include <string>
 
 namespace oovr::reference {
@@ -74,19 +77,141 @@ struct GlRenderer::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
   GLuint program = 0;
+  GLint u_world = -1, u_clip = -1, u_has_diffuse = -1, u_has_lightmap = -1, u_colour = -1, u_lm_scale = -1,
+        u_alpha_test = -1, u_cutoff = -1, u_coverage = -1;
 };
 
-GlRenderer::GlRenderer() : m(std::make_unique<Impl>()) {
-  // Ask Mesa for llvmpipe explicitly, whatever hardware the machine has.
-  setenv("GALLIUM_DRIVER", "llvmpipe", 0);
-  setenv("EGL_PLATFORM", "surfaceless", 0);
+namespace {
+
+// A display on the first EGL device that is not Mesa's software renderer
+// (a GPU), or EGL_NO_DISPLAY.
+EGLDisplay hardware_display(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display) {
+  auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+  auto query_string = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+  if (!query_devices || !query_string) return EGL_NO_DISPLAY;
+  EGLDeviceEXT devices[16];
+  EGLint count = 0;
+  if (!query_devices(16, devices, &count)) return EGL_NO_DISPLAY;
+  for (EGLint i = 0; i < count; ++i) {
+    const char* ext = query_string(devices[i], EGL_EXTENSIONS);
+    if (ext && std::strstr(ext, "EGL_MESA_device_software")) continue;
+    EGLDisplay d = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+    EGLint major = 0, minor = 0;
+    if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor)) return d;
+  }
+  return EGL_NO_DISPLAY;
+}
+
+// Everything a scene needs on the GPU: textures (every level as oovr built
+// it), one vertex array per mesh.
+struct Uploaded {
+  std::vector<GLuint> tex, vao, buf;
+  Uploaded(const Scene& scene, int aniso) {
+    tex.resize(scene.textures.size());
+    glGenTextures(GLsizei(tex.size()), tex.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+      const Texture& t = scene.textures[i];
+      glBindTexture(GL_TEXTURE_2D, tex[i]);
+      const int levels = t.mipmapped ? int(t.levels.size()) : 1;
+      for (int l = 0; l < levels; ++l) {
+        const MipLevel& ml = t.levels[size_t(l)];
+        glTexImage2D(GL_TEXTURE_2D, l, GL_RGBA8, ml.width, ml.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, ml.rgba.data());
+      }
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, t.mipmapped ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      const GLint wrap = t.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+      glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY, float(aniso));
+    }
+    vao.resize(scene.meshes.size());
+    buf.resize(scene.meshes.size() * 2);
+    glGenVertexArrays(GLsizei(vao.size()), vao.data());
+    glGenBuffers(GLsizei(buf.size()), buf.data());
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+      const Mesh& mesh = scene.meshes[i];
+      glBindVertexArray(vao[i]);
+      glBindBuffer(GL_ARRAY_BUFFER, buf[2 * i]);
+      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(), GL_STATIC_DRAW);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[2 * i + 1]);
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)), mesh.indices.data(), GL_STATIC_DRAW);
+      glEnableVertexAttribArray(0);
+      glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
+      glEnableVertexAttribArray(1);
+      glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, uv)));
+      glEnableVertexAttribArray(2);
+      glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, lm_uv)));
+    }
+  }
+  ~Uploaded() {
+    glDeleteBuffers(GLsizei(buf.size()), buf.data());
+    glDeleteVertexArrays(GLsizei(vao.size()), vao.data());
+    glDeleteTextures(GLsizei(tex.size()), tex.data());
+  }
+  Uploaded(const Uploaded&) = delete;
+  Uploaded& operator=(const Uploaded&) = delete;
+};
+
+// A colour + 32-bit float depth framebuffer, bound while it lives.
+struct Target {
+  GLuint fbo = 0, rb[2] = {0, 0};
+  Target(int w, int h) {
+    glGenFramebuffers(1, &fbo);
+    glGenRenderbuffers(2, rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb[0]);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb[1]);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[0]);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb[1]);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("reference framebuffer incomplete");
+  }
+  ~Target() {
+    glDeleteRenderbuffers(2, rb);
+    glDeleteFramebuffers(1, &fbo);
+  }
+  Target(const Target&) = delete;
+  Target& operator=(const Target&) = delete;
+};
+
+enum class Pass { image, passed, covered };
+
+// Clears the frame and sets the depth test of a pass.
+void begin_pass(const StereoView& view, Pass pass, GLint u_coverage) {
+  glScissor(0, 0, view.frame_width, view.frame_height);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glClearColor(0, 0, 0, 1);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(pass == Pass::covered ? GL_ALWAYS : GL_LESS);
+  glDepthMask(pass == Pass::covered ? GL_FALSE : GL_TRUE);
+  if (pass == Pass::covered) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glUniform1i(u_coverage, pass == Pass::covered);
+}
+
+}  // namespace
+
+GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
   auto get_platform_display =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (!get_platform_display) throw Unavailable("EGL has no eglGetPlatformDisplayEXT");
-  m->display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (m->display == EGL_NO_DISPLAY) throw Unavailable("EGL surfaceless platform unavailable (is libegl-mesa0 installed?)");
-  EGLint major = 0, minor = 0;
-  if (!eglInitialize(m->display, &major, &minor)) throw Unavailable("eglInitialize failed on the surfaceless platform");
+  if (platform == Platform::any) m->display = hardware_display(get_platform_display);
+  if (m->display == EGL_NO_DISPLAY) {
+    // Ask Mesa for llvmpipe explicitly, whatever hardware the machine has.
+    setenv("GALLIUM_DRIVER", "llvmpipe", 0);
+    setenv("EGL_PLATFORM", "surfaceless", 0);
+    m->display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (m->display == EGL_NO_DISPLAY) throw Unavailable("EGL surfaceless platform unavailable (is libegl-mesa0 installed?)");
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(m->display, &major, &minor)) throw Unavailable("eglInitialize failed on the surfaceless platform");
+  }
   if (!eglBindAPI(EGL_OPENGL_API)) throw Unavailable("EGL cannot bind the OpenGL API");
   const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
                             EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
@@ -105,6 +230,19 @@ GlRenderer::GlRenderer() : m(std::make_unique<Impl>()) {
   if (!ok) throw std::runtime_error("reference program does not link");
   glDeleteShader(vs);
   glDeleteShader(fs);
+  const GLuint p = m->program;
+  glUseProgram(p);
+  glUniform1i(glGetUniformLocation(p, "diffuse_tex"), 0);
+  glUniform1i(glGetUniformLocation(p, "lightmap_tex"), 1);
+  m->u_world = glGetUniformLocation(p, "world_from_object");
+  m->u_clip = glGetUniformLocation(p, "clip_from_world");
+  m->u_has_diffuse = glGetUniformLocation(p, "has_diffuse");
+  m->u_has_lightmap = glGetUniformLocation(p, "has_lightmap");
+  m->u_colour = glGetUniformLocation(p, "colour");
+  m->u_lm_scale = glGetUniformLocation(p, "lightmap_scale");
+  m->u_alpha_test = glGetUniformLocation(p, "alpha_test");
+  m->u_cutoff = glGetUniformLocation(p, "alpha_cutoff");
+  m->u_coverage = glGetUniformLocation(p, "coverage_only");
 }
 
 GlRenderer::~GlRenderer() {
@@ -121,142 +259,85 @@ std::string GlRenderer::renderer_name() const {
   return r ? r : "unknown";
 }
 
+namespace {
+
+// Issues every object's draw, in scene order, once per eye in `eyes` (bit
+// e: eye e) into that eye's viewport (or a 1x1 scissor at its corner);
+// `around(draw, begin)` brackets each draw (draw = object * 2 + eye).
+void draw_objects(const GlRenderer::Impl& m, const Scene& scene, const StereoView& view, const Uploaded& up, int eyes,
+                  bool tiny_scissor, const std::function<void(size_t draw, bool begin)>& around) {
+  glEnable(GL_SCISSOR_TEST);
+  glFrontFace(GL_CCW);
+  glCullFace(GL_BACK);
+  for (size_t o = 0; o < scene.objects.size(); ++o) {
+    const Object& obj = scene.objects[o];
+    const Material& mat = scene.materials[size_t(obj.material)];
+    glBindVertexArray(up.vao[size_t(obj.mesh)]);
+    glUniformMatrix4fv(m.u_world, 1, GL_FALSE, &obj.world_from_object.m[0][0]);
+    glUniform1i(m.u_has_diffuse, mat.diffuse >= 0);
+    glUniform1i(m.u_has_lightmap, mat.lightmap >= 0);
+    glUniform4f(m.u_colour, mat.colour.x, mat.colour.y, mat.colour.z, mat.colour.w);
+    glUniform1f(m.u_lm_scale, mat.lightmap_scale);
+    glUniform1i(m.u_alpha_test, mat.alpha_test);
+    glUniform1f(m.u_cutoff, mat.alpha_cutoff);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, mat.diffuse >= 0 ? up.tex[size_t(mat.diffuse)] : 0);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, mat.lightmap >= 0 ? up.tex[size_t(mat.lightmap)] : 0);
+    if (mat.two_sided) glDisable(GL_CULL_FACE);
+    else glEnable(GL_CULL_FACE);
+    const GLsizei count = GLsizei(scene.meshes[size_t(obj.mesh)].indices.size());
+    for (int e = 0; e < view.eyes; ++e) {
+      if (!(eyes & (1 << e))) continue;
+      const Viewport& vp = view.viewport[e];
+      glViewport(vp.x, vp.y, vp.width, vp.height);
+      if (tiny_scissor) glScissor(vp.x, vp.y, 1, 1);
+      else glScissor(vp.x, vp.y, vp.width, vp.height);
+      glUniformMatrix4fv(m.u_clip, 1, GL_FALSE, &view.clip_from_world[e].m[0][0]);
+      if (around) around(o * 2 + size_t(e), true);
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+      if (around) around(o * 2 + size_t(e), false);
+    }
+  }
+}
+
+}  // namespace
+
 GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
   const int W = view.frame_width, H = view.frame_height;
-  GLuint fbo = 0, rb[2] = {0, 0};
-  glGenFramebuffers(1, &fbo);
-  glGenRenderbuffers(2, rb);
-  glBindRenderbuffer(GL_RENDERBUFFER, rb[0]);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, W, H);
-  glBindRenderbuffer(GL_RENDERBUFFER, rb[1]);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, W, H);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[0]);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb[1]);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("reference framebuffer incomplete");
-
-  // Textures: every level exactly as oovr built it.
-  std::vector<GLuint> tex(scene.textures.size());
-  glGenTextures(GLsizei(tex.size()), tex.data());
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  for (size_t i = 0; i < scene.textures.size(); ++i) {
-    const Texture& t = scene.textures[i];
-    glBindTexture(GL_TEXTURE_2D, tex[i]);
-    const int levels = t.mipmapped ? int(t.levels.size()) : 1;
-    for (int l = 0; l < levels; ++l) {
-      const MipLevel& ml = t.levels[size_t(l)];
-      glTexImage2D(GL_TEXTURE_2D, l, GL_RGBA8, ml.width, ml.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, ml.rgba.data());
-    }
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, t.mipmapped ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    const GLint wrap = t.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
-    glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
-  }
-
-  // Meshes: one vertex array each, laid out as oovr's Vertex.
-  std::vector<GLuint> vao(scene.meshes.size()), buf(scene.meshes.size() * 2);
-  glGenVertexArrays(GLsizei(vao.size()), vao.data());
-  glGenBuffers(GLsizei(buf.size()), buf.data());
-  for (size_t i = 0; i < scene.meshes.size(); ++i) {
-    const Mesh& mesh = scene.meshes[i];
-    glBindVertexArray(vao[i]);
-    glBindBuffer(GL_ARRAY_BUFFER, buf[2 * i]);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[2 * i + 1]);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)), mesh.indices.data(), GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, uv)));
-    glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, lm_uv)));
-  }
-
-  const GLuint p = m->program;
-  glUseProgram(p);
-  glUniform1i(glGetUniformLocation(p, "diffuse_tex"), 0);
-  glUniform1i(glGetUniformLocation(p, "lightmap_tex"), 1);
-  const GLint u_world = glGetUniformLocation(p, "world_from_object");
-  const GLint u_clip = glGetUniformLocation(p, "clip_from_world");
-  const GLint u_has_diffuse = glGetUniformLocation(p, "has_diffuse");
-  const GLint u_has_lightmap = glGetUniformLocation(p, "has_lightmap");
-  const GLint u_colour = glGetUniformLocation(p, "colour");
-  const GLint u_lm_scale = glGetUniformLocation(p, "lightmap_scale");
-  const GLint u_alpha_test = glGetUniformLocation(p, "alpha_test");
-  const GLint u_cutoff = glGetUniformLocation(p, "alpha_cutoff");
-  const GLint u_coverage = glGetUniformLocation(p, "coverage_only");
+  const Target target(W, H);
+  const Uploaded up(scene, 1);  // the comparison samples isotropically
+  glUseProgram(m->program);
 
   GlFrame out;
   out.counts.resize(scene.objects.size() * 2);
   std::vector<GLuint> queries(scene.objects.size() * 2 * 2);
   glGenQueries(GLsizei(queries.size()), queries.data());
-
-  glEnable(GL_SCISSOR_TEST);
-  glFrontFace(GL_CCW);
-  glCullFace(GL_BACK);
-  // Pass 0 renders the image without queries and is timed. Pass 1 renders
-  // it again with a GL_SAMPLES_PASSED query per draw (fragments that passed
-  // the alpha and depth tests); pass 2 counts every draw's coverage (depth
-  // test always passes, no discard, no writes). Each query's result is read
-  // right after its draw: with thousands of queries outstanding, llvmpipe
-  // (Mesa 22.3) was seen to report counts of other draws, e.g. samples
-  // passed for a draw that covered nothing.
-  enum Pass { kTimed = 0, kPassed = 1, kCovered = 2 };
+  // The image pass runs without queries and is timed. The passed pass
+  // renders it again with a GL_SAMPLES_PASSED query per draw (fragments
+  // that passed the alpha and depth tests); the covered pass counts every
+  // draw's coverage (depth test always passes, no discard, no writes). Each
+  // query's result is read right after its draw: with thousands of queries
+  // outstanding, llvmpipe (Mesa 22.3) was seen to report counts of other
+  // draws, e.g. samples passed for a draw that covered nothing.
   std::vector<GLuint64> results(queries.size(), 0);
   glFinish();  // uploads done before timing starts
   const auto start = std::chrono::steady_clock::now();
-  for (int pass = kTimed; pass <= kCovered; ++pass) {
-    glScissor(0, 0, W, H);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glClearColor(0, 0, 0, 1);
-    glClearDepth(1.0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(pass == kCovered ? GL_ALWAYS : GL_LESS);
-    glDepthMask(pass == kCovered ? GL_FALSE : GL_TRUE);
-    if (pass == kCovered) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glUniform1i(u_coverage, pass == kCovered);
-    for (size_t o = 0; o < scene.objects.size(); ++o) {
-      const Object& obj = scene.objects[o];
-      const Material& mat = scene.materials[size_t(obj.material)];
-      glBindVertexArray(vao[size_t(obj.mesh)]);
-      glUniformMatrix4fv(u_world, 1, GL_FALSE, &obj.world_from_object.m[0][0]);
-      glUniform1i(u_has_diffuse, mat.diffuse >= 0);
-      glUniform1i(u_has_lightmap, mat.lightmap >= 0);
-      glUniform4f(u_colour, mat.colour.x, mat.colour.y, mat.colour.z, mat.colour.w);
-      glUniform1f(u_lm_scale, mat.lightmap_scale);
-      glUniform1i(u_alpha_test, mat.alpha_test);
-      glUniform1f(u_cutoff, mat.alpha_cutoff);
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, mat.diffuse >= 0 ? tex[size_t(mat.diffuse)] : 0);
-      glActiveTexture(GL_TEXTURE1);
-      glBindTexture(GL_TEXTURE_2D, mat.lightmap >= 0 ? tex[size_t(mat.lightmap)] : 0);
-      if (mat.two_sided) glDisable(GL_CULL_FACE);
-      else glEnable(GL_CULL_FACE);
-      const GLsizei count = GLsizei(scene.meshes[size_t(obj.mesh)].indices.size());
-      for (int e = 0; e < view.eyes; ++e) {
-        const Viewport& vp = view.viewport[e];
-        glViewport(vp.x, vp.y, vp.width, vp.height);
-        glScissor(vp.x, vp.y, vp.width, vp.height);
-        glUniformMatrix4fv(u_clip, 1, GL_FALSE, &view.clip_from_world[e].m[0][0]);
-        if (pass == kTimed) {
-          glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
-          continue;
+  for (Pass pass : {Pass::image, Pass::passed, Pass::covered}) {
+    begin_pass(view, pass, m->u_coverage);
+    std::function<void(size_t, bool)> around;
+    if (pass != Pass::image)
+      around = [&](size_t draw, bool begin) {
+        const size_t q = draw * 2 + (pass == Pass::covered ? 1 : 0);
+        if (begin) {
+          glBeginQuery(GL_SAMPLES_PASSED, queries[q]);
+        } else {
+          glEndQuery(GL_SAMPLES_PASSED);
+          glGetQueryObjectui64v(queries[q], GL_QUERY_RESULT, &results[q]);
         }
-        const size_t q = (o * 2 + size_t(e)) * 2 + size_t(pass - kPassed);
-        glBeginQuery(GL_SAMPLES_PASSED, queries[q]);
-        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
-        glEndQuery(GL_SAMPLES_PASSED);
-        glGetQueryObjectui64v(queries[q], GL_QUERY_RESULT, &results[q]);
-      }
-    }
-    if (pass == kTimed) {
+      };
+    draw_objects(*m, scene, view, up, 3, false, around);
+    if (pass == Pass::image) {
       out.colour = Image(W, H);
       glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.rgba.data());
       out.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -265,13 +346,50 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
   for (size_t i = 0; i < out.counts.size(); ++i) out.counts[i] = {results[i * 2 + 1], results[i * 2]};
   if (const GLenum err = glGetError(); err != GL_NO_ERROR)
     throw std::runtime_error("OpenGL error " + std::to_string(err) + " in the reference renderer");
-
   glDeleteQueries(GLsizei(queries.size()), queries.data());
-  glDeleteBuffers(GLsizei(buf.size()), buf.data());
-  glDeleteVertexArrays(GLsizei(vao.size()), vao.data());
-  glDeleteTextures(GLsizei(tex.size()), tex.data());
-  glDeleteRenderbuffers(2, rb);
-  glDeleteFramebuffers(1, &fbo);
+  return out;
+}
+
+std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<StereoView>& views, int aniso, int repeats) {
+  if (views.empty()) return {};
+  const Target target(views.front().frame_width, views.front().frame_height);
+  const Uploaded up(scene, aniso);
+  glUseProgram(m->program);
+  GLuint query = 0;
+  glGenQueries(1, &query);
+  // GPU time of one pass: the frame's draws inside a GL_TIME_ELAPSED query,
+  // the clear outside it.
+  const auto timed = [&](const StereoView& view, int eyes, bool tiny) {
+    begin_pass(view, Pass::image, m->u_coverage);
+    glFinish();
+    glBeginQuery(GL_TIME_ELAPSED, query);
+    draw_objects(*m, scene, view, up, eyes, tiny, {});
+    glEndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+    return double(ns) * 1e-3;
+  };
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  std::vector<FrameTime> out;
+  for (const StereoView& view : views) {
+    if (view.frame_width != views.front().frame_width || view.frame_height != views.front().frame_height)
+      throw std::runtime_error("every timed view must have the same size");
+    std::vector<double> full, geom, left;
+    for (int rep = -1; rep < repeats; ++rep) {  // one warm-up
+      const double f = timed(view, 3, false), g = timed(view, 3, true), l = timed(view, 1, false);
+      if (rep < 0) continue;
+      full.push_back(f);
+      geom.push_back(g);
+      left.push_back(l);
+    }
+    out.push_back({median(full), median(geom), median(left)});
+  }
+  glDeleteQueries(1, &query);
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+    throw std::runtime_error("OpenGL error " + std::to_string(err) + " while timing");
   return out;
 }
 

@@ -1,8 +1,12 @@
 // The reference renderer: draws a scene through a real OpenGL implementation
-// (Mesa's llvmpipe, headless through EGL's surfaceless platform) with the
-// same geometry, textures (every mip level uploaded as oovr built it),
-// sampler settings, cameras and draw order as oovr's pipeline, and counts the
-// fragments of every draw with GL_SAMPLES_PASSED queries.
+// with the same geometry, textures (every mip level uploaded as oovr built
+// it), sampler settings, cameras and draw order as oovr's pipeline. For the
+// image comparison it is Mesa's llvmpipe, headless through EGL's surfaceless
+// platform, and counts the fragments of every draw with GL_SAMPLES_PASSED
+// queries. For timing it is whatever OpenGL the machine has: a GPU through
+// EGL's device platform (EGL_EXT_platform_device, how NVIDIA's driver runs
+// headless), else llvmpipe; frames are timed on the GPU with
+// GL_TIME_ELAPSED queries.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +32,19 @@ struct DrawCounts {
   uint64_t passed = 0;   // fragments that passed alpha and depth tests in the real render
 };
 
+// GPU time of one stereo frame, in microseconds (docs/validation.md,
+// "Hardware"): medians over the repetitions.
+struct FrameTime {
+  double full_us = 0;  // every draw, both eyes
+  double geom_us = 0;  // the same with a 1x1 scissor per eye: per-draw and vertex cost, almost no fragments
+  double left_us = 0;  // the left eye only
+};
+
+enum class Platform {
+  llvmpipe,  // Mesa's llvmpipe on the surfaceless platform (the image comparison)
+  any,       // the first hardware EGL device, else llvmpipe (timing)
+};
+
 struct GlFrame {
   Image colour;  // bottom row first, as glReadPixels returns it
   // counts[object * 2 + eye]
@@ -40,16 +57,21 @@ struct GlFrame {
 
 class GlRenderer {
  public:
-  GlRenderer();  // throws Unavailable
+  explicit GlRenderer(Platform platform = Platform::llvmpipe);  // throws Unavailable
   ~GlRenderer();
   GlRenderer(const GlRenderer&) = delete;
   GlRenderer& operator=(const GlRenderer&) = delete;
 
   std::string renderer_name() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   GlFrame render(const Scene& scene, const StereoView& view);
+  // Times each view of `views` (`repeats` times after one warm-up, medians)
+  // with anisotropic filtering up to `aniso` taps; framebuffer cleared
+  // before every timed pass, outside the timer.
+  std::vector<FrameTime> time(const Scene& scene, const std::vector<StereoView>& views, int aniso, int repeats);
+
+  struct Impl;  // the EGL context, program and uniforms (gl_renderer.cpp)
 
  private:
-  struct Impl;
   std::unique_ptr<Impl> m;
 };
 

@@ -1,5 +1,8 @@
 // oovr-reference: renders a scene with Mesa's llvmpipe and, with --compare,
 // compares it with oovr's pipeline: image PSNR and per-draw fragment counts.
+// With --time it measures GPU frame times (GL_TIME_ELAPSED) on whatever
+// OpenGL the machine has (a GPU through EGL's device platform, else
+// llvmpipe) and writes them in the format `oovr correlate` reads.
 //
 // Exit status: 0 when the comparison passes (or nothing was compared), 1 when
 // it fails its thresholds or something goes wrong, 2 for a bad argument, and
@@ -12,9 +15,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "gl_renderer.h"
 #include "oovr/core/error.h"
+#include "oovr/experiments/hardware.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/openarena.h"
@@ -25,6 +30,7 @@ namespace {
 using namespace oovr;
 
 struct Args {
+  std::vector<std::string> scenes;
   std::string scene;
   int frame = 0;
   std::string resolution = "640x480";
@@ -34,6 +40,14 @@ struct Args {
   double max_draw_diff_percent = 0.5;
   int isolate = -1;
   bool list = false;
+  // --time
+  bool time = false;
+  int frames = 16;
+  std::string resolutions;
+  int repeat = 5;
+  int aniso = 16;
+  std::string csv;
+  std::string platform = "gpu";
 };
 
 struct CountStats {
@@ -87,19 +101,94 @@ Image diff_image(const Image& a, const Image& b) {
   return d;
 }
 
+// Exit 77 (skipped) when a game level's data is not installed.
+bool data_missing(const std::string& scene) {
+  std::error_code ec;
+  if (scene.rfind("oa:", 0) == 0 && !std::filesystem::is_directory(openarena_directory(), ec)) {
+    fmt::print("SKIPPED: OpenArena data not installed ({}); run scripts/install-deps.sh --game-data\n", openarena_directory());
+    return true;
+  }
+  if (scene.rfind("torcs:", 0) == 0 && !std::filesystem::is_directory(torcs_directory(), ec)) {
+    fmt::print("SKIPPED: TORCS data not installed ({}); run scripts/install-deps.sh --game-data\n", torcs_directory());
+    return true;
+  }
+  return false;
+}
+
+// --time: frames --frame .. --frame + --frames - 1 of every scene at every
+// resolution, as oovr correlate reads them (docs/validation.md).
+int time_frames(const Args& a) {
+  std::vector<std::string> resolutions;
+  for (size_t i = 0; i <= a.resolutions.size();) {
+    const size_t c = std::min(a.resolutions.find(',', i), a.resolutions.size());
+    if (c > i) resolutions.push_back(a.resolutions.substr(i, c - i));
+    i = c + 1;
+  }
+  if (resolutions.empty()) resolutions.push_back(a.resolution);
+  for (const auto& r : resolutions) (void)parse_frame_resolution(r);
+  for (const auto& s : a.scenes)
+    if (data_missing(s)) return 77;
+  if (!a.csv.empty()) {
+    std::ofstream probe(a.csv, std::ios::app);
+    if (!probe) throw Error("cannot write '" + a.csv + "'");
+  }
+  std::unique_ptr<reference::GlRenderer> gl;
+  try {
+    gl = std::make_unique<reference::GlRenderer>(a.platform == "gpu" ? reference::Platform::any : reference::Platform::llvmpipe);
+  } catch (const reference::Unavailable& e) {
+    fmt::print("SKIPPED: no OpenGL 4.5 context: {}\n", e.what());
+    return 77;
+  }
+  HardwareData data;
+  data.renderer = gl->renderer_name();
+  fmt::print("timing on {}: {} repetitions after one warm-up, anisotropy {}\n", data.renderer, a.repeat, a.aniso);
+  for (const auto& name : a.scenes) {
+    const Scene scene = load_scene(name);
+    const int path = int(scene.camera.frames.size());
+    if (a.frame >= path) throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) + " frames");
+    for (const auto& res : resolutions) {
+      const StereoRig rig = parse_frame_resolution(res);
+      std::vector<StereoView> views;
+      std::vector<int> frames;
+      for (int k = 0; k < a.frames; ++k) {
+        frames.push_back((a.frame + k) % path);
+        views.push_back(make_stereo_view(scene.camera, frames.back(), rig));
+      }
+      const std::vector<reference::FrameTime> t = gl->time(scene, views, a.aniso, a.repeat);
+      double sum = 0;
+      for (size_t k = 0; k < t.size(); ++k) {
+        data.frames.push_back({name, res, frames[k], t[k].full_us, t[k].geom_us, t[k].left_us, scene.objects.size(), scene.triangle_count()});
+        sum += t[k].full_us;
+      }
+      fmt::print("  {} {}: {} frames, mean {:.1f} us per stereo frame\n", name, res, t.size(), sum / double(t.size()));
+    }
+  }
+  if (a.csv.empty()) {
+    fmt::print("{}", data.csv());
+  } else {
+    std::ofstream out(a.csv);
+    out << data.csv();
+    if (!out) throw Error("cannot write '" + a.csv + "'");
+    fmt::print("wrote {} frames to {}\n", data.frames.size(), a.csv);
+  }
+  return 0;
+}
+
+int compare(const Args& a, const StereoRig& rig);
+
 int run(const Args& a) {
-  const StereoRig rig = parse_frame_resolution(a.resolution);
+  if (a.time) return time_frames(a);
+  if (a.scenes.size() != 1) throw Error("--scene: give exactly one scene (several only with --time)");
+  Args one = a;
+  one.scene = a.scenes.front();
+  const StereoRig rig = parse_frame_resolution(one.resolution);
   // Game levels come from optional packages: without them the comparison is
   // skipped, not failed (scripts/install-deps.sh --game-data installs them).
-  std::error_code ec;
-  if (a.scene.rfind("oa:", 0) == 0 && !std::filesystem::is_directory(openarena_directory(), ec)) {
-    fmt::print("SKIPPED: OpenArena data not installed ({}); run scripts/install-deps.sh --game-data\n", openarena_directory());
-    return 77;
-  }
-  if (a.scene.rfind("torcs:", 0) == 0 && !std::filesystem::is_directory(torcs_directory(), ec)) {
-    fmt::print("SKIPPED: TORCS data not installed ({}); run scripts/install-deps.sh --game-data\n", torcs_directory());
-    return 77;
-  }
+  if (data_missing(one.scene)) return 77;
+  return compare(one, rig);
+}
+
+int compare(const Args& a, const StereoRig& rig) {
   Scene scene = load_scene(a.scene);
   if (a.isolate >= 0) {
     // Keep one draw, untextured and white, so that both images are its
@@ -186,7 +275,7 @@ int run(const Args& a) {
 int main(int argc, char** argv) {
   CLI::App app{"oovr-reference: render with Mesa llvmpipe and compare with oovr's pipeline"};
   Args a;
-  app.add_option("--scene", a.scene, "Scene name or model file")->required();
+  app.add_option("--scene", a.scenes, "Scene name or model file (with --time: repeatable)")->required();
   app.add_option("--frame", a.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
   app.add_option("--resolution", a.resolution, "Whole stereo frame WxH")->capture_default_str();
   app.add_option("--out", a.out, "Write llvmpipe's image here");
@@ -197,6 +286,14 @@ int main(int argc, char** argv) {
   app.add_option("--isolate", a.isolate, "Keep only this object (index), untextured; list differing pixels")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--min-psnr", a.min_psnr, "Fail below this PSNR (dB)")->capture_default_str();
+  app.add_flag("--time", a.time, "Measure GPU frame times (GL_TIME_ELAPSED) instead of comparing");
+  app.add_option("--frames", a.frames, "With --time: frames from --frame on")->capture_default_str()->check(CLI::Range(1, 10000));
+  app.add_option("--resolutions", a.resolutions, "With --time: comma-separated stereo frame sizes (default: --resolution)");
+  app.add_option("--repeat", a.repeat, "With --time: timed repetitions per frame (median)")->capture_default_str()->check(CLI::Range(1, 1000));
+  app.add_option("--aniso", a.aniso, "With --time: maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
+  app.add_option("--csv", a.csv, "With --time: write the frames here (default: standard output)");
+  app.add_option("--platform", a.platform, "With --time: 'gpu' (a GPU through EGL's device platform, else llvmpipe) or 'llvmpipe'")
+      ->capture_default_str()->check(CLI::IsMember({"gpu", "llvmpipe"}));
   app.add_option("--max-draw-diff", a.max_draw_diff_percent,
                  "Fail when a draw's covered fragments, or all passed fragments, differ by more (%)")
       ->capture_default_str();

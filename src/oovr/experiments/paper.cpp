@@ -105,6 +105,14 @@ PaperResults run_paper(const PaperOptions& o) {
           jobs.push_back({"oo-vr", key + "=" + off_value(key)});
           jobs.push_back({"oo-app", key + "=" + on_value(key)});
         }
+        // The model's steps (each run once; the last step is the main runs).
+        if (o.steps)
+          for (const auto& step : kSteps)
+            for (const auto& [scheme, extra] : step_runs(step)) {
+              const Job j{scheme, step_variant(step, extra)};
+              if (std::none_of(jobs.begin(), jobs.end(), [&](const Job& x) { return x.scheme == j.scheme && x.variant == j.variant; }))
+                jobs.push_back(j);
+            }
       }
       std::vector<SchemeResult> out(jobs.size());
       parallel_for(jobs.size(), 0, [&](size_t i) {

@@ -25,6 +25,9 @@ struct PaperOptions {
   int first_frame = 0;
   int frames = 4;
   int aniso = 16;
+  // Also run the claims with issue 9's model changes switched on one by one
+  // (the document's before-and-after table).
+  bool steps = true;
   Config config;  // the machine: preset and --set overrides
   std::string command;  // as run, for the document
   std::function<void(const std::string&)> progress;

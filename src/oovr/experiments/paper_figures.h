@@ -12,9 +12,10 @@
 
 namespace oovr::paper {
 
-// Every scheme of Figure 15, the bounds and the SMP comparison.
-inline const std::vector<std::string> kSchemes = {"baseline", "baseline-1tb", "afr",        "sfr-v", "sfr-h",   "object",
-                                           "oo-app",   "oo-vr",        "single-gpm", "ideal", "two-pass"};
+// Every scheme of Figure 15, the page-aware baseline, the bounds and the SMP
+// comparison.
+inline const std::vector<std::string> kSchemes = {"baseline", "baseline-1tb", "baseline-paged", "afr",        "sfr-v", "sfr-h",
+                                                  "object",   "oo-app",       "oo-vr",          "single-gpm", "ideal", "two-pass"};
 // Figure 17 and 18: the baseline, object-level SFR and OO-VR.
 inline const std::vector<std::string> kSweepSchemes = {"baseline", "object", "oo-vr"};
 inline const std::vector<std::pair<std::string, double>> kLinks = {
@@ -30,6 +31,53 @@ inline std::string on_value(const std::string& key) { return key == "oo.composit
 inline std::string link_variant(const std::string& bw) { return bw == "64GBps" ? "" : "link.bandwidth=" + bw; }
 inline std::string gpm_variant(int n) { return n == 4 ? "" : "gpms=" + std::to_string(n); }
 
+
+// The model's steps from ca88d23 to now (issue 9; the document's "Before
+// and after" table): each switches on one change on top of the ones before,
+// through the configuration keys that keep the earlier behaviour; the last
+// step is the model as it is (the main runs). The fixed defects (two-pass
+// and object-level SFR transforming every draw, remote caches ending at
+// draws, OO_APP without the engine's queue, the even deal, hand-offs with
+// link latency) cannot be switched off: they are in every step.
+struct ModelStep {
+  std::string label;
+  std::string change;    // what the step changes, for the document
+  std::string baseline;  // the scheme every claim is measured against
+  std::string settings;  // ';'-separated overrides: the changes not made yet
+};
+inline const std::vector<ModelStep> kSteps = {
+    {"defects fixed", "ca88d23's model with its defects fixed; the baseline still deals framebuffer pages", "baseline-paged",
+     "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0;composition.payload=colour+depth;memory.copies.capacity=0"},
+    {"paper's baseline", "the baseline deals tiles one by one, so its GPMs share colour and depth pages", "baseline",
+     "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0;composition.payload=colour+depth;memory.copies.capacity=0"},
+    {"colour composition", "sort-last schemes send colour only and depth-test in the final frame's buffer", "baseline",
+     "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0;memory.copies.capacity=0"},
+    {"bounded copies", "pre-allocated copies share 16 MB per GPM, least recently used out", "baseline",
+     "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0"},
+    {"fair sharing", "shared resources are shared work-conservingly (max-min)", "baseline", "gpm.requests_in_flight=0;gpm.draw_cycles=0"},
+    {"reads in flight", "reads hold one of 128 request slots per SM for their latency", "baseline", "gpm.draw_cycles=0"},
+    {"per-draw front end", "every GPM receiving a draw spends 625 cycles on it, up to 64 draws ahead of its pipeline (oovr now)",
+     "baseline", ""},
+};
+// What each step runs at the sweep resolution (scheme, extra overrides).
+inline std::vector<std::pair<std::string, std::string>> step_runs(const ModelStep& step) {
+  const std::string& b = step.baseline;
+  return {{b, ""},        {b, "link.bandwidth=1TBps"}, {b, "link.bandwidth=32GBps"}, {b, "gpms=8"},
+          {"afr", ""},     {"sfr-v", ""},               {"sfr-h", ""},              {"object", ""},
+          {"object", "gpms=8"}, {"oo-app", ""},         {"oo-vr", ""},              {"oo-vr", "link.bandwidth=1TBps"},
+          {"oo-vr", "link.bandwidth=32GBps"}, {"oo-vr", "gpms=8"}, {"single-gpm", ""}, {"two-pass", ""}};
+}
+// The variant name of a step's run: its settings, then the extra ones.
+inline std::string step_variant(const ModelStep& step, const std::string& extra) {
+  if (step.settings.empty()) return extra;
+  return extra.empty() ? step.settings : step.settings + ";" + extra;
+}
+// The claims' means at ca88d23 (docs/paper-comparison.md as generated
+// there, column "mean", 1280x1024), in the steps table's forms.
+inline const std::vector<std::pair<std::string, std::string>> kClaimsAtCa88d23 = {
+    {"P1", "-12%"},          {"P2", "1.54x"},          {"P3", "+159%"}, {"P4", "V +16%, H -18%"}, {"P5", "V +6%, H -85%"},
+    {"P6", "-39%"},          {"P7", "-15%"},           {"P8", "4.70"},  {"P9", "-36%"},           {"P10", "1.24x, +92%"},
+    {"P11", "+11%"},         {"P12", "0.80x; +221%"},  {"P13", "+43% (+53%)"}, {"P14", "4.12x, 1.77x, 5.47x"}, {"P15", "0%"}};
 
 inline double geomean(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");

@@ -20,6 +20,8 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   for (double b : r.gpm_busy_s) busy.push_back(b * r.frequency_hz);
   j["gpm_busy_cycles"] = busy;
   j["best_to_worst"] = r.best_to_worst();
+  j["draws_received"] = r.draws;
+  j["vertices_transformed"] = r.vertices;
   j["work_units"] = r.units;
   j["notes"] = r.notes;
   j["config"] = r.config;

@@ -127,6 +127,7 @@ bool OORuntime::advance(int g) {
       s.pending.pop_front();
       s.current = b;
       m_batches[size_t(b)].start = m_exec.now();
+      m_exec.start_batch(g, m_batches_in[size_t(b)].objects);
       for (Item& it : m_batches[size_t(b)].items) s.todo.push_back(&it);
     } else if (!(m_spec.split && m_next == int(m_batches.size()) && steal(g))) {
       return false;

@@ -49,6 +49,9 @@ class RuntimeExecutor {
   // vertex and index buffers when `geometry`), after unit `after` (-1:
   // none). Returns its unit, or -1 when nothing needed copying.
   virtual int preallocate(int gpm, const std::vector<uint32_t>& objects, bool geometry, int after) = 0;
+  // GPM `gpm` starts a batch: the engine sends it the batch's draws
+  // (`objects`, in order), which its front end may process ahead of the work.
+  virtual void start_batch(int gpm, const std::vector<uint32_t>& objects) = 0;
   // Transforms `object` (both views) on `gpm` once unit `prealloc` (-1:
   // none) has ended. Returns its unit.
   virtual int geometry(int gpm, uint32_t object, int prealloc) = 0;

@@ -73,6 +73,9 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   }
   m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, m_memory->topology(), m_engine);
   m_last.assign(size_t(gpms()), -1);
+  m_draw.assign(size_t(gpms()), -1);
+  m_draw_ends.assign(size_t(gpms()), {});
+  m_draws_received.assign(size_t(gpms()), 0);
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
   m_result.config = in.config.resolved();
 }
@@ -88,6 +91,7 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
   u.queue = in_queue ? m_machine->queue(gpm) : -1;
   u.demand = m_machine->demand(gpm, w, t);
   u.after = std::move(after);
+  if (in_queue) u.after.push_back(m_draw[size_t(gpm)]);  // the draw has reached the pipeline
   u.after.erase(std::remove(u.after.begin(), u.after.end(), -1), u.after.end());
   const int id = m_engine.add_unit(std::move(u));
   if (in_queue) m_last[size_t(gpm)] = id;
@@ -101,14 +105,33 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
 int FrameSim::command(int gpm, int draws) {
   if (gpm < 0 || gpm >= gpms()) throw Error("a draw sent to GPM " + std::to_string(gpm) + ", which does not exist");
   TimingEngine::Unit u;
-  u.queue = m_machine->queue(gpm);
+  u.queue = m_machine->front_queue(gpm);
   u.latency = m_machine->draw_seconds(draws);
+  // The front end's FIFO: this draw waits for the end of the one
+  // gpm.draws_ahead before it.
+  const size_t i = m_draws_received[size_t(gpm)]++;
+  const size_t ahead = size_t(m_timing_spec.draws_ahead);
+  const auto& ends = m_draw_ends[size_t(gpm)];
+  if (i >= ahead && i - ahead < ends.size() && ends[i - ahead] >= 0) u.after.push_back(ends[i - ahead]);
   const int id = m_engine.add_unit(std::move(u));
-  m_last[size_t(gpm)] = id;
+  m_draw[size_t(gpm)] = id;
   m_unit_gpm.push_back(gpm);
   m_result.draws += uint64_t(draws);
   ++m_result.units;
   return id;
+}
+
+void FrameSim::end_draw(int gpm) {
+  if (gpm < 0) {
+    for (int g = 0; g < gpms(); ++g) end_draw(g);
+    return;
+  }
+  if (gpm >= gpms()) throw Error("the end of a draw on GPM " + std::to_string(gpm) + ", which does not exist");
+  // The draw is over when the last unit of the pipeline (or its command,
+  // when it had no work here) is.
+  const int last = m_last[size_t(gpm)];
+  m_draw_ends[size_t(gpm)].push_back(std::max(last, m_draw[size_t(gpm)]));
+  m_memory->end_draw(gpm);
 }
 
 int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after) {

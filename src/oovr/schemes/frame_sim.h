@@ -56,10 +56,16 @@ class FrameSim {
   uint32_t depth(int fb) const { return m_depth[size_t(fb)]; }
 
   // GPM `gpm`'s front end receives `draws` draws: command processing, state
-  // and bindings, gpm.draw_cycles each, in its queue before what follows
-  // (it waits for nothing else). Every GPM that works on a draw receives it;
-  // a broadcast (baseline, tile SFR) reaches every GPM.
+  // and bindings, gpm.draw_cycles each. The front end works beside the
+  // pipeline, in draw order, at most gpm.draws_ahead draws ahead of it (it
+  // waits for the end of the draw that many before). The draw becomes the
+  // GPM's current one: pipeline units added on `gpm` from now on wait for
+  // it. Every GPM that works on a draw receives it; a broadcast (baseline,
+  // tile SFR) reaches every GPM.
   int command(int gpm, int draws = 1);
+  // Pipeline units added on `gpm` from now on belong to the draw that
+  // `command_unit` received (a runtime that sends draws ahead of the work).
+  void use_draw(int gpm, int command_unit) { m_draw[size_t(gpm)] = command_unit; }
   // Vertex shading and triangle setup of `object` on `gpm`: its vertex and
   // index buffers are read; `vertex_passes` is 1 with SMP (both eyes share
   // the transform) and the number of eyes without; `triangles` is the number
@@ -103,11 +109,12 @@ class FrameSim {
   // asynchronously with shading, paper Section 5.3), sharing its ROPs with
   // whatever the GPM is rendering; it counts as busy time of the GPM.
   int compose(int gpm, uint64_t pixels, std::vector<int> after = {});
-  // GPM `gpm` (-1: every GPM) finished a draw: the boundary at which
-  // `cache.remote.invalidate = "draw"` drops its remote cache (MCM-GPU
-  // flushes its L1.5 at kernel boundaries). Call it after adding the draw's
-  // units on that GPM.
-  void end_draw(int gpm = -1) { m_memory->end_draw(gpm); }
+  // GPM `gpm` (-1: every GPM) finished a draw: call it after adding the
+  // draw's units on that GPM. Its end bounds how far the front end runs
+  // ahead, and it is the boundary at which `cache.remote.invalidate =
+  // "draw"` drops the GPM's remote cache (MCM-GPU flushes its L1.5 at kernel
+  // boundaries).
+  void end_draw(int gpm = -1);
 
   // Runs the timing engine; fills the result's timing, traffic and memory
   // numbers. `frames_in_flight` frames complete in the makespan.
@@ -142,6 +149,11 @@ class FrameSim {
   std::unique_ptr<MachineModel> m_machine;
   std::vector<uint32_t> m_colour, m_depth;
   std::vector<int> m_last;
+  // Per GPM: the current draw's command unit (-1: none), the pipeline's last
+  // unit when each draw ended, and the draws received.
+  std::vector<int> m_draw;
+  std::vector<std::vector<int>> m_draw_ends;
+  std::vector<size_t> m_draws_received;
   std::vector<int> m_unit_gpm;  // per unit: the GPM whose busy time it counts in, or -1
   std::vector<LineAccess> m_scratch;
   SchemeResult m_result;

@@ -28,6 +28,8 @@ TimingSpec TimingSpec::from_config(const Config& c) {
     throw Error("configuration key 'gpm.requests_in_flight' must be from 0 (no limit) to 1000000");
   s.draw_cycles = c.get_double("gpm.draw_cycles", d.draw_cycles);
   if (!(s.draw_cycles >= 0 && s.draw_cycles <= 1e9)) throw Error("configuration key 'gpm.draw_cycles' must be from 0 to 1e9");
+  s.draws_ahead = int(c.get_int("gpm.draws_ahead", d.draws_ahead));
+  if (s.draws_ahead < 1 || s.draws_ahead > 1000000) throw Error("configuration key 'gpm.draws_ahead' must be from 1 to 1000000");
   s.sharing = c.get_choice("timing.sharing", d.sharing == Sharing::fair ? "fair" : "equal", {"fair", "equal"}) == "fair"
                   ? Sharing::fair
                   : Sharing::equal;
@@ -60,6 +62,7 @@ MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, c
       r.requests = engine.add_resource(p + "requests", double(memory.sms_per_gpm) * timing.requests_in_flight);
     m_gpm.push_back(r);
     m_queue.push_back(engine.add_queue("gpm[" + std::to_string(g) + "]"));
+    m_front_queue.push_back(engine.add_queue("gpm[" + std::to_string(g) + "].front"));
   }
   for (size_t l = 0; l < topology.links().size(); ++l)
     m_link.push_back(engine.add_resource("link[" + topology.link_name(int(l)) + "]", memory.link_bandwidth.value));

@@ -33,7 +33,10 @@ struct TimingSpec {
   // Front-end cycles per draw a GPM receives (command processing, state,
   // bindings), before any of its vertices; calibrated against a real GPU
   // (docs/validation.md).
-  double draw_cycles = 0;
+  double draw_cycles = 625;
+  // Draws a GPM's front end may run ahead of its pipeline: it receives draw
+  // i once draw i - draws_ahead has ended (its command FIFO; assumed).
+  int draws_ahead = 64;
   Sharing sharing = Sharing::fair;  // how running units share resources (timing/sharing.h)
 
   static TimingSpec from_config(const Config& c);
@@ -61,6 +64,8 @@ class MachineModel {
   // Demands of moving `t`'s link bytes only (a transfer unit).
   std::vector<std::pair<int, double>> transfer_demand(const UnitTraffic& t) const;
   int queue(int gpm) const { return m_queue[size_t(gpm)]; }
+  // The GPM's front end, which receives draws in order, beside its pipeline.
+  int front_queue(int gpm) const { return m_front_queue[size_t(gpm)]; }
   // Seconds of front-end time for `draws` draws.
   double draw_seconds(double draws) const { return draws * m_timing.draw_cycles / m_timing.frequency.value; }
   // Request-seconds a unit's reads hold outstanding: each read for its
@@ -79,7 +84,7 @@ class MachineModel {
   };
   std::vector<Gpm> m_gpm;
   std::vector<int> m_link;
-  std::vector<int> m_queue;
+  std::vector<int> m_queue, m_front_queue;
 };
 
 }  // namespace oovr

@@ -47,7 +47,7 @@ class Machine final : public RuntimeExecutor {
  public:
   Machine(FrameSim& sim, Composer& composer)
       : m_sim(sim), m_composer(composer), m_f(sim.frame()), m_last_object(size_t(sim.gpms()), -1),
-        m_received(size_t(sim.gpms()), std::vector<bool>(sim.scene().objects.size(), false)) {}
+        m_command(size_t(sim.gpms()), std::vector<int>(sim.scene().objects.size(), -1)) {}
 
   double now() const override { return m_sim.engine().now(); }
   double progress(int unit) const override { return 1.0 - m_sim.engine().work_left(unit); }
@@ -66,6 +66,10 @@ class Machine final : public RuntimeExecutor {
       for (int t : m_sim.scene().textures_of(so)) add(m_sim.layout().texture_region(t));
     }
     return m_sim.preallocate(gpm, regions, {after});
+  }
+
+  void start_batch(int gpm, const std::vector<uint32_t>& objects) override {
+    for (uint32_t o : objects) receive(gpm, o);
   }
 
   int geometry(int gpm, uint32_t object, int prealloc) override {
@@ -92,24 +96,28 @@ class Machine final : public RuntimeExecutor {
   }
 
  private:
+  // GPM `gpm`'s front end receives `object`'s draw (once).
+  int receive(int gpm, uint32_t object) {
+    int& cmd = m_command[size_t(gpm)][object];
+    if (cmd < 0) cmd = m_sim.command(gpm);
+    return cmd;
+  }
+
   // GPM `gpm` works on `object`: the draw it worked on before has ended
-  // there, and it receives this one's draw the first time.
+  // there, and this one's (received now if it was not) is current.
   void begin(int gpm, uint32_t object) {
     int& last = m_last_object[size_t(gpm)];
     if (last == int(object)) return;
     if (last >= 0) m_sim.end_draw(gpm);
     last = int(object);
-    if (!m_received[size_t(gpm)][object]) {
-      m_sim.command(gpm);
-      m_received[size_t(gpm)][object] = true;
-    }
+    m_sim.use_draw(gpm, receive(gpm, object));
   }
 
   FrameSim& m_sim;
   Composer& m_composer;
   const FrameTrace& m_f;
   std::vector<int> m_last_object;
-  std::vector<std::vector<bool>> m_received;
+  std::vector<std::vector<int>> m_command;  // per GPM and object: the unit that received its draw
 };
 
 class OO final : public Scheme {

@@ -1,0 +1,113 @@
+// oovr correlate: oovr's frame times beside a real GPU's (experiments/hardware.h).
+#include <fmt/core.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "oovr/core/error.h"
+#include "oovr/experiments/hardware.h"
+
+namespace oovr::cli {
+namespace {
+
+// Calibration: the correlation at each value of one key; the value that
+// makes oovr most nearly proportional to the GPU (the smallest standard
+// deviation of log(oovr / GPU) over the points) is named.
+int sweep(const CorrelateArgs& a, const HardwareData& data, CorrelationOptions o) {
+  const size_t eq = a.sweep.find('=');
+  if (eq == std::string::npos || eq == 0) throw Error("--sweep '" + a.sweep + "' must be key=v1,v2,...");
+  const std::string key = a.sweep.substr(0, eq);
+  const std::vector<std::string> values = split_list(a.sweep.substr(eq + 1));
+  if (values.empty()) throw Error("--sweep '" + a.sweep + "' names no value");
+  fmt::print("{} ({}): {} on {} frames, sweeping {}\n", a.hardware, data.renderer.empty() ? "renderer not named" : data.renderer,
+             a.scheme, data.frames.size(), key);
+  fmt::print("  {:>14} {:>10} {:>9} {:>12}\n", "value", "Pearson r", "spread", "sd log ratio");
+  std::string best;
+  double best_sd = 0;
+  const Config base = o.config;
+  for (const auto& v : values) {
+    o.config = base;
+    o.config.set(key, v);
+    const Correlation c = correlate(data, o);
+    fmt::print("  {:>14} {:>10.3f} {:>8.2f}x {:>12.3f}\n", v, c.r, c.spread, c.log_sd);
+    if (best.empty() || c.log_sd < best_sd) {
+      best = v;
+      best_sd = c.log_sd;
+    }
+  }
+  fmt::print("  most proportional: {} = {}\n", key, best);
+  return 0;
+}
+
+}  // namespace
+
+int correlate(const CorrelateArgs& a) {
+  if (!a.json.empty()) {
+    // An unwritable output fails now, not after the simulation.
+    std::ofstream probe(a.json, std::ios::app);
+    if (!probe) throw Error("cannot write JSON '" + a.json + "'");
+  }
+  const HardwareData data = HardwareData::read(a.hardware);
+  CorrelationOptions o;
+  o.scheme = a.scheme;
+  o.config = machine_config(a.config, a.settings);
+  o.use_cache = !a.no_cache;
+  if (!a.sweep.empty()) return sweep(a, data, o);
+  const Correlation c = correlate(data, o);
+  fmt::print("{} ({}): {} on {} points, {} frames; medians per point, times in microseconds\n", a.hardware,
+             data.renderer.empty() ? "renderer not named" : data.renderer, c.scheme, c.points.size(), data.frames.size());
+  fmt::print("  {:<18} {:>10} {:>7} {:>9} {:>9} {:>9}\n", "scene", "resolution", "frames", "GPU", "oovr", "oovr/GPU");
+  double lo = 0, hi = 0;
+  for (const auto& p : c.points) {
+    fmt::print("  {:<18} {:>10} {:>7} {:>9.1f} {:>9.1f} {:>9.3f}\n", p.scene, p.resolution, p.frames.size(), p.gpu_median_us,
+               p.oovr_median_us, p.ratio());
+    lo = lo == 0 ? p.ratio() : std::min(lo, p.ratio());
+    hi = std::max(hi, p.ratio());
+  }
+  fmt::print("  Pearson r of the medians {:.3f}; oovr/GPU from {:.3f} to {:.3f}: spread {:.2f}x (sd of log ratio {:.3f})\n", c.r,
+             lo, hi, c.spread, c.log_sd);
+  fmt::print("  within each scene (every frame, all resolutions):");
+  bool first = true;
+  for (const auto& [scene, r] : c.r_within) {
+    fmt::print("{} {} r {:.3f}", first ? "" : ",", scene, r);
+    first = false;
+  }
+  fmt::print("\n");
+  if (a.per_frame) {
+    fmt::print("  {:<18} {:>10} {:>6} {:>9} {:>9} {:>9}\n", "scene", "resolution", "frame", "GPU", "oovr", "oovr/GPU");
+    for (const auto& p : c.points)
+      for (size_t i = 0; i < p.frames.size(); ++i)
+        fmt::print("  {:<18} {:>10} {:>6} {:>9.1f} {:>9.1f} {:>9.3f}\n", p.scene, p.resolution, p.frames[i], p.gpu_us[i],
+                   p.oovr_us[i], p.oovr_us[i] / p.gpu_us[i]);
+  }
+  for (const auto& n : c.notes) fmt::print("  note: {}\n", n);
+  if (!a.json.empty()) {
+    nlohmann::ordered_json j;
+    j["hardware"] = a.hardware;
+    j["renderer"] = data.renderer;
+    j["scheme"] = c.scheme;
+    j["pearson_r"] = c.r;
+    j["ratio_spread"] = c.spread;
+    j["log_ratio_sd"] = c.log_sd;
+    nlohmann::ordered_json within = nlohmann::ordered_json::object();
+    for (const auto& [scene, r] : c.r_within) within[scene] = r;
+    j["pearson_r_within_scene"] = within;
+    nlohmann::ordered_json points = nlohmann::ordered_json::array();
+    for (const auto& p : c.points)
+      points.push_back({{"scene", p.scene}, {"resolution", p.resolution}, {"frames", p.frames}, {"gpu_us", p.gpu_us},
+                        {"oovr_us", p.oovr_us}, {"gpu_median_us", p.gpu_median_us}, {"oovr_median_us", p.oovr_median_us}});
+    j["points"] = points;
+    j["notes"] = c.notes;
+    std::ofstream out(a.json);
+    out << j.dump(2) << "\n";
+    if (!out) throw Error("cannot write JSON '" + a.json + "'");
+  }
+  if (a.min_r > -1 && !(c.r >= a.min_r))
+    throw Error(fmt::format("Pearson r of the medians is {:.3f}, below --min-r {}", c.r, a.min_r));
+  if (a.max_spread > 0 && !(c.spread <= a.max_spread))
+    throw Error(fmt::format("the ratio oovr/GPU spreads {:.2f}x, more than --max-spread {}", c.spread, a.max_spread));
+  return 0;
+}
+
+}  // namespace oovr::cli
