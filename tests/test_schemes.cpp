@@ -483,3 +483,33 @@ TEST(Defects, TheBaselineDealsAnEyesTilesEvenly) {
 
 }  // namespace
 }  // namespace oovr
+
+namespace oovr {
+namespace {
+
+// Sort-last schemes map their final frame where its pixels are owned: all
+// of it in the root's DRAM for object-level SFR (Section 5.3: "the entire
+// FB is mapped in the DRAM of the master node"), strip by strip with DHC,
+// as tile SFR-V maps it.
+TEST(Composition, TheFinalFrameLivesWithItsOwners) {
+  const Rendered& r = courtyard();
+  const FrameTrace& t = *r.traces[0];
+  for (const char* scheme : {"object", "oo-vr"}) {
+    const auto carried = std::make_shared<CarriedState>();
+    (void)run_scheme(scheme, r.scene, {&t}, Config{}, carried);
+    const SceneLayout& layout = *carried->layout;
+    int checked = 0;
+    for (int ty = 0; ty < t.tiles_y; ty += layout.block_h())
+      for (int tx = 0; tx < t.tiles_x; tx += layout.block_w()) {
+        const int owner = std::string(scheme) == "object" ? 0 : vertical_strip_owner(tx, t.tiles_x, 4);
+        for (uint32_t region : {carried->colour[0], carried->depth[0]}) {
+          EXPECT_EQ(carried->memory->home_of(layout.frame_line(region, tx, ty, 0)), owner) << scheme << " tile " << tx << "," << ty;
+          ++checked;
+        }
+      }
+    EXPECT_GT(checked, 8) << scheme;
+  }
+}
+
+}  // namespace
+}  // namespace oovr

@@ -288,6 +288,16 @@ void MemorySystem::transfer(int from, int to, uint64_t bytes, Category category,
 
 void MemorySystem::pin(uint32_t region, int gpm) { m_policy->pin(region, gpm); }
 
+bool MemorySystem::place(uint64_t address, int gpm) {
+  if (gpm < 0 || gpm >= m_spec.gpms) throw Error("placement on GPM " + std::to_string(gpm) + ", which does not exist");
+  const uint64_t page = address >> m_page_shift;
+  if (page >= m_home.size()) throw Error("placement past the end of the address map");
+  if (m_home[page] >= 0) return false;
+  m_home[page] = int8_t(gpm);
+  m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
+  return true;
+}
+
 void MemorySystem::end_draw(int gpm) {
   if (m_spec.remote_invalidate != "draw") return;
   if (gpm < 0) {

@@ -113,6 +113,10 @@ class MemorySystem {
 
   // Names a region's home (pinned placement only).
   void pin(uint32_t region, int gpm);
+  // Makes `gpm` the home of the page holding `address` if nobody has
+  // touched it yet (a buffer the application maps into a GPM's DRAM, as a
+  // sort-last scheme maps its final frame); returns whether it did.
+  bool place(uint64_t address, int gpm);
   // Boundaries at which the remote caches are invalidated (per the spec):
   // GPM `gpm` finished a draw (-1: every GPM did), the frame ended.
   void end_draw(int gpm = -1);

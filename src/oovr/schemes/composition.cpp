@@ -20,11 +20,20 @@ const ConfigSections::Add reg("composition", {"what sort-last schemes send to th
 
 }  // namespace
 
+Composer::Composer(FrameSim& sim, CompositionSpec spec, std::function<int(int, int)> owner)
+    : m_sim(sim), m_spec(spec), m_owner(std::move(owner)) {
+  const FrameTrace& f = sim.frame();
+  const SceneLayout& layout = sim.layout();
+  for (int ty = 0; ty < f.tiles_y; ++ty)
+    for (int tx = 0; tx < f.tiles_x; ++tx)
+      for (uint32_t region : {sim.colour(0), sim.depth(0)}) sim.memory().place(layout.frame_line(region, tx, ty, 0), m_owner(tx, ty));
+}
+
 void Composer::target(FrameSim::TileJob& job) const {
   job.fbs.clear();
   job.depth_fbs.clear();
   for (const TileWork* r : job.records) {
-    const bool mine = m_owner(*r) == job.gpm;
+    const bool mine = owner(*r) == job.gpm;
     job.fbs.push_back(mine ? 0 : 1 + job.gpm);
     job.depth_fbs.push_back(mine || !m_spec.depth ? 0 : 1 + job.gpm);
   }
@@ -45,10 +54,10 @@ void Composer::send(const FrameSim::TileJob& job, int unit) {
   const int n = m_sim.gpms();
   std::vector<uint64_t> bytes(size_t(n), 0), pixels(size_t(n), 0);
   for (const TileWork* r : job.records) {
-    const int owner = m_owner(*r);
-    if (owner == job.gpm) continue;
-    bytes[size_t(owner)] += this->bytes(*r);
-    pixels[size_t(owner)] += this->pixels(*r);
+    const int o = owner(*r);
+    if (o == job.gpm) continue;
+    bytes[size_t(o)] += this->bytes(*r);
+    pixels[size_t(o)] += this->pixels(*r);
   }
   for (int o = 0; o < n; ++o)
     if (bytes[size_t(o)]) {

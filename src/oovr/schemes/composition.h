@@ -42,9 +42,12 @@ inline int sort_last_framebuffers(int gpms) { return gpms + 1; }
 
 class Composer {
  public:
-  // `owner(record)`: the GPM owning the record's pixels in the final frame.
-  Composer(FrameSim& sim, CompositionSpec spec, std::function<int(const TileWork&)> owner)
-      : m_sim(sim), m_spec(spec), m_owner(std::move(owner)) {}
+  // `owner(tile_x, tile_y)`: the GPM owning a screen tile's pixels in the
+  // final frame. The final frame's colour and depth pages are homed at
+  // their owners (the first tile of a page decides), as the paper maps the
+  // framebuffer: into the root's DRAM (Section 5.3, "the entire FB is mapped
+  // in the DRAM of the master node"), or with DHC as tile SFR-V maps it.
+  Composer(FrameSim& sim, CompositionSpec spec, std::function<int(int tile_x, int tile_y)> owner);
 
   // Sets where `job`'s records write: pixels its GPM owns into the final
   // frame, the others into its own buffer; depth with them when the payload
@@ -62,7 +65,8 @@ class Composer {
  private:
   FrameSim& m_sim;
   CompositionSpec m_spec;
-  std::function<int(const TileWork&)> m_owner;
+  std::function<int(int, int)> m_owner;
+  int owner(const TileWork& r) const { return m_owner(r.tile_x, r.tile_y); }
 };
 
 }  // namespace oovr

@@ -26,7 +26,7 @@ class ObjectLevel final : public Scheme {
   SchemeResult run(const SchemeInput& in) const override {
     const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms));
     FrameSim sim(in, sort_last_framebuffers(n));
-    Composer composer(sim, CompositionSpec::from_config(sim.config()), [](const TileWork&) { return 0; });
+    Composer composer(sim, CompositionSpec::from_config(sim.config()), [](int, int) { return 0; });
     const FrameTrace& f = sim.frame();
     const std::vector<ObjectRecords> objects = records_by_object(f, sim.scene().objects.size());
     for (uint32_t o = 0; o < objects.size(); ++o) {

@@ -129,8 +129,8 @@ class OO final : public Scheme {
     const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms));
     FrameSim sim(in, sort_last_framebuffers(n));
     const FrameTrace& f = sim.frame();
-    Composer composer(sim, CompositionSpec::from_config(sim.config()), [&](const TileWork& w) {
-      return spec.distributed_composition ? vertical_strip_owner(w.tile_x, f.tiles_x, n) : 0;
+    Composer composer(sim, CompositionSpec::from_config(sim.config()), [&](int tile_x, int) {
+      return spec.distributed_composition ? vertical_strip_owner(tile_x, f.tiles_x, n) : 0;
     });
     Machine machine(sim, composer);
 
