@@ -33,6 +33,7 @@ struct PaperArgs {
   std::vector<std::string> settings;
   std::string out = "out/paper";
   std::string doc = "docs/paper-comparison.md";
+  bool no_steps = false;    // skip the model's steps (the before-and-after table)
   std::string command;  // the command line, for the document
 };
 

@@ -234,6 +234,8 @@ int main(int argc, char** argv) {
   paper_cmd->add_option("--set", paper.settings, "Override a configuration key (repeatable)");
   paper_cmd->add_option("--out", paper.out, "Folder for results.json, CSV files and SVG plots (empty: none; the document's plots go to img/paper beside it)")->capture_default_str();
   paper_cmd->add_option("--doc", paper.doc, "The comparison document to write (empty: none)")->capture_default_str();
+  paper_cmd->add_flag("--no-steps", paper.no_steps,
+                      "Skip the claims under the model's earlier steps (the document's before-and-after table)");
 
   cli::CorrelateArgs corr;
   auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");

@@ -263,6 +263,7 @@ int paper(const PaperArgs& a) {
   o.first_frame = a.frame;
   o.frames = a.frames;
   o.aniso = a.aniso;
+  o.steps = !a.no_steps;
   o.config = machine_config(a.config, a.settings);
   o.command = a.command;
   // Fail before the work, not after: the outputs must be writable.

@@ -52,11 +52,11 @@ inline const std::vector<ModelStep> kSteps = {
      "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0;composition.payload=colour+depth;memory.copies.capacity=0"},
     {"colour composition", "sort-last schemes send colour only and depth-test in the final frame's buffer", "baseline",
      "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0;memory.copies.capacity=0"},
-    {"bounded copies", "pre-allocated copies share 16 MB per GPM, least recently used out", "baseline",
+    {"bounded copies", "pre-allocated copies share `memory.copies.capacity` per GPM, the least recently used out", "baseline",
      "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0"},
     {"fair sharing", "shared resources are shared work-conservingly (max-min)", "baseline", "gpm.requests_in_flight=0;gpm.draw_cycles=0"},
-    {"reads in flight", "reads hold one of 128 request slots per SM for their latency", "baseline", "gpm.draw_cycles=0"},
-    {"per-draw front end", "every GPM receiving a draw spends 625 cycles on it, up to 64 draws ahead of its pipeline (oovr now)",
+    {"reads in flight", "every read holds one of `gpm.requests_in_flight` request slots per SM for its latency", "baseline", "gpm.draw_cycles=0"},
+    {"per-draw front end", "every GPM receiving a draw spends `gpm.draw_cycles` on it, up to `gpm.draws_ahead` draws ahead of its pipeline (oovr now)",
      "baseline", ""},
 };
 // What each step runs at the sweep resolution (scheme, extra overrides).

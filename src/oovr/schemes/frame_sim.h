@@ -123,11 +123,6 @@ class FrameSim {
   SchemeResult finish(const std::string& scheme, int frames_in_flight = 1,
                       const std::function<void(int unit)>& on_finish = {});
   const TimingEngine& engine() const { return m_engine; }
-  // The GPM a unit belongs to (-1 for transfers).
-  int gpm_of(int unit) const { return m_unit_gpm[size_t(unit)]; }
-
-  // Units added so far per GPM (the last one, or -1).
-  int last_unit(int gpm) const { return m_last[size_t(gpm)]; }
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
@@ -148,7 +143,7 @@ class FrameSim {
   TimingEngine m_engine;
   std::unique_ptr<MachineModel> m_machine;
   std::vector<uint32_t> m_colour, m_depth;
-  std::vector<int> m_last;
+  std::vector<int> m_last;  // per GPM: its pipeline's last unit, or -1
   // Per GPM: the current draw's command unit (-1: none), the pipeline's last
   // unit when each draw ended, and the draws received.
   std::vector<int> m_draw;

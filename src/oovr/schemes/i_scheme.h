@@ -2,7 +2,8 @@
 // FrameTrace through its own distribution of work over GPMs, placement of
 // data and composition, on the memory system and timing model. One file per
 // scheme in impl/, registered by name; schemes never include each other and
-// share only the machinery of frame_sim.h.
+// share only the machinery beside this file: frame_sim.h (units on GPMs),
+// sort_first.h (tile owners) and composition.h (sort-last composition).
 #pragma once
 
 #include <array>
@@ -49,9 +50,10 @@ struct SchemeResult {
   PerCategory inter_gpm_bytes{};
   uint64_t local_dram_bytes = 0;  // bytes read and written by every DRAM
   uint64_t footprint_bytes = 0;   // memory resident in all GPMs' DRAMs
+  // Counts summed over every GPM (and, from run_scheme_window, every frame):
   uint64_t covered_fragments = 0; // fragments rasterised by all units (duplicates included)
-  uint64_t vertices = 0;          // vertex shader invocations on all GPMs (duplicates included)
-  uint64_t draws = 0;             // draws received by GPM front ends, summed over the GPMs
+  uint64_t vertices = 0;          // vertex shader invocations (duplicates included)
+  uint64_t draws = 0;             // draws received by GPM front ends
   uint64_t units = 0;
   // Per screen tile of frames[0]: bytes moved between GPMs for its work.
   std::vector<uint64_t> tile_inter_gpm_bytes;
