@@ -291,6 +291,10 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
       s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
                             t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
   s.footprint_bytes = m_memory->footprint_bytes();
+  // Never seen so far; said when it happens rather than hidden.
+  if (m_engine.unconverged())
+    s.notes.push_back(std::to_string(m_engine.unconverged()) +
+                      " resource sharings stopped at the iteration limit: their rates fit the resources but may leave some idle");
   return s;
 }
 
