@@ -32,7 +32,7 @@ int diffuse_textures(const Scene& s) {
 
 TEST(OpenArena, Dm4MatchesTheMeasuredNumbers) {
   REQUIRE_OPENARENA();
-  // ../shared/RESEARCH.md section 3: 208 draws, 4,093 triangles, 24 distinct
+  // Measured independently of oovr's loaders (docs/workloads.md): 208 draws, 4,093 triangles, 24 distinct
   // diffuse textures, at most 26 draws sharing one texture.
   const Scene s = load_scene("oa:oa_dm4");
   const SceneInfo i = scene_info(s);
@@ -59,7 +59,7 @@ TEST(OpenArena, GroupingAndTessellationAreOptions) {
 
 TEST(OpenArena, TheLargestMapsLoad) {
   REQUIRE_OPENARENA();
-  // Draw counts measured in ../shared/RESEARCH.md (patches add a few groups
+  // Draw counts measured independently of oovr's loaders (patches add a few groups
   // of their own, so only maps without patch-only groups match exactly).
   EXPECT_EQ(load_scene("oa:ctf_inyard").objects.size(), 731u);
   EXPECT_EQ(load_scene("oa:am_underworks2").objects.size(), 310u);
@@ -86,7 +86,7 @@ TEST(OpenArena, ListedInScenes) {
 
 TEST(Torcs, TracksMatchTheMeasuredNumbers) {
   REQUIRE_TORCS();
-  // ../shared/RESEARCH.md: forza 3,856 draws and 129 textures; spring 4,418
+  // Measured independently of oovr's loaders: forza 3,856 draws and 129 textures; spring 4,418
   // draws and 28 textures, one of them shared by 1,364 draws.
   const Scene forza = load_scene("torcs:forza");
   EXPECT_EQ(forza.objects.size(), 3856u);

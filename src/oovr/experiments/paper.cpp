@@ -210,7 +210,9 @@ double finite_max(const std::vector<std::vector<double>>& values, double floor) 
 std::string bar_chart(const std::string& title, const std::string& y_label, const std::vector<std::string>& groups,
                       const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, double ref) {
   const double w = 920, h = 440, left = 90, right = 160, top = 40, bottom = 100;
-  const auto [vmax, step] = nice_axis(finite_max(values, ref) * 1.05);
+  // (Not a structured binding: Clang 14 cannot capture one in the lambdas below.)
+  const std::pair<double, double> axis = nice_axis(finite_max(values, ref) * 1.05);
+  const double vmax = axis.first, step = axis.second;
   const double pw = w - left - right, ph = h - top - bottom;
   const auto y = [&](double v) { return top + ph - v / vmax * ph; };
   std::string s = svg_open(w, h, left, title) + svg_grid(left, pw, vmax, step, y);
@@ -237,7 +239,8 @@ std::string line_chart(const std::string& title, const std::string& x_label, con
                        const std::vector<double>& xs, const std::vector<std::string>& x_names,
                        const std::vector<std::string>& series, const std::vector<std::vector<double>>& values, bool log_x) {
   const double w = 620, h = 400, left = 60, right = 130, top = 40, bottom = 50;
-  const auto [vmax, step] = nice_axis(finite_max(values, 0) * 1.05);
+  const std::pair<double, double> axis = nice_axis(finite_max(values, 0) * 1.05);
+  const double vmax = axis.first, step = axis.second;
   const double pw = w - left - right, ph = h - top - bottom;
   const auto fx = [&](double x) { return log_x ? std::log(x) : x; };
   const double x0 = fx(xs.front()), x1 = fx(xs.back());

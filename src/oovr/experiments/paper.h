@@ -2,7 +2,7 @@
 // every scheme on every scene at the paper's resolutions (Figures 15 and
 // 16), the link bandwidth sweep (Figure 17), the GPM count sweep (Figure
 // 18), OO-VR's ablations and the SMP comparison; then the claims P1-P16 of
-// ../shared/RESEARCH.md beside oovr's values, per scene, with the reasons
+// the paper (its values in the document's tables) beside oovr's, per scene, with the reasons
 // where they differ (docs/paper-comparison.md), plus CSV, JSON and SVG plots.
 #pragma once
 
