@@ -210,8 +210,9 @@ TEST(Sharing, AUnitBoundOnOneResourceLeavesItsShareOfAnotherToItsNeighbour) {
     e.add_unit({-1, {{y, 1.0}}, 0, {}});
     const auto r = e.run();
     EXPECT_NEAR(r.units[1].finish, s == Sharing::fair ? 1.5 : 2.0, 1e-12);
-    if (s == Sharing::fair)
+    if (s == Sharing::fair) {
       for (int u : {0, 2, 3}) EXPECT_NEAR(r.units[size_t(u)].finish, 3.0, 1e-12) << u;
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "oovr/core/config.h"
+#include "oovr/core/text.h"
 
 namespace oovr::cli {
 
@@ -49,9 +50,6 @@ struct CorrelateArgs {
   double max_spread = 0;   // fail above (0: no check)
   std::string sweep;       // "key=v1,v2,...": correlate at each value, pick the most proportional
 };
-
-// "a,b,,c" -> {"a", "b", "c"}.
-std::vector<std::string> split_list(const std::string& text);
 
 // A preset (or the built-in defaults) with --set overrides.
 Config machine_config(const std::string& file, const std::vector<std::string>& settings);

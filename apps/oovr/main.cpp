@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand(config_cmd)) return cmd_config(config);
     if (app.got_subcommand(sim_cmd)) return cli::simulate(sim);
     if (app.got_subcommand(cmp_cmd)) {
-      const std::vector<std::string> list = cli::split_list(scheme_list.empty() ? all_schemes : scheme_list);
+      const std::vector<std::string> list = split_list(scheme_list.empty() ? all_schemes : scheme_list);
       if (list.empty()) throw Error("--schemes names no scheme");
       return cli::compare(cmp, list);
     }

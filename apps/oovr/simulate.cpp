@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/text.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/experiments/frames.h"
@@ -242,16 +243,6 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
     write_json(a.json, j);
   }
   return 0;
-}
-
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> v;
-  for (size_t i = 0; i <= text.size();) {
-    const size_t comma = std::min(text.find(',', i), text.size());
-    if (comma > i) v.push_back(text.substr(i, comma - i));
-    i = comma + 1;
-  }
-  return v;
 }
 
 int paper(const PaperArgs& a) {

@@ -12,6 +12,8 @@
 #include <functional>
 #include <string>
 
+#include "oovr/experiments/hardware.h"
+
 namespace oovr::reference {
 
 namespace {
@@ -368,10 +370,6 @@ std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<St
     GLuint64 ns = 0;
     glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
     return double(ns) * 1e-3;
-  };
-  const auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   };
   std::vector<FrameTime> out;
   for (const StereoView& view : views) {

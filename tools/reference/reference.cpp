@@ -19,6 +19,7 @@
 
 #include "gl_renderer.h"
 #include "oovr/core/error.h"
+#include "oovr/core/text.h"
 #include "oovr/experiments/hardware.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
@@ -118,12 +119,7 @@ bool data_missing(const std::string& scene) {
 // --time: frames --frame .. --frame + --frames - 1 of every scene at every
 // resolution, as oovr correlate reads them (docs/validation.md).
 int time_frames(const Args& a) {
-  std::vector<std::string> resolutions;
-  for (size_t i = 0; i <= a.resolutions.size();) {
-    const size_t c = std::min(a.resolutions.find(',', i), a.resolutions.size());
-    if (c > i) resolutions.push_back(a.resolutions.substr(i, c - i));
-    i = c + 1;
-  }
+  std::vector<std::string> resolutions = split_list(a.resolutions);
   if (resolutions.empty()) resolutions.push_back(a.resolution);
   for (const auto& r : resolutions) (void)parse_frame_resolution(r);
   for (const auto& s : a.scenes)

@@ -28,13 +28,14 @@ std::vector<std::string> split_csv(const std::string& line) {
   return f;
 }
 
+}  // namespace
+
 double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
-
-}  // namespace
 
 double pearson(const std::vector<double>& x, const std::vector<double>& y) {
   const size_t n = x.size();

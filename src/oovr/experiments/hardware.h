@@ -74,6 +74,8 @@ struct CorrelationOptions {
 // scheme with frames in flight, or data with fewer than two points.
 Correlation correlate(const HardwareData& data, const CorrelationOptions& options);
 
+// The median of a series (NaN when empty).
+double median(std::vector<double> v);
 // Pearson's r of two series of equal length (0 when either is constant).
 double pearson(const std::vector<double>& x, const std::vector<double>& y);
 

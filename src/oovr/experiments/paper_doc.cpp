@@ -100,14 +100,22 @@ class Doc {
     const SchemeResult& x = get(s, scheme);
     return x.total_inter_gpm_bytes() ? double(x.inter_gpm_bytes[size_t(c)]) / double(x.total_inter_gpm_bytes()) : 0;
   }
+  // The baseline's colour and depth bytes between GPMs per frame.
+  double framebuffer_bytes(const std::string& s) const {
+    const SchemeResult& b = get(s, "baseline");
+    return double(b.inter_gpm_bytes[size_t(Category::colour)] + b.inter_gpm_bytes[size_t(Category::depth)]);
+  }
+  // Seconds a GPM's front end spends on one draw in a run.
+  static double draw_seconds(const SchemeResult& x) {
+    const auto it = x.config.find("gpm.draw_cycles");
+    return (it == x.config.end() ? 0 : std::stod(it->second)) / x.frequency_hz;
+  }
   // The share of a scheme's frame its front ends spend on draws, on average
   // per GPM (draws received per frame and GPM x gpm.draw_cycles).
   double front(const std::string& s, const std::string& scheme) const {
     const SchemeResult& x = get(s, scheme);
-    const auto it = x.config.find("gpm.draw_cycles");
-    const double cycles = it == x.config.end() ? 0 : std::stod(it->second);
     const double per_gpm = double(x.draws) / double(o.frames) / double(x.gpms);
-    return per_gpm * cycles / x.frequency_hz / x.frame_latency_s;
+    return per_gpm * draw_seconds(x) / x.frame_latency_s;
   }
   double busiest_share(const std::string& s, const std::string& scheme) const {
     const SchemeResult& x = get(s, scheme);
@@ -275,10 +283,7 @@ class Doc {
             return fmt::format("{:.0f}%, {:.0f}%, {:.0f}%", front(s, "baseline") * 100, front(s, "object") * 100, front(s, "oo-vr") * 100);
           });
     check("X10", "the baseline's colour and depth bytes between GPMs per frame (an eye's GPMs share its framebuffer pages)",
-          [&](const std::string& s) {
-            const SchemeResult& b = get(s, "baseline");
-            return mb(double(b.inter_gpm_bytes[size_t(Category::colour)] + b.inter_gpm_bytes[size_t(Category::depth)]));
-          });
+          [&](const std::string& s) { return mb(framebuffer_bytes(s)); });
     out += "\n";
   }
 
@@ -431,8 +436,7 @@ class Doc {
       }
     if (scene.empty()) return "";
     const SchemeResult& b = get(scene, "baseline");
-    const double cycles = b.config.count("gpm.draw_cycles") ? std::stod(b.config.at("gpm.draw_cycles")) : 0;
-    const double front = double(draws) * cycles / b.frequency_hz;
+    const double front = double(draws) * draw_seconds(b);
     return fmt::format("On `{}` ({} draws) the front end of every GPM of the baseline is busy {:.0f} us per frame, "
                        "{:.0f}% of the baseline's frame.",
                        scene, draws, front * 1e6, front / b.frame_latency_s * 100);
@@ -701,10 +705,7 @@ class Doc {
                                                 })) * 100)
                                  : "",
                       fmt::format("{:.1f}", moved("baseline") / 1e6), mbs(cat_bytes("baseline", Category::texture)),
-                      mbs(each([&](auto& s) {
-                        const SchemeResult& b = get(s, "baseline");
-                        return double(b.inter_gpm_bytes[size_t(Category::colour)] + b.inter_gpm_bytes[size_t(Category::depth)]);
-                      })),
+                      mbs(each([&](auto& s) { return framebuffer_bytes(s); })),
                       needed));
     // P2, P3
     claim(all([&](auto& s) { return thr(s, "afr", "baseline") > 1 && sp(s, "afr") < 1; }),
@@ -750,10 +751,7 @@ class Doc {
                       "paper's scenes have larger objects spanning strips (its Figure 6 bridge). Horizontal strips span both eyes, "
                       "so SMP keeps both views' data in one GPM.",
                       range(each([&](auto& s) { return tr(s, "sfr-v"); }), true), range(each([&](auto& s) { return tr(s, "sfr-h"); }), true),
-                      mbs(each([&](auto& s) {
-                        const SchemeResult& b = get(s, "baseline");
-                        return double(b.inter_gpm_bytes[size_t(Category::colour)] + b.inter_gpm_bytes[size_t(Category::depth)]);
-                      })),
+                      mbs(each([&](auto& s) { return framebuffer_bytes(s); })),
                       pct(mean([&](auto& s) { return tr(s, "sfr-v", "baseline-paged"); })),
                       pct(mean([&](auto& s) { return tr(s, "sfr-h", "baseline-paged"); }))));
     // P6-P8

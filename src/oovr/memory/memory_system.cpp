@@ -71,12 +71,20 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
   m_totals.delivered.assign(size_t(spec.gpms) * size_t(spec.gpms), 0);
 }
 
+void MemorySystem::set_home(uint64_t page, int gpm) {
+  m_home[page] = int8_t(gpm);
+  m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
+}
+
+uint64_t MemorySystem::page_data_bytes(uint64_t page) const {
+  return (m_map.page_used_bytes(page) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
+}
+
 int MemorySystem::home(uint64_t page, int requester) {
   int h = m_home[page];
   if (h < 0) [[unlikely]] {
     h = m_policy->assign(page, m_map.region_of_page(page), requester);
-    m_home[page] = int8_t(h);
-    m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << h);
+    set_home(page, h);
   }
   return h;
 }
@@ -232,7 +240,7 @@ bool MemorySystem::make_room(int gpm, uint64_t bytes) {
     if (victim == ~uint64_t(0)) return false;
     m_copies[victim] &= ~(1u << gpm);
     m_made[victim] &= ~(1u << gpm);
-    m_copy_bytes[size_t(gpm)] -= (m_map.page_used_bytes(victim) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
+    m_copy_bytes[size_t(gpm)] -= page_data_bytes(victim);
     ++m_totals.copies_evicted;
   }
   return true;
@@ -248,8 +256,7 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
   for (uint64_t page = address >> m_page_shift; page <= (address + bytes - 1) >> m_page_shift; ++page) {
     if (m_home[page] < 0) {
       // Untouched data is placed where it is needed: nothing to copy.
-      m_home[page] = int8_t(gpm);
-      m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
+      set_home(page, gpm);
       continue;
     }
     if (m_copies[page] & (1u << gpm)) {
@@ -257,9 +264,7 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
       if (m_home[page] != gpm) m_copy_stamp[page * n + uint64_t(gpm)] = m_clock;
       continue;
     }
-    // The page's data, in whole lines: the unused end of a small buffer's
-    // page holds nothing to copy.
-    const uint64_t bytes_here = (m_map.page_used_bytes(page) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
+    const uint64_t bytes_here = page_data_bytes(page);
     if (!make_room(gpm, bytes_here)) {
       ++m_totals.copies_refused;
       continue;
@@ -293,8 +298,7 @@ bool MemorySystem::place(uint64_t address, int gpm) {
   const uint64_t page = address >> m_page_shift;
   if (page >= m_home.size()) throw Error("placement past the end of the address map");
   if (m_home[page] >= 0) return false;
-  m_home[page] = int8_t(gpm);
-  m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
+  set_home(page, gpm);
   return true;
 }
 

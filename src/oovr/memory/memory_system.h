@@ -140,6 +140,11 @@ class MemorySystem {
 
  private:
   int home(uint64_t page, int requester);
+  // Makes `gpm` the home of an untouched page (every GPM's, replicated).
+  void set_home(uint64_t page, int gpm);
+  // A page's data in whole lines: the unused end of a small buffer's page
+  // holds nothing to copy.
+  uint64_t page_data_bytes(uint64_t page) const;
   int nearest_holder(uint64_t page, int requester) const;
   // Serves a line from GPM `src`'s L2 (DRAM on a miss).
   void serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out);

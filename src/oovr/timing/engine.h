@@ -108,7 +108,6 @@ class TimingEngine {
   size_t m_done = 0;
   Sharing m_sharing = Sharing::fair;
   uint64_t m_unconverged = 0;
-
 };
 
 }  // namespace oovr
