@@ -123,9 +123,9 @@ TEST_F(Ac3dDir, ReadsTorcsExtensions) {
   EXPECT_EQ(scene_info(s).max_sharing, 2);
   // The untextured object takes its material colour (trans 0.5 -> alpha 0.5).
   const Material& plain = s.materials[size_t(s.objects[2].material)];
-  EXPECT_EQ(plain.diffuse, -1);
-  EXPECT_FLOAT_EQ(plain.colour.x, 1);
-  EXPECT_FLOAT_EQ(plain.colour.w, 0.5f);
+  EXPECT_TRUE(plain.pass().layers.empty());
+  EXPECT_FLOAT_EQ(plain.pass().colour.x, 1);
+  EXPECT_FLOAT_EQ(plain.pass().colour.w, 0.5f);
 }
 
 TEST_F(Ac3dDir, MissingTexturesAreReportedAndShareOnePlaceholder) {

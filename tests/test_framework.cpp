@@ -55,9 +55,8 @@ OOApplication app_of(const std::vector<Spec>& objects, int textures = 4) {
     m.vertices.resize(3);
     for (uint64_t k = 0; k < objects[i].triangles; ++k) m.indices.insert(m.indices.end(), {0, 1, 2});
     s.meshes.push_back(m);
-    Material mat;
-    mat.diffuse = objects[i].textures.size() > 0 ? int(objects[i].textures[0]) : -1;
-    mat.lightmap = objects[i].textures.size() > 1 ? int(objects[i].textures[1]) : -1;
+    Material mat = Material::textured("m", objects[i].textures.size() > 0 ? int(objects[i].textures[0]) : -1,
+                                      objects[i].textures.size() > 1 ? int(objects[i].textures[1]) : -1);
     s.materials.push_back(mat);
     Object o;
     o.mesh = int(i);

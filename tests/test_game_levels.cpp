@@ -26,7 +26,9 @@ namespace fs = std::filesystem;
 int diffuse_textures(const Scene& s) {
   std::set<int> t;
   for (const auto& m : s.materials)
-    if (m.diffuse >= 0) t.insert(m.diffuse);
+    for (const auto& p : m.passes)
+      for (const auto& l : p.layers)
+        if (l.kind == LayerKind::diffuse) t.insert(l.texture);
   return int(t.size());
 }
 
@@ -42,7 +44,8 @@ TEST(OpenArena, Dm4MatchesTheMeasuredNumbers) {
   EXPECT_EQ(i.max_sharing, 26);
   EXPECT_EQ(s.camera.frames.size(), 120u);
   bool lightmapped = false;
-  for (const auto& m : s.materials) lightmapped = lightmapped || m.lightmap >= 0;
+  for (const auto& m : s.materials)
+    for (const auto& l : m.pass().layers) lightmapped = lightmapped || l.kind == LayerKind::lightmap;
   EXPECT_TRUE(lightmapped);
 }
 

@@ -45,9 +45,10 @@ FrameOutput render_quad(float repeats, int aniso = 1, float v_repeats = -1) {
   s.meshes[0].vertices[2].uv = {repeats, v_repeats};
   s.meshes[0].vertices[3].uv = {0, v_repeats};
   s.textures.push_back(level_coded_texture());
-  s.materials[0].diffuse = 0;
+  s.materials[0] = Material::textured("levels", 0);
   PipelineSettings p = test::exact_settings();
   p.max_anisotropy = aniso;
+  p.texture_format = TextureFormat::rgba8;  // the line arithmetic below is RGBA8's
   return render_frame(s, test::ortho_view(64, 64), p);
 }
 

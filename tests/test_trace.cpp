@@ -66,7 +66,7 @@ TEST(Trace, WriteMasksCoverEveryWrittenPixel) {
   const Rendered r = render_builtin("crowd", 3, 2);
   const FrameTrace& t = r.out.trace;
   std::map<std::tuple<uint32_t, int, int>, uint32_t> masks;  // (object, tile x, tile y) -> lines written
-  for (const auto& w : t.tiles) masks[{w.object, w.tile_x, w.tile_y}] |= w.write_mask;
+  for (const auto& w : t.tiles) masks[{w.object, w.tile_x, w.tile_y}] |= w.colour_write_mask;
   const int per_row = kTileSize / t.block_w;
   for (int y = 0; y < t.frame_height; ++y)
     for (int x = 0; x < t.frame_width; ++x) {

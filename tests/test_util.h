@@ -40,7 +40,7 @@ inline Scene triangle_scene(const std::vector<Vec2>& points, const std::vector<u
   }
   m.indices = indices;
   s.meshes.push_back(m);
-  Material mat;
+  Material mat = Material::textured("white", -1);
   mat.two_sided = true;
   s.materials.push_back(mat);
   s.objects.push_back({"triangles", 0, 0, Mat4::identity()});

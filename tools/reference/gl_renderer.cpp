@@ -36,28 +36,52 @@ void main() {
 }
 )";
 
-// Fragment stage: texture x colour x (lightmap x scale); alpha test.
+// Fragment stage: a pass's layers combined in order (scene/material.h):
+// the first texel (RGB x its scale) times the pass colour, then each later
+// layer modulates (RGB x scale, alpha) or adds (RGB x scale; alpha
+// modulates); then the alpha function. Layer coordinates go through the
+// layer's affine transform (tcMod) per fragment, as oovr's pipeline does.
 const char* kFragmentShader = R"(#version 450 core
-uniform sampler2D diffuse_tex;
-uniform sampler2D lightmap_tex;
-uniform bool has_diffuse;
-uniform bool has_lightmap;
+const int kMaxLayers = 8;
+uniform sampler2D layer_tex[kMaxLayers];
+uniform int layer_count;
+uniform bool layer_lightmap_coords[kMaxLayers];
+uniform bool layer_add[kMaxLayers];
+uniform float layer_scale[kMaxLayers];
+uniform vec3 layer_xf_s[kMaxLayers];  // s' = a s + b t + c
+uniform vec3 layer_xf_t[kMaxLayers];  // t' = d s + e t + f
 uniform vec4 colour;
-uniform float lightmap_scale;
-uniform bool alpha_test;
-uniform float alpha_cutoff;
+uniform int alpha_func;  // 0 always, 1 greater, 2 less, 3 gequal
+uniform float alpha_ref;
 uniform bool coverage_only;
 in vec2 v_uv;
 in vec2 v_lm;
 out vec4 frag;
 void main() {
-  vec4 c = has_diffuse ? texture(diffuse_tex, v_uv) : vec4(1.0);
-  c *= colour;
-  if (has_lightmap) c.rgb *= texture(lightmap_tex, v_lm).rgb * lightmap_scale;
-  if (alpha_test && !coverage_only && c.a < alpha_cutoff) discard;
+  vec4 c = vec4(1.0);
+  for (int i = 0; i < layer_count; ++i) {
+    vec2 st = layer_lightmap_coords[i] ? v_lm : v_uv;
+    st = vec2(dot(layer_xf_s[i], vec3(st, 1.0)), dot(layer_xf_t[i], vec3(st, 1.0)));
+    vec4 s = texture(layer_tex[i], st);
+    if (i == 0) {
+      c = vec4(s.rgb * layer_scale[i], s.a) * colour;
+    } else if (layer_add[i]) {
+      c = vec4(c.rgb + s.rgb * layer_scale[i], c.a * s.a);
+    } else {
+      c = vec4(c.rgb * (s.rgb * layer_scale[i]), c.a * s.a);
+    }
+  }
+  if (layer_count == 0) c = colour;
+  if (!coverage_only) {
+    if (alpha_func == 1 && !(c.a > alpha_ref)) discard;
+    if (alpha_func == 2 && !(c.a < alpha_ref)) discard;
+    if (alpha_func == 3 && !(c.a >= alpha_ref)) discard;
+  }
   frag = c;
 }
 )";
+
+constexpr int kMaxLayers = 8;
 
 GLuint compile(GLenum type, const char* src) {
   const GLuint s = glCreateShader(type);
@@ -79,8 +103,10 @@ struct GlRenderer::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
   GLuint program = 0;
-  GLint u_world = -1, u_clip = -1, u_has_diffuse = -1, u_has_lightmap = -1, u_colour = -1, u_lm_scale = -1,
-        u_alpha_test = -1, u_cutoff = -1, u_coverage = -1;
+  GLint u_world = -1, u_clip = -1, u_layer_count = -1, u_colour = -1, u_alpha_func = -1, u_alpha_ref = -1,
+        u_coverage = -1;
+  GLint u_layer_lm[kMaxLayers], u_layer_add[kMaxLayers], u_layer_scale[kMaxLayers], u_layer_xf_s[kMaxLayers],
+      u_layer_xf_t[kMaxLayers];
 };
 
 namespace {
@@ -181,10 +207,52 @@ struct Target {
   Target& operator=(const Target&) = delete;
 };
 
-enum class Pass { image, passed, covered };
+// The three runs of a frame: the image, its per-draw passed fragments, and
+// per-draw coverage.
+enum class Run { image, passed, covered };
+// Whether draws set their pass's blend and depth state, or keep the
+// coverage run's (depth test always passes, nothing written).
+enum class DrawState { pass, coverage };
 
-// Clears the frame and sets the depth test of a pass.
-void begin_pass(const StereoView& view, Pass pass, GLint u_coverage) {
+GLenum gl_blend(BlendFactor f) {
+  switch (f) {
+    case BlendFactor::zero: return GL_ZERO;
+    case BlendFactor::one: return GL_ONE;
+    case BlendFactor::src_colour: return GL_SRC_COLOR;
+    case BlendFactor::one_minus_src_colour: return GL_ONE_MINUS_SRC_COLOR;
+    case BlendFactor::src_alpha: return GL_SRC_ALPHA;
+    case BlendFactor::one_minus_src_alpha: return GL_ONE_MINUS_SRC_ALPHA;
+    case BlendFactor::dst_colour: return GL_DST_COLOR;
+    case BlendFactor::one_minus_dst_colour: return GL_ONE_MINUS_DST_COLOR;
+    case BlendFactor::dst_alpha: return GL_DST_ALPHA;
+    case BlendFactor::one_minus_dst_alpha: return GL_ONE_MINUS_DST_ALPHA;
+  }
+  return GL_ONE;
+}
+
+GLenum gl_depth(DepthFunc f) {
+  switch (f) {
+    case DepthFunc::less: return GL_LESS;
+    case DepthFunc::lequal: return GL_LEQUAL;
+    case DepthFunc::equal: return GL_EQUAL;
+    case DepthFunc::always: return GL_ALWAYS;
+  }
+  return GL_LESS;
+}
+
+void apply_pass_state(const oovr::Pass& pass) {
+  if (pass.blended()) {
+    glEnable(GL_BLEND);
+    glBlendFunc(gl_blend(pass.src), gl_blend(pass.dst));
+  } else {
+    glDisable(GL_BLEND);
+  }
+  glDepthFunc(gl_depth(pass.depth_func));
+  glDepthMask(pass.depth_write ? GL_TRUE : GL_FALSE);
+}
+
+// Clears the frame and sets the depth test of a run.
+void begin_pass(const StereoView& view, Run pass, GLint u_coverage) {
   glScissor(0, 0, view.frame_width, view.frame_height);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
@@ -192,10 +260,11 @@ void begin_pass(const StereoView& view, Pass pass, GLint u_coverage) {
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
-  glDepthFunc(pass == Pass::covered ? GL_ALWAYS : GL_LESS);
-  glDepthMask(pass == Pass::covered ? GL_FALSE : GL_TRUE);
-  if (pass == Pass::covered) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  glUniform1i(u_coverage, pass == Pass::covered);
+  glDisable(GL_BLEND);
+  glDepthFunc(pass == Run::covered ? GL_ALWAYS : GL_LESS);
+  glDepthMask(pass == Run::covered ? GL_FALSE : GL_TRUE);
+  if (pass == Run::covered) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glUniform1i(u_coverage, pass == Run::covered);
 }
 
 }  // namespace
@@ -234,16 +303,21 @@ GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
   glDeleteShader(fs);
   const GLuint p = m->program;
   glUseProgram(p);
-  glUniform1i(glGetUniformLocation(p, "diffuse_tex"), 0);
-  glUniform1i(glGetUniformLocation(p, "lightmap_tex"), 1);
+  for (int i = 0; i < kMaxLayers; ++i) {
+    const std::string k = "[" + std::to_string(i) + "]";
+    glUniform1i(glGetUniformLocation(p, ("layer_tex" + k).c_str()), i);
+    m->u_layer_lm[i] = glGetUniformLocation(p, ("layer_lightmap_coords" + k).c_str());
+    m->u_layer_add[i] = glGetUniformLocation(p, ("layer_add" + k).c_str());
+    m->u_layer_scale[i] = glGetUniformLocation(p, ("layer_scale" + k).c_str());
+    m->u_layer_xf_s[i] = glGetUniformLocation(p, ("layer_xf_s" + k).c_str());
+    m->u_layer_xf_t[i] = glGetUniformLocation(p, ("layer_xf_t" + k).c_str());
+  }
   m->u_world = glGetUniformLocation(p, "world_from_object");
   m->u_clip = glGetUniformLocation(p, "clip_from_world");
-  m->u_has_diffuse = glGetUniformLocation(p, "has_diffuse");
-  m->u_has_lightmap = glGetUniformLocation(p, "has_lightmap");
+  m->u_layer_count = glGetUniformLocation(p, "layer_count");
   m->u_colour = glGetUniformLocation(p, "colour");
-  m->u_lm_scale = glGetUniformLocation(p, "lightmap_scale");
-  m->u_alpha_test = glGetUniformLocation(p, "alpha_test");
-  m->u_cutoff = glGetUniformLocation(p, "alpha_cutoff");
+  m->u_alpha_func = glGetUniformLocation(p, "alpha_func");
+  m->u_alpha_ref = glGetUniformLocation(p, "alpha_ref");
   m->u_coverage = glGetUniformLocation(p, "coverage_only");
 }
 
@@ -266,28 +340,38 @@ namespace {
 // Issues every object's draw, in scene order, once per eye in `eyes` (bit
 // e: eye e) into that eye's viewport (or a 1x1 scissor at its corner);
 // `around(draw, begin)` brackets each draw (draw = object * 2 + eye).
-void draw_objects(const GlRenderer::Impl& m, const Scene& scene, const StereoView& view, const Uploaded& up, int eyes,
-                  bool tiny_scissor, const std::function<void(size_t draw, bool begin)>& around) {
+void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, const StereoView& view, const Uploaded& up,
+                  int eyes, bool tiny_scissor, DrawState state, const std::function<void(size_t draw, bool begin)>& around) {
   glEnable(GL_SCISSOR_TEST);
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
+  const double seconds = scene.camera.seconds(frame);
   for (size_t o = 0; o < scene.objects.size(); ++o) {
     const Object& obj = scene.objects[o];
     const Material& mat = scene.materials[size_t(obj.material)];
+    const Pass& pass = scene.pass_of(obj);
+    if (pass.layers.size() > size_t(kMaxLayers))
+      throw std::runtime_error("material '" + mat.name + "' has a pass of more than " + std::to_string(kMaxLayers) + " layers");
     glBindVertexArray(up.vao[size_t(obj.mesh)]);
     glUniformMatrix4fv(m.u_world, 1, GL_FALSE, &obj.world_from_object.m[0][0]);
-    glUniform1i(m.u_has_diffuse, mat.diffuse >= 0);
-    glUniform1i(m.u_has_lightmap, mat.lightmap >= 0);
-    glUniform4f(m.u_colour, mat.colour.x, mat.colour.y, mat.colour.z, mat.colour.w);
-    glUniform1f(m.u_lm_scale, mat.lightmap_scale);
-    glUniform1i(m.u_alpha_test, mat.alpha_test);
-    glUniform1f(m.u_cutoff, mat.alpha_cutoff);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, mat.diffuse >= 0 ? up.tex[size_t(mat.diffuse)] : 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, mat.lightmap >= 0 ? up.tex[size_t(mat.lightmap)] : 0);
+    glUniform1i(m.u_layer_count, GLint(pass.layers.size()));
+    for (size_t i = 0; i < pass.layers.size(); ++i) {
+      const TextureLayer& l = pass.layers[i];
+      const UvTransform xf = l.transform(seconds);
+      glUniform1i(m.u_layer_lm[i], l.coords == TexCoords::lightmap);
+      glUniform1i(m.u_layer_add[i], l.combine == Combine::add);
+      glUniform1f(m.u_layer_scale[i], l.scale);
+      glUniform3f(m.u_layer_xf_s[i], xf.a, xf.b, xf.c);
+      glUniform3f(m.u_layer_xf_t[i], xf.d, xf.e, xf.f);
+      glActiveTexture(GLenum(GL_TEXTURE0 + i));
+      glBindTexture(GL_TEXTURE_2D, up.tex[size_t(l.texture)]);
+    }
+    glUniform4f(m.u_colour, pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w);
+    glUniform1i(m.u_alpha_func, int(pass.alpha_func));
+    glUniform1f(m.u_alpha_ref, pass.alpha_ref);
     if (mat.two_sided) glDisable(GL_CULL_FACE);
     else glEnable(GL_CULL_FACE);
+    if (state == DrawState::pass) apply_pass_state(pass);
     const GLsizei count = GLsizei(scene.meshes[size_t(obj.mesh)].indices.size());
     for (int e = 0; e < view.eyes; ++e) {
       if (!(eyes & (1 << e))) continue;
@@ -305,7 +389,7 @@ void draw_objects(const GlRenderer::Impl& m, const Scene& scene, const StereoVie
 
 }  // namespace
 
-GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
+GlFrame GlRenderer::render(const Scene& scene, int frame, const StereoView& view) {
   const int W = view.frame_width, H = view.frame_height;
   const Target target(W, H);
   const Uploaded up(scene, 1);  // the comparison samples isotropically
@@ -325,12 +409,12 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
   std::vector<GLuint64> results(queries.size(), 0);
   glFinish();  // uploads done before timing starts
   const auto start = std::chrono::steady_clock::now();
-  for (Pass pass : {Pass::image, Pass::passed, Pass::covered}) {
+  for (Run pass : {Run::image, Run::passed, Run::covered}) {
     begin_pass(view, pass, m->u_coverage);
     std::function<void(size_t, bool)> around;
-    if (pass != Pass::image)
+    if (pass != Run::image)
       around = [&](size_t draw, bool begin) {
-        const size_t q = draw * 2 + (pass == Pass::covered ? 1 : 0);
+        const size_t q = draw * 2 + (pass == Run::covered ? 1 : 0);
         if (begin) {
           glBeginQuery(GL_SAMPLES_PASSED, queries[q]);
         } else {
@@ -338,8 +422,8 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
           glGetQueryObjectui64v(queries[q], GL_QUERY_RESULT, &results[q]);
         }
       };
-    draw_objects(*m, scene, view, up, 3, false, around);
-    if (pass == Pass::image) {
+    draw_objects(*m, scene, frame, view, up, 3, false, pass == Run::covered ? DrawState::coverage : DrawState::pass, around);
+    if (pass == Run::image) {
       out.colour = Image(W, H);
       glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.rgba.data());
       out.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -352,7 +436,9 @@ GlFrame GlRenderer::render(const Scene& scene, const StereoView& view) {
   return out;
 }
 
-std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<StereoView>& views, int aniso, int repeats) {
+std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<int>& frames, const std::vector<StereoView>& views,
+                                        int aniso, int repeats) {
+  if (frames.size() != views.size()) throw std::runtime_error("time() needs one frame number per view");
   if (views.empty()) return {};
   const Target target(views.front().frame_width, views.front().frame_height);
   const Uploaded up(scene, aniso);
@@ -361,23 +447,24 @@ std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<St
   glGenQueries(1, &query);
   // GPU time of one pass: the frame's draws inside a GL_TIME_ELAPSED query,
   // the clear outside it.
-  const auto timed = [&](const StereoView& view, int eyes, bool tiny) {
-    begin_pass(view, Pass::image, m->u_coverage);
+  const auto timed = [&](int frame, const StereoView& view, int eyes, bool tiny) {
+    begin_pass(view, Run::image, m->u_coverage);
     glFinish();
     glBeginQuery(GL_TIME_ELAPSED, query);
-    draw_objects(*m, scene, view, up, eyes, tiny, {});
+    draw_objects(*m, scene, frame, view, up, eyes, tiny, DrawState::pass, {});
     glEndQuery(GL_TIME_ELAPSED);
     GLuint64 ns = 0;
     glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
     return double(ns) * 1e-3;
   };
   std::vector<FrameTime> out;
-  for (const StereoView& view : views) {
+  for (size_t k = 0; k < views.size(); ++k) {
+    const StereoView& view = views[k];
     if (view.frame_width != views.front().frame_width || view.frame_height != views.front().frame_height)
       throw std::runtime_error("every timed view must have the same size");
     std::vector<double> full, geom, left;
     for (int rep = -1; rep < repeats; ++rep) {  // one warm-up
-      const double f = timed(view, 3, false), g = timed(view, 3, true), l = timed(view, 1, false);
+      const double f = timed(frames[k], view, 3, false), g = timed(frames[k], view, 3, true), l = timed(frames[k], view, 1, false);
       if (rep < 0) continue;
       full.push_back(f);
       geom.push_back(g);

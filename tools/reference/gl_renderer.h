@@ -63,11 +63,12 @@ class GlRenderer {
   GlRenderer& operator=(const GlRenderer&) = delete;
 
   std::string renderer_name() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-  GlFrame render(const Scene& scene, const StereoView& view);
+  GlFrame render(const Scene& scene, int frame, const StereoView& view);
   // Times each view of `views` (`repeats` times after one warm-up, medians)
   // with anisotropic filtering up to `aniso` taps; framebuffer cleared
   // before every timed pass, outside the timer.
-  std::vector<FrameTime> time(const Scene& scene, const std::vector<StereoView>& views, int aniso, int repeats);
+  std::vector<FrameTime> time(const Scene& scene, const std::vector<int>& frames, const std::vector<StereoView>& views, int aniso,
+                              int repeats);
 
   struct Impl;  // the EGL context, program and uniforms (gl_renderer.cpp)
 

@@ -150,7 +150,7 @@ int time_frames(const Args& a) {
         frames.push_back((a.frame + k) % path);
         views.push_back(make_stereo_view(scene.camera, frames.back(), rig));
       }
-      const std::vector<reference::FrameTime> t = gl->time(scene, views, a.aniso, a.repeat);
+      const std::vector<reference::FrameTime> t = gl->time(scene, frames, views, a.aniso, a.repeat);
       double sum = 0;
       for (size_t k = 0; k < t.size(); ++k) {
         data.frames.push_back({name, res, frames[k], t[k].full_us, t[k].geom_us, t[k].left_us, scene.objects.size(), scene.triangle_count()});
@@ -193,12 +193,12 @@ int compare(const Args& a, const StereoRig& rig) {
       throw Error("--isolate " + std::to_string(a.isolate) + ": the scene has " +
                   std::to_string(scene.objects.size()) + " objects");
     Object o = scene.objects[size_t(a.isolate)];
-    Material m = scene.materials[size_t(o.material)];
-    m.diffuse = m.lightmap = -1;
-    m.colour = {1, 1, 1, 1};
-    m.alpha_test = false;
+    Material m = Material::textured("isolated", -1);
+    m.two_sided = scene.materials[size_t(o.material)].two_sided;
     scene.materials.push_back(m);
     o.material = int(scene.materials.size()) - 1;
+    o.pass = 0;
+    o.after.clear();
     scene.objects = {o};
   }
   const StereoView view = make_stereo_view(scene.camera, a.frame, rig);
@@ -209,7 +209,7 @@ int compare(const Args& a, const StereoRig& rig) {
     fmt::print("SKIPPED: no OpenGL 4.5 reference renderer: {}\n", e.what());
     return 77;
   }
-  const reference::GlFrame ref = gl->render(scene, view);
+  const reference::GlFrame ref = gl->render(scene, a.frame, view);
   if (!a.out.empty()) write_png(ref.colour, a.out);
   fmt::print("reference: {}\n", gl->renderer_name());
   if (!a.compare) return 0;

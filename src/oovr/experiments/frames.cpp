@@ -9,7 +9,7 @@ namespace oovr {
 FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config, const WindowRequest& r) {
   FrameWindow f{std::move(scene), rig, {}, {}, 0};
   Config probe = config;  // reading the line size must not mark keys used in the caller's config
-  PipelineSettings p;
+  PipelineSettings p = PipelineSettings::from_config(probe);
   p.max_anisotropy = r.aniso;
   p.line_bytes = uint32_t(MemorySpec::from_config(probe).line.value);
   p.validate();

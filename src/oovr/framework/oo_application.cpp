@@ -19,16 +19,13 @@ uint32_t OOApplication::add_object(const Scene& scene, uint32_t draw, Viewport l
   if (draw >= scene.objects.size()) throw Error("OO application: draw " + std::to_string(draw) + " does not exist");
   const Object& so = scene.objects[draw];
   const Mesh& mesh = scene.meshes[size_t(so.mesh)];
-  const Material& mat = scene.materials[size_t(so.material)];
   OOObject o;
   o.draw = draw;
   o.viewport[0] = left;
   o.viewport[1] = right;
   o.triangles = mesh.indices.size() / 3;
   o.vertices = mesh.vertices.size();
-  for (int t : {mat.diffuse, mat.lightmap})
-    if (t >= 0 && std::none_of(o.textures.begin(), o.textures.end(), [&](const auto& x) { return x.first == uint32_t(t); }))
-      o.textures.push_back({uint32_t(t), texture_bytes(scene.textures[size_t(t)])});
+  for (int t : scene.textures_of(so)) o.textures.push_back({uint32_t(t), texture_bytes(scene.textures[size_t(t)])});
   m_objects.push_back(std::move(o));
   return uint32_t(m_objects.size() - 1);
 }

@@ -34,7 +34,9 @@ SceneLayout::SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& 
     m_index.push_back(map.add("mesh" + std::to_string(m) + ".indices", Category::index, mesh.indices.size() * sizeof(uint32_t)));
   }
   for (size_t t = 0; t < scene.textures.size(); ++t) {
-    const TextureLayout l = texture_layout(scene.textures[t], frame.block_w, frame.block_h);
+    int bw = 0, bh = 0;
+    texture_line_shape(scene.textures[t], frame.texture_format, frame.line_bytes, bw, bh);
+    const TextureLayout l = texture_layout(scene.textures[t], bw, bh);
     m_texture.push_back(map.add("texture" + std::to_string(t) + " " + scene.textures[t].name, Category::texture,
                                 l.lines * map.line_bytes()));
   }

@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "oovr/pipeline/tiled_layout.h"
+
 namespace oovr {
 
 // Texture line: texture index in the high 32 bits, line index in the low 32.
@@ -38,16 +40,20 @@ struct TileWork {
   uint32_t vertices = 0;            // distinct mesh vertices of those triangles
   uint32_t quads = 0;    // 2x2 quads shaded (at least one fragment shaded)
   uint32_t covered = 0;  // fragments inside the triangles and the eye's viewport
-  // Fragments shaded: with an early depth test (materials without alpha test)
+  // Fragments shaded: with an early depth test (passes without alpha test)
   // only those that passed it; otherwise every covered fragment.
   uint32_t shaded = 0;
   uint32_t passed = 0;   // fragments that passed the alpha and depth tests
   uint32_t samples = 0;  // bilinear texture lookups (trilinear = 2, anisotropic = 2 per probe)
   // Framebuffer lines of this tile (bit i = line i of the tile's colour or
-  // depth block): depth lines read by covered fragments; colour and depth
-  // lines written by passed fragments.
+  // depth block): depth lines read by the depth test; colour lines read by
+  // blending (passes whose result depends on the frame); colour lines
+  // written by passed fragments, depth lines by those of passes that write
+  // depth.
   uint32_t depth_read_mask = 0;
-  uint32_t write_mask = 0;
+  uint32_t depth_write_mask = 0;
+  uint32_t colour_read_mask = 0;
+  uint32_t colour_write_mask = 0;
   // Range in FrameTrace::tex_lines: the texture lines sampled, in shading
   // order; repeats within one 2x2 quad are merged (a texture unit coalesces
   // the requests of a quad), repeats across quads are kept.
@@ -67,6 +73,10 @@ struct ObjectWork {
   uint32_t clipped[2] = {0, 0};   // triangles that needed clipping per eye
   uint64_t vertex_bytes = 0;      // bytes of the vertex buffer
   uint64_t index_bytes = 0;       // bytes of the index buffer
+  // Scalar instructions a fragment lane runs for this draw's pass
+  // (pipeline/shader_cost.h).
+  uint32_t fragment_instructions = 0;
+  uint32_t texture_layers = 0;  // texture layers the pass samples
 
   bool operator==(const ObjectWork&) const = default;
 };
@@ -77,7 +87,10 @@ struct FrameTrace {
   int tile_size = 16;
   int tiles_x = 0, tiles_y = 0;
   uint32_t line_bytes = 128;
-  int block_w = 8, block_h = 4;  // texels / pixels per line (RGBA8)
+  int block_w = 8, block_h = 4;  // framebuffer pixels per line (RGBA8 colour, 32-bit depth)
+  // How textures are stored: the texels a texture line holds
+  // (texture_line_shape in pipeline/tiled_layout.h).
+  TextureFormat texture_format = TextureFormat::rgba8;
   std::vector<ObjectWork> objects;  // indexed by object
   // Sorted by (object, eye, tile_y, tile_x): draw order, then eye, then tile.
   std::vector<TileWork> tiles;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "oovr/core/config.h"
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/pipeline/image.h"
 #include "oovr/scene/scene.h"
@@ -31,9 +32,18 @@ struct PipelineSettings {
   unsigned threads = 0;
   // Record texture lines in the trace (the largest part of it).
   bool record_texture_lines = true;
+  // How textures are stored in memory (footprint and traffic; the image is
+  // the same). The games oovr's workloads stand for shipped or uploaded
+  // their textures block-compressed (docs/model.md), so the default is the
+  // games' rule: BC1 for opaque images, BC3 for images with alpha,
+  // lightmaps uncompressed.
+  TextureFormat texture_format = TextureFormat::bc;
 
   // Throws Error naming the bad setting.
   void validate() const;
+  // The settings a configuration names (key pipeline.texture_format); the
+  // rest keep their defaults.
+  static PipelineSettings from_config(const Config& c);
 };
 
 constexpr int kTileSize = 16;

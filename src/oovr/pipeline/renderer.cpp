@@ -13,6 +13,7 @@
 #include "oovr/core/parallel.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/pipeline/sampler.h"
+#include "oovr/pipeline/shader_cost.h"
 
 namespace oovr {
 
@@ -25,10 +26,7 @@ void PipelineSettings::validate() const {
 }
 
 void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h) {
-  const int n = int(line_bytes / 4);  // RGBA8 texels or pixels per line
-  const int log2n = __builtin_ctz(unsigned(n));
-  block_w = 1 << ((log2n + 1) / 2);
-  block_h = n / block_w;
+  cells_per_line(line_bytes, 4, block_w, block_h);  // RGBA8 texels or pixels per line
 }
 
 uint64_t FrameTrace::total_covered() const {
@@ -301,14 +299,70 @@ class GeometryStage {
   std::vector<uint32_t> m_codes;
 };
 
+// A texture layer ready to sample in this frame.
+struct PreparedLayer {
+  const detail::SamplerTexture* texture;
+  bool lightmap_coords;
+  bool transformed;
+  UvTransform xf;
+  Combine combine;
+  float scale;
+};
+
+// An object's pass ready to draw in this frame.
+struct PreparedPass {
+  const Pass* pass;
+  std::vector<PreparedLayer> layers;
+  bool lightmap_coords = false;  // some layer samples with lightmap coordinates
+};
+
+bool depth_passes(DepthFunc f, float z, float stored) {
+  switch (f) {
+    case DepthFunc::less: return z < stored;
+    case DepthFunc::lequal: return z <= stored;
+    case DepthFunc::equal: return z == stored;
+    case DepthFunc::always: return true;
+  }
+  return false;
+}
+
+bool alpha_passes(AlphaFunc f, float a, float ref255) {
+  switch (f) {
+    case AlphaFunc::always: return true;
+    case AlphaFunc::greater: return a > ref255;
+    case AlphaFunc::less: return a < ref255;
+    case AlphaFunc::gequal: return a >= ref255;
+  }
+  return false;
+}
+
+// A blend factor (0..1) for one channel: s and d are the source and
+// destination colours (0..255), k the channel.
+float blend_factor(BlendFactor f, const detail::Rgba& s, const detail::Rgba& d, int k) {
+  const float sc = k == 0 ? s.r : k == 1 ? s.g : k == 2 ? s.b : s.a;
+  const float dc = k == 0 ? d.r : k == 1 ? d.g : k == 2 ? d.b : d.a;
+  switch (f) {
+    case BlendFactor::zero: return 0.0f;
+    case BlendFactor::one: return 1.0f;
+    case BlendFactor::src_colour: return sc / 255.0f;
+    case BlendFactor::one_minus_src_colour: return 1.0f - sc / 255.0f;
+    case BlendFactor::src_alpha: return s.a / 255.0f;
+    case BlendFactor::one_minus_src_alpha: return 1.0f - s.a / 255.0f;
+    case BlendFactor::dst_colour: return dc / 255.0f;
+    case BlendFactor::one_minus_dst_colour: return 1.0f - dc / 255.0f;
+    case BlendFactor::dst_alpha: return d.a / 255.0f;
+    case BlendFactor::one_minus_dst_alpha: return 1.0f - d.a / 255.0f;
+  }
+  return 0.0f;
+}
+
 // Per-tile rasterisation and shading. Writes only the tile's own pixels.
 class TileRasterizer {
  public:
-  TileRasterizer(const Scene& scene, const std::vector<SetupTri>& tris,
-                 const std::vector<detail::SamplerTexture>& textures,
+  TileRasterizer(const std::vector<SetupTri>& tris, const std::vector<PreparedPass>& passes,
                  const PipelineSettings& settings, int block_w, int block_h, int frame_w,
                  uint8_t* colour, float* depth, uint32_t* ids)
-      : m_scene(scene), m_tris(tris), m_textures(textures), m_settings(settings),
+      : m_tris(tris), m_passes(passes), m_settings(settings),
         m_block_w(block_w), m_block_h(block_h), m_frame_w(frame_w), m_colour(colour),
         m_depth(depth), m_ids(ids) {}
 
@@ -365,13 +419,15 @@ class TileRasterizer {
     const int x0 = std::max(t.minx, m_tx * kTileSize), x1 = std::min(t.maxx, m_tx * kTileSize + kTileSize - 1);
     const int y0 = std::max(t.miny, m_ty * kTileSize), y1 = std::min(t.maxy, m_ty * kTileSize + kTileSize - 1);
     if (x0 > x1 || y0 > y1) return;
-    const Object& obj = m_scene.objects[t.object];
-    const Material& mat = m_scene.materials[size_t(obj.material)];
-    const detail::SamplerTexture* diffuse = mat.diffuse >= 0 ? &m_textures[size_t(mat.diffuse)] : nullptr;
-    const detail::SamplerTexture* lightmap = mat.lightmap >= 0 ? &m_textures[size_t(mat.lightmap)] : nullptr;
-    const bool early_z = !mat.alpha_test;
-    const float cr = mat.colour.x, cg = mat.colour.y, cb = mat.colour.z, ca = mat.colour.w;
-    const float cutoff255 = mat.alpha_cutoff * 255.0f;
+    const PreparedPass& pp = m_passes[t.object];
+    const Pass& pass = *pp.pass;
+    // Early depth test when the shader cannot discard: occluded fragments
+    // are never shaded and fetch no texels.
+    const bool early_z = !pass.alpha_tested();
+    const bool reads_colour = pass.reads_colour(), blended = pass.blended();
+    const bool test_depth = pass.depth_func != DepthFunc::always;
+    const float cr = pass.colour.x, cg = pass.colour.y, cb = pass.colour.z, ca = pass.colour.w;
+    const float ref255 = pass.alpha_ref * 255.0f;
     const bool record = m_settings.record_texture_lines;
     const int qx0 = x0 & ~1, qy0 = y0 & ~1;
 
@@ -409,64 +465,121 @@ class TileRasterizer {
           const float w = 1.0f / (b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2]);
           u[p] = (b0 * t.uw[0] + b1 * t.uw[1] + b2 * t.uw[2]) * w;
           v[p] = (b0 * t.vw[0] + b1 * t.vw[1] + b2 * t.vw[2]) * w;
-          if (lightmap) {
+          if (pp.lightmap_coords) {
             lu[p] = (b0 * t.luw[0] + b1 * t.luw[1] + b2 * t.luw[2]) * w;
             lv[p] = (b0 * t.lvw[0] + b1 * t.lvw[1] + b2 * t.lvw[2]) * w;
           }
         }
 
-        // Early depth test when the shader cannot discard: occluded
-        // fragments are never shaded and fetch no texels.
         unsigned live = mask;
-        if (early_z) {
+        if (early_z && test_depth) {
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
             const int x = qx + (p & 1), y = qy + (p >> 1);
-            const uint32_t line = line_of_pixel(x, y);
-            m_cur.depth_read_mask |= 1u << line;
-            if (z[p] >= m_depth[size_t(y) * m_frame_w + x]) live &= ~(1u << p);
+            m_cur.depth_read_mask |= 1u << line_of_pixel(x, y);
+            if (!depth_passes(pass.depth_func, z[p], m_depth[size_t(y) * m_frame_w + x])) live &= ~(1u << p);
           }
           if (!live) continue;
         }
         ++m_cur.quads;
         m_cur.shaded += uint32_t(__builtin_popcount(live));
 
-        const detail::Derivs dd{u[1] - u[0], v[1] - v[0], u[2] - u[0], v[2] - v[0]};
-        const detail::Derivs dl = lightmap ? detail::Derivs{lu[1] - lu[0], lv[1] - lv[0], lu[2] - lu[0], lv[2] - lv[0]}
-                                           : detail::Derivs{0, 0, 0, 0};
         m_quad_lines.clear();
         detail::QuadLines* lines = record ? &m_quad_lines : nullptr;
+        detail::Rgba c[4];
+        for (int p = 0; p < 4; ++p) c[p] = {255, 255, 255, 255};
+        bool first = true;
+        for (const PreparedLayer& L : pp.layers) {
+          const float* su = L.lightmap_coords ? lu : u;
+          const float* sv = L.lightmap_coords ? lv : v;
+          float tu[4], tv[4];
+          for (int p = 0; p < 4; ++p) {
+            if (L.transformed) {
+              tu[p] = L.xf.a * su[p] + L.xf.b * sv[p] + L.xf.c;
+              tv[p] = L.xf.d * su[p] + L.xf.e * sv[p] + L.xf.f;
+            } else {
+              tu[p] = su[p];
+              tv[p] = sv[p];
+            }
+          }
+          const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
+          for (int p = 0; p < 4; ++p) {
+            if (!(live & (1u << p))) continue;
+            const detail::Rgba s = detail::sample(*L.texture, tu[p], tv[p], d, m_settings.max_anisotropy, lines, m_cur.samples);
+            detail::Rgba& o = c[p];
+            if (first) {
+              // The first layer's texel starts the colour; the pass
+              // colour multiplies it.
+              o = s;
+              if (L.scale != 1.0f) {
+                o.r *= L.scale;
+                o.g *= L.scale;
+                o.b *= L.scale;
+              }
+              o.r *= cr;
+              o.g *= cg;
+              o.b *= cb;
+              o.a *= ca;
+            } else if (L.combine == Combine::modulate) {
+              const float k = L.scale / 255.0f;
+              o.r *= s.r * k;
+              o.g *= s.g * k;
+              o.b *= s.b * k;
+              o.a *= s.a / 255.0f;
+            } else {
+              o.r += s.r * L.scale;
+              o.g += s.g * L.scale;
+              o.b += s.b * L.scale;
+              o.a *= s.a / 255.0f;
+            }
+          }
+          first = false;
+        }
+        if (first) {  // no layers: the pass colour alone
+          for (int p = 0; p < 4; ++p) {
+            c[p].r *= cr;
+            c[p].g *= cg;
+            c[p].b *= cb;
+            c[p].a *= ca;
+          }
+        }
+
         for (int p = 0; p < 4; ++p) {
           if (!(live & (1u << p))) continue;
           const int x = qx + (p & 1), y = qy + (p >> 1);
-          detail::Rgba c{255, 255, 255, 255};
-          if (diffuse) c = detail::sample(*diffuse, u[p], v[p], dd, m_settings.max_anisotropy, lines, m_cur.samples);
-          c.r *= cr;
-          c.g *= cg;
-          c.b *= cb;
-          c.a *= ca;
-          if (lightmap) {
-            const detail::Rgba l = detail::sample(*lightmap, lu[p], lv[p], dl, m_settings.max_anisotropy, lines, m_cur.samples);
-            const float k = mat.lightmap_scale / 255.0f;
-            c.r *= l.r * k;
-            c.g *= l.g * k;
-            c.b *= l.b * k;
-          }
-          if (mat.alpha_test && c.a < cutoff255) continue;  // discard
+          if (!alpha_passes(pass.alpha_func, c[p].a, ref255)) continue;  // discard
           const size_t pix = size_t(y) * m_frame_w + x;
           const uint32_t line = line_of_pixel(x, y);
-          if (!early_z) {
+          if (!early_z && test_depth) {
             m_cur.depth_read_mask |= 1u << line;
-            if (z[p] >= m_depth[pix]) continue;
+            if (!depth_passes(pass.depth_func, z[p], m_depth[pix])) continue;
           }
-          m_depth[pix] = z[p];
+          if (pass.depth_write) {
+            m_depth[pix] = z[p];
+            m_cur.depth_write_mask |= 1u << line;
+          }
           uint8_t* out = m_colour + pix * 4;
-          out[0] = quantize(c.r);
-          out[1] = quantize(c.g);
-          out[2] = quantize(c.b);
-          out[3] = quantize(c.a);
+          detail::Rgba src = c[p];
+          if (blended) {
+            // Blending on the unorm frame: the shader's colour is clamped
+            // to [0, 1] first (GL 4.5 Section 17.3.6).
+            src = {std::clamp(src.r, 0.0f, 255.0f), std::clamp(src.g, 0.0f, 255.0f), std::clamp(src.b, 0.0f, 255.0f),
+                   std::clamp(src.a, 0.0f, 255.0f)};
+            const detail::Rgba dst{float(out[0]), float(out[1]), float(out[2]), float(out[3])};
+            detail::Rgba r;
+            r.r = src.r * blend_factor(pass.src, src, dst, 0) + dst.r * blend_factor(pass.dst, src, dst, 0);
+            r.g = src.g * blend_factor(pass.src, src, dst, 1) + dst.g * blend_factor(pass.dst, src, dst, 1);
+            r.b = src.b * blend_factor(pass.src, src, dst, 2) + dst.b * blend_factor(pass.dst, src, dst, 2);
+            r.a = src.a * blend_factor(pass.src, src, dst, 3) + dst.a * blend_factor(pass.dst, src, dst, 3);
+            src = r;
+          }
+          if (reads_colour) m_cur.colour_read_mask |= 1u << line;
+          out[0] = quantize(src.r);
+          out[1] = quantize(src.g);
+          out[2] = quantize(src.b);
+          out[3] = quantize(src.a);
           m_ids[pix] = t.object;
-          m_cur.write_mask |= 1u << line;
+          m_cur.colour_write_mask |= 1u << line;
           ++m_cur.passed;
         }
         if (record) m_quad_lines.flush(m_out->lines);
@@ -480,9 +593,8 @@ class TileRasterizer {
     return uint8_t(c + 0.5f);
   }
 
-  const Scene& m_scene;
   const std::vector<SetupTri>& m_tris;
-  const std::vector<detail::SamplerTexture>& m_textures;
+  const std::vector<PreparedPass>& m_passes;
   const PipelineSettings& m_settings;
   int m_block_w, m_block_h, m_frame_w;
   uint8_t* m_colour;
@@ -510,6 +622,7 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view,
   trace.tiles_x = (view.frame_width + kTileSize - 1) / kTileSize;
   trace.tiles_y = (view.frame_height + kTileSize - 1) / kTileSize;
   trace.line_bytes = settings.line_bytes;
+  trace.texture_format = settings.texture_format;
   line_block_shape(settings.line_bytes, trace.block_w, trace.block_h);
   trace.objects.resize(scene.objects.size());
 
@@ -562,14 +675,32 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view,
   result.object_id.assign(depth.size(), kNoObject);
   std::vector<detail::SamplerTexture> textures;
   textures.reserve(scene.textures.size());
-  for (size_t i = 0; i < scene.textures.size(); ++i)
-    textures.emplace_back(uint32_t(i), scene.textures[i], trace.block_w, trace.block_h);
+  for (size_t i = 0; i < scene.textures.size(); ++i) {
+    int bw = 0, bh = 0;
+    texture_line_shape(scene.textures[i], settings.texture_format, settings.line_bytes, bw, bh);
+    textures.emplace_back(uint32_t(i), scene.textures[i], bw, bh);
+  }
+  // Each draw's pass, its layers' coordinate transforms at this frame's time.
+  const double seconds = scene.camera.seconds(frame);
+  std::vector<PreparedPass> passes(scene.objects.size());
+  for (size_t o = 0; o < scene.objects.size(); ++o) {
+    const Pass& pass = scene.pass_of(scene.objects[o]);
+    PreparedPass& pp = passes[o];
+    pp.pass = &pass;
+    for (const TextureLayer& l : pass.layers) {
+      const UvTransform xf = l.transform(seconds);
+      const bool lm = l.coords == TexCoords::lightmap;
+      pp.layers.push_back({&textures[size_t(l.texture)], lm, !xf.identity(), xf, l.combine, l.scale});
+      pp.lightmap_coords = pp.lightmap_coords || lm;
+    }
+    trace.objects[o].fragment_instructions = fragment_instructions(pass);
+    trace.objects[o].texture_layers = uint32_t(pass.layers.size());
+  }
   std::vector<TileRasterizer::Output> outputs(bins.size());
   parallel_for(bins.size(), threads, [&](size_t i) {
     if (bins[i].empty()) return;
-    TileRasterizer r(scene, tris, textures, settings, trace.block_w, trace.block_h,
-                     view.frame_width, result.colour.rgba.data(), depth.data(),
-                     result.object_id.data());
+    TileRasterizer r(tris, passes, settings, trace.block_w, trace.block_h, view.frame_width,
+                     result.colour.rgba.data(), depth.data(), result.object_id.data());
     r.run(int(i % size_t(tiles_x)), int(i / size_t(tiles_x)), bins[i], outputs[i]);
   });
 

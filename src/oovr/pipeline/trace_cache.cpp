@@ -22,7 +22,7 @@ namespace {
 
 constexpr char kMagic[8] = {'O', 'O', 'V', 'R', 'T', 'R', 'C', '1'};
 // Bump when the trace's meaning or layout changes.
-constexpr uint32_t kFormat = 1;
+constexpr uint32_t kFormat = 2;
 
 struct Hasher {
   uint64_t h = 1469598103934665603ull;
@@ -102,8 +102,10 @@ uint64_t build_fingerprint() {
 uint64_t scene_fingerprint(const Scene& s) {
   Hasher h;
   h.str(s.name);
+  h.pod(s.camera.frames_per_second);
   for (const auto& t : s.textures) {
     h.pod(t.wrap);
+    h.pod(t.compress);
     h.pod(t.mipmapped);
     for (const auto& l : t.levels) {
       h.pod(l.width);
@@ -112,13 +114,32 @@ uint64_t scene_fingerprint(const Scene& s) {
     }
   }
   for (const auto& m : s.materials) {
-    h.pod(m.diffuse);
-    h.pod(m.lightmap);
-    h.pod(m.colour);
-    h.pod(m.lightmap_scale);
-    h.pod(m.alpha_test);
-    h.pod(m.alpha_cutoff);
     h.pod(m.two_sided);
+    h.pod(m.passes.size());
+    for (const Pass& p : m.passes) {
+      h.pod(p.layers.size());
+      for (const TextureLayer& l : p.layers) {
+        h.pod(l.kind);
+        h.pod(l.texture);
+        h.pod(l.coords);
+        h.pod(l.combine);
+        h.pod(l.scale);
+        h.pod(l.mods.size());
+        for (const TexMod& mod : l.mods) {
+          h.pod(mod.kind);
+          h.pod(mod.s);
+          h.pod(mod.t);
+        }
+      }
+      h.pod(p.shading);
+      h.pod(p.colour);
+      h.pod(p.src);
+      h.pod(p.dst);
+      h.pod(p.alpha_func);
+      h.pod(p.alpha_ref);
+      h.pod(p.depth_func);
+      h.pod(p.depth_write);
+    }
   }
   for (const auto& m : s.meshes) {
     h.bytes(m.vertices.data(), m.vertices.size() * sizeof(Vertex));
@@ -127,6 +148,7 @@ uint64_t scene_fingerprint(const Scene& s) {
   for (const auto& o : s.objects) {
     h.pod(o.mesh);
     h.pod(o.material);
+    h.pod(o.pass);
     h.pod(o.world_from_object);
   }
   return h.h;
@@ -163,6 +185,7 @@ std::string TraceCache::key(uint64_t fingerprint, int frame, const StereoView& v
   }
   h.pod(s.max_anisotropy);
   h.pod(s.line_bytes);
+  h.pod(s.texture_format);
   h.pod(s.record_texture_lines);
   char buf[32];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h.h));
@@ -181,6 +204,7 @@ std::string serialize_trace(const FrameTrace& t) {
   put(out, t.line_bytes);
   put(out, t.block_w);
   put(out, t.block_h);
+  put(out, t.texture_format);
   put_vector(out, t.objects);
   put_vector(out, t.tiles);
   put_vector(out, t.tex_lines);
@@ -195,10 +219,11 @@ std::optional<FrameTrace> deserialize_trace(const std::string& bytes) {
   uint32_t format = 0;
   if (!r.get(format) || format != kFormat) return std::nullopt;
   if (!(r.get(t.frame) && r.get(t.frame_width) && r.get(t.frame_height) && r.get(t.tile_size) && r.get(t.tiles_x) &&
-        r.get(t.tiles_y) && r.get(t.line_bytes) && r.get(t.block_w) && r.get(t.block_h) && r.get_vector(t.objects) &&
+        r.get(t.tiles_y) && r.get(t.line_bytes) && r.get(t.block_w) && r.get(t.block_h) && r.get(t.texture_format) && r.get_vector(t.objects) &&
         r.get_vector(t.tiles) && r.get_vector(t.tex_lines) && r.done()))
     return std::nullopt;
   // Reject anything a reader could trip over.
+  if (uint8_t(t.texture_format) > uint8_t(TextureFormat::bc)) return std::nullopt;
   for (const TileWork& w : t.tiles)
     if (w.object >= t.objects.size() || w.eye > 1 || w.tile_x >= t.tiles_x || w.tile_y >= t.tiles_y ||
         w.tex_begin + w.tex_count > t.tex_lines.size())

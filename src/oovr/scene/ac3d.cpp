@@ -255,17 +255,15 @@ class Ac3dParser {
       }
     }
     if (mesh.indices.empty()) return;
-    Material m;
-    m.name = texture.empty() ? "untextured" : texture;
+    Material m = Material::textured(texture.empty() ? "untextured" : texture, texture.empty() ? -1 : texture_index(texture));
     m.two_sided = two_sided;
     const int mat = surfs.front().mat;
     if (!texture.empty()) {
-      m.diffuse = texture_index(texture);
       // Images with transparent texels (foliage, fences) are cut out with
       // the alpha test, as TORCS draws them.
-      m.alpha_test = m_has_alpha[size_t(m.diffuse)];
+      if (m_has_alpha[size_t(m.pass().layers[0].texture)]) m.pass().alpha_func = AlphaFunc::gequal;
     } else if (mat >= 0 && size_t(mat) < m_material_colours.size()) {
-      m.colour = m_material_colours[size_t(mat)];
+      m.pass().colour = m_material_colours[size_t(mat)];
     }
     m_scene.meshes.push_back(std::move(mesh));
     m_scene.materials.push_back(m);

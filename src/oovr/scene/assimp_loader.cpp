@@ -113,31 +113,32 @@ class AssimpLoader {
     if (index >= m_material_of.size()) throw Error("cannot load '" + m_path + "': a mesh names a missing material");
     if (m_material_of[index] >= 0) return m_material_of[index];
     const aiMaterial* am = m_ai->mMaterials[index];
-    Material m;
+    Material m = Material::textured("", -1);
+    Pass& pass = m.pass();
     aiString name;
     if (am->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
     aiColor4D colour;
     if (am->Get(AI_MATKEY_BASE_COLOR, colour) == AI_SUCCESS || am->Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS)
-      m.colour = {std::clamp(colour.r, 0.0f, 1.0f), std::clamp(colour.g, 0.0f, 1.0f),
+      pass.colour = {std::clamp(colour.r, 0.0f, 1.0f), std::clamp(colour.g, 0.0f, 1.0f),
                   std::clamp(colour.b, 0.0f, 1.0f), std::clamp(colour.a, 0.0f, 1.0f)};
     int two_sided = 0;
     if (am->Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.two_sided = two_sided != 0;
     aiString alpha_mode;
     if (am->Get(AI_MATKEY_GLTF_ALPHAMODE, alpha_mode) == AI_SUCCESS && std::strcmp(alpha_mode.C_Str(), "MASK") == 0) {
-      m.alpha_test = true;
+      pass.alpha_func = AlphaFunc::gequal;
       float cutoff = 0.5f;
       am->Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff);
-      m.alpha_cutoff = cutoff;
+      pass.alpha_ref = cutoff;
     }
     aiString tex;
     if (am->GetTexture(aiTextureType_BASE_COLOR, 0, &tex) == AI_SUCCESS ||
         am->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS) {
-      m.diffuse = texture(tex.C_Str(), m.name);
+      pass.layers.push_back({LayerKind::diffuse, texture(tex.C_Str(), m.name), TexCoords::surface, Combine::modulate, 1.0f, {}});
       // A textured material's diffuse colour in OBJ files is usually a
       // default that engines ignore when a texture is bound; keep it only
       // for glTF, where base colour factor multiplies the texture by spec.
       const std::string ext = lower(fs::path(m_path).extension().string());
-      if (ext != ".gltf" && ext != ".glb") m.colour = {1, 1, 1, m.colour.w};
+      if (ext != ".gltf" && ext != ".glb") pass.colour = {1, 1, 1, pass.colour.w};
     }
     m_scene.materials.push_back(m);
     m_material_of[index] = int(m_scene.materials.size()) - 1;

@@ -216,22 +216,25 @@ class MapBuilder {
   int material(const BspMap& bsp, int shader_index, int lightmap) {
     const BspShaderRef& ref = bsp.shaders[size_t(shader_index)];
     const Q3Shader* sh = shader(ref.name);
-    Material m;
-    m.name = ref.name + (lightmap >= 0 ? " lm" + std::to_string(lightmap) : "");
+    int diffuse;
     // A shader's chosen stage image; without one, the shader name itself.
     auto image = sh ? find_image(sh->image) : std::nullopt;
     if (!image) image = find_image(ref.name);
     if (image) {
-      m.diffuse = texture_for_image(*image, sh && sh->clamp);
+      diffuse = texture_for_image(*image, sh && sh->clamp);
     } else {
-      m.diffuse = missing();
+      diffuse = missing();
       if (std::find(m_missing.begin(), m_missing.end(), ref.name) == m_missing.end()) m_missing.push_back(ref.name);
     }
-    if (lightmap >= 0) m.lightmap = lightmap_texture(bsp, lightmap);  // already overbright-shifted
+    // Lightmaps are already overbright-shifted.
+    Material m = Material::textured(ref.name + (lightmap >= 0 ? " lm" + std::to_string(lightmap) : ""), diffuse,
+                                    lightmap >= 0 ? lightmap_texture(bsp, lightmap) : -1);
     if (sh) {
       m.two_sided = sh->two_sided;
-      m.alpha_test = sh->alpha_test;
-      m.alpha_cutoff = sh->alpha_cutoff;
+      if (sh->alpha_test) {
+        m.pass().alpha_func = AlphaFunc::gequal;
+        m.pass().alpha_ref = sh->alpha_cutoff;
+      }
       m_blended += sh->blended;
     }
     m_scene.materials.push_back(m);

@@ -1,5 +1,7 @@
 #include "oovr/scene/scene.h"
 
+#include <algorithm>
+
 #include "oovr/core/error.h"
 
 namespace oovr {
@@ -24,10 +26,28 @@ uint64_t Scene::texture_bytes() const {
 
 std::vector<int> Scene::textures_of(const Object& o) const {
   std::vector<int> t;
-  const Material& m = materials[size_t(o.material)];
-  if (m.diffuse >= 0) t.push_back(m.diffuse);
-  if (m.lightmap >= 0) t.push_back(m.lightmap);
+  for (const TextureLayer& l : pass_of(o).layers)
+    if (l.texture >= 0 && std::find(t.begin(), t.end(), l.texture) == t.end()) t.push_back(l.texture);
   return t;
+}
+
+uint32_t Scene::add_draws(const std::string& object_name, int mesh, int material, const Mat4& world_from_object,
+                          std::vector<uint32_t> after) {
+  const uint32_t first = uint32_t(objects.size());
+  const size_t passes = materials.at(size_t(material)).passes.size();
+  for (size_t p = 0; p < passes; ++p) {
+    Object o;
+    o.name = passes > 1 ? object_name + " pass " + std::to_string(p) : object_name;
+    o.mesh = mesh;
+    o.material = material;
+    o.pass = int(p);
+    o.world_from_object = world_from_object;
+    // A later pass blends over the earlier ones: it must follow them
+    // (OO-VR's middleware keeps them in one batch, Section 5.1).
+    o.after = p == 0 ? after : std::vector<uint32_t>{uint32_t(objects.size()) - 1};
+    objects.push_back(std::move(o));
+  }
+  return first;
 }
 
 void Scene::validate() const {
@@ -41,8 +61,12 @@ void Scene::validate() const {
         throw Error(where("texture '" + t.name + "' has a level of the wrong size"));
   }
   for (const auto& m : materials) {
-    if (m.diffuse >= int(textures.size()) || m.lightmap >= int(textures.size()))
-      throw Error(where("material '" + m.name + "' names a texture that does not exist"));
+    if (m.passes.empty()) throw Error(where("material '" + m.name + "' has no pass"));
+    for (const Pass& p : m.passes)
+      for (const TextureLayer& l : p.layers)
+        if (l.texture < 0 || l.texture >= int(textures.size()))
+          throw Error(where("material '" + m.name + "' has a " + layer_kind_name(l.kind) +
+                            " layer naming a texture that does not exist"));
   }
   for (const auto& mesh : meshes) {
     if (mesh.indices.size() % 3 != 0)
@@ -57,6 +81,8 @@ void Scene::validate() const {
       throw Error(where("object '" + o.name + "' names a mesh that does not exist"));
     if (o.material < 0 || o.material >= int(materials.size()))
       throw Error(where("object '" + o.name + "' names a material that does not exist"));
+    if (o.pass < 0 || o.pass >= int(materials[size_t(o.material)].passes.size()))
+      throw Error(where("object '" + o.name + "' draws a pass its material does not have"));
     for (uint32_t p : o.after)
       if (p >= k) throw Error(where("object '" + o.name + "' must follow a draw that is not before it"));
   }

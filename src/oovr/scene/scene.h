@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "oovr/core/math.h"
+#include "oovr/scene/material.h"
 #include "oovr/scene/texture.h"
 
 namespace oovr {
@@ -30,20 +31,6 @@ struct Mesh {
   uint64_t triangle_count() const { return indices.size() / 3; }
 };
 
-struct Material {
-  std::string name;
-  int diffuse = -1;   // index into Scene::textures, -1 = none (white)
-  int lightmap = -1;  // index into Scene::textures, -1 = none
-  // Colour multiplier applied to every fragment (RGBA, linear 0..1).
-  Vec4 colour{1, 1, 1, 1};
-  // Lightmap texels are multiplied by this before modulating (Quake 3 maps
-  // use overbright lightmaps, i.e. a scale of 2 or 4).
-  float lightmap_scale = 1.0f;
-  bool alpha_test = false;    // discard fragments whose alpha < alpha_cutoff
-  float alpha_cutoff = 0.5f;  // OpenGL-style alpha test reference
-  bool two_sided = false;     // no back-face culling
-};
-
 struct Object {
   std::string name;
   int mesh = 0;
@@ -55,6 +42,7 @@ struct Object {
   // them (draw order already respects them); OO-VR's middleware keeps such
   // objects in one batch, in this order (paper Section 5.1).
   std::vector<uint32_t> after = {};
+  int pass = 0;  // which of the material's passes this draw draws
 };
 
 // One camera pose of a path: the head (centre between the eyes).
@@ -69,6 +57,11 @@ struct CameraPath {
   float fov_y_degrees = 90.0f;  // vertical field of view of each eye
   float z_near = 0.05f;
   float z_far = 500.0f;
+  // Frames per second of the path: frame f is shown at f / rate seconds
+  // (animated texture coordinates use it).
+  float frames_per_second = 60.0f;
+
+  double seconds(int frame) const { return double(frame) / double(frames_per_second); }
 };
 
 struct Scene {
@@ -86,8 +79,13 @@ struct Scene {
   uint64_t triangle_count() const;
   uint64_t vertex_count() const;
   uint64_t texture_bytes() const;
-  // Texture indices an object samples (diffuse, then lightmap when present).
+  // Texture indices an object's pass samples, in layer order, each once.
   std::vector<int> textures_of(const Object& o) const;
+  const Pass& pass_of(const Object& o) const { return materials[size_t(o.material)].passes[size_t(o.pass)]; }
+  // Appends one object per pass of `material` (drawn in pass order, each
+  // after the one before) and returns the first one's index.
+  uint32_t add_draws(const std::string& object_name, int mesh, int material, const Mat4& world_from_object,
+                     std::vector<uint32_t> after = {});
   // Throws Error when an index is out of range or a mesh is malformed, so a
   // loader bug or a bad file cannot crash the pipeline later.
   void validate() const;

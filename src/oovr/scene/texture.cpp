@@ -57,6 +57,7 @@ Texture make_texture(std::string name, std::string source, int width, int height
   base.width = width;
   base.height = height;
   base.rgba = std::move(rgba);
+  for (size_t i = 3; i < base.rgba.size() && t.opaque; i += 4) t.opaque = base.rgba[i] == 255;
   t.levels.push_back(std::move(base));
   if (mipmapped) build_mip_chain(t);
   return t;

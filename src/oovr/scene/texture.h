@@ -23,6 +23,13 @@ struct Texture {
   // Sampled with trilinear mip filtering when true; bilinear on level 0 only
   // when false (e.g. Quake 3 lightmaps are not mip-mapped).
   bool mipmapped = true;
+  // Every base texel has alpha 255 (set by make_texture). A block-compressed
+  // store keeps such an image in BC1 and one with alpha in BC3.
+  bool opaque = true;
+  // Whether a block-compressed store compresses it: engines upload
+  // lightmaps and deluxe maps uncompressed (ioquake3's R_LoadLightmaps,
+  // DarkPlaces' lightmap textures).
+  bool compress = true;
   std::vector<MipLevel> levels;  // levels[0] is the base image
 
   int width() const { return levels.empty() ? 0 : levels[0].width; }

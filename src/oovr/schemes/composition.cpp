@@ -42,12 +42,12 @@ void Composer::target(FrameSim::TileJob& job) const {
 uint64_t Composer::bytes(const TileWork& r) const {
   const uint64_t payloads = m_spec.depth ? 2 : 1;
   if (m_spec.per_pixel) return uint64_t(r.passed) * 4 * payloads;
-  return uint64_t(std::popcount(r.write_mask)) * m_sim.frame().line_bytes * payloads;
+  return uint64_t(std::popcount(r.colour_write_mask)) * m_sim.frame().line_bytes * payloads;
 }
 
 uint64_t Composer::pixels(const TileWork& r) const {
   if (m_spec.per_pixel) return r.passed;
-  return uint64_t(std::popcount(r.write_mask)) * (m_sim.frame().line_bytes / 4);
+  return uint64_t(std::popcount(r.colour_write_mask)) * (m_sim.frame().line_bytes / 4);
 }
 
 void Composer::send(const FrameSim::TileJob& job, int unit) {

@@ -157,12 +157,15 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
   for (uint32_t k = 0; k < r.tex_count; ++k)
     m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + k]), Category::texture, false});
   for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
-    if (r.depth_read_mask & (1u << l))
+    const uint32_t bit = 1u << l;
+    if (r.depth_read_mask & bit)
       m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, false});
-    if (r.write_mask & (1u << l)) {
+    if (r.colour_read_mask & bit)  // blending reads the frame's colour
+      m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, false});
+    if (r.depth_write_mask & bit)
       m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, true});
+    if (r.colour_write_mask & bit)
       m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, true});
-    }
   }
   UnitTraffic t = empty_traffic();
   const uint32_t tile = uint32_t(r.tile_y) * uint32_t(frame.tiles_x) + r.tile_x;
@@ -174,6 +177,7 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
   total += t;
   w.covered += r.covered;
   w.quads += r.quads;
+  w.fragment_instructions += uint64_t(r.quads) * 4 * frame.objects[r.object].fragment_instructions;
   w.samples += r.samples;
   w.passed += r.passed;
 }

@@ -21,7 +21,9 @@ TimingSpec TimingSpec::from_config(const Config& c) {
   s.raster_fragments_per_clock = positive("gpm.raster_fragments_per_clock", d.raster_fragments_per_clock);
   s.setup_triangles_per_clock = positive("gpm.setup_triangles_per_clock", d.setup_triangles_per_clock);
   s.vertex_instructions = positive("shader.vertex_instructions", d.vertex_instructions);
-  s.fragment_instructions = positive("shader.fragment_instructions", d.fragment_instructions);
+  s.fragment_instructions = int(c.get_int("shader.fragment_instructions", d.fragment_instructions));
+  if (s.fragment_instructions < 0 || s.fragment_instructions > 1000000)
+    throw Error("configuration key 'shader.fragment_instructions' must be from 0 (each pass's own) to 1000000");
   s.triangle_bytes = positive("shader.triangle_bytes", d.triangle_bytes);
   s.requests_in_flight = int(c.get_int("gpm.requests_in_flight", d.requests_in_flight));
   if (s.requests_in_flight < 0 || s.requests_in_flight > 1000000)
@@ -71,8 +73,9 @@ MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, c
 std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCounts& w, const UnitTraffic& t) const {
   const Gpm& r = m_gpm[size_t(gpm)];
   std::vector<std::pair<int, double>> d;
-  const double instructions = double(w.vertices) * m_timing.vertex_instructions +
-                              double(w.quads) * 4.0 * m_timing.fragment_instructions;
+  const double fragment = m_timing.fragment_instructions > 0 ? double(w.quads) * 4.0 * m_timing.fragment_instructions
+                                                             : double(w.fragment_instructions);
+  const double instructions = double(w.vertices) * m_timing.vertex_instructions + fragment;
   if (instructions > 0) d.push_back({r.shader, instructions});
   if (w.samples) d.push_back({r.texture, double(w.samples)});
   if (w.covered) d.push_back({r.raster, double(w.covered)});

@@ -24,7 +24,9 @@ struct TimingSpec {
   int raster_fragments_per_clock = 32;  // per GPM (assumed: two raster engines of 16)
   int setup_triangles_per_clock = 2;    // per GPM (assumed: one per raster engine)
   int vertex_instructions = 32;       // per vertex (assumed)
-  int fragment_instructions = 32;     // per fragment lane (assumed)
+  // Per fragment lane; 0 = each draw's own, from what its pass samples and
+  // computes (pipeline/shader_cost.h). A positive value overrides them all.
+  int fragment_instructions = 0;
   int triangle_bytes = 96;            // a set-up triangle sent to another GPM (3 x 32 B, assumed)
   // Reads a GPM keeps outstanding, per SM (Little's law: at most this many
   // per latency); 0 for no limit. Accel-Sim's TITAN X (Pascal) texture
@@ -48,6 +50,9 @@ struct WorkCounts {
   uint64_t triangles = 0;  // triangles set up (per eye they are projected into)
   uint64_t covered = 0;    // fragments rasterised (and depth-tested)
   uint64_t quads = 0;      // 2x2 quads shaded
+  // Fragment lane instructions of those quads (4 lanes a quad, each the
+  // instructions of its draw's pass).
+  uint64_t fragment_instructions = 0;
   uint64_t samples = 0;    // bilinear texture lookups
   uint64_t passed = 0;     // fragments written by the ROPs
   uint64_t composed = 0;   // pixels merged by composition on the ROPs

@@ -81,18 +81,8 @@ Scene make_courtyard() {
   const int t_leaves = b.texture(leaves(256, 909));
   const int t_sky = b.texture(sky(512, 1010));
 
-  Material m;
-  m.name = "cobbles";
-  m.diffuse = t_cobbles;
-  m.lightmap = t_light;
-  m.lightmap_scale = 2.0f;
-  const int mat_ground = b.material(m);
-  const auto simple = [&](const char* name, int tex) {
-    Material s;
-    s.name = name;
-    s.diffuse = tex;
-    return b.material(s);
-  };
+  const int mat_ground = b.material(Material::textured("cobbles", t_cobbles, t_light, 2.0f));
+  const auto simple = [&](const char* name, int tex) { return b.material(Material::textured(name, tex)); };
   const int mat_brick = simple("brick", t_brick);
   const int mat_stone = simple("stone", t_stone);
   const int mat_marble = simple("marble", t_marble);
@@ -100,11 +90,9 @@ Scene make_courtyard() {
   const int mat_water = simple("water", t_water);
   const int mat_wood = simple("wood", t_wood);
   const int mat_bark = simple("bark", t_bark);
-  Material leaf;
-  leaf.name = "leaves";
-  leaf.diffuse = t_leaves;
-  leaf.alpha_test = true;
-  leaf.alpha_cutoff = 0.5f;
+  Material leaf = Material::textured("leaves", t_leaves);
+  leaf.pass().alpha_func = AlphaFunc::gequal;
+  leaf.pass().alpha_ref = 0.5f;
   leaf.two_sided = true;
   const int mat_leaves = b.material(leaf);
 
@@ -175,10 +163,8 @@ Scene make_courtyard() {
                                  {110, 40, 140}, {20, 120, 130}, {160, 80, 20}, {60, 60, 60}};
   const int banner_mesh = b.mesh(wall(2.0f, 3.0f, 1, 2, 1, 1));
   for (int i = 0; i < 8; ++i) {
-    Material bm;
-    bm.name = "banner-" + std::to_string(i);
-    bm.diffuse = b.texture(cloth(128, 1000 + uint64_t(i), colours[i][0], colours[i][1], colours[i][2]));
-    const int mat = b.material(bm);
+    const int mat = b.material(Material::textured(
+        "banner-" + std::to_string(i), b.texture(cloth(128, 1000 + uint64_t(i), colours[i][0], colours[i][1], colours[i][2]))));
     const float side = float(i % 4), along = (i < 4) ? -6.0f : 6.0f;
     const Mat4 t = rotate({0, 1, 0}, kPi * 0.5f * side) * translate({along, 2.0f, -kHalf + 0.03f});
     // Banners hang 3 cm in front of their wall, as decals: after the wall.

@@ -20,19 +20,11 @@ Scene make_crowd() {
   const uint8_t shirts[4][3] = {{200, 40, 40}, {40, 90, 200}, {230, 200, 60}, {60, 160, 80}};
   int person_mat[4];
   for (int i = 0; i < 4; ++i) {
-    Material m;
-    m.name = "person-" + std::to_string(i);
-    m.diffuse = b.texture(fabric_person(256, 20 + uint64_t(i), shirts[i][0], shirts[i][1], shirts[i][2]));
-    person_mat[i] = b.material(m);
+    person_mat[i] = b.material(Material::textured(
+        "person-" + std::to_string(i), b.texture(fabric_person(256, 20 + uint64_t(i), shirts[i][0], shirts[i][1], shirts[i][2]))));
   }
-  Material g;
-  g.name = "grass";
-  g.diffuse = t_grass;
-  const int mat_grass = b.material(g);
-  Material lm;
-  lm.name = "lamp";
-  lm.diffuse = t_metal;
-  const int mat_lamp = b.material(lm);
+  const int mat_grass = b.material(Material::textured("grass", t_grass));
+  const int mat_lamp = b.material(Material::textured("lamp", t_metal));
 
   b.object("field", b.mesh(grid(40, 40, 24, 24, 16, 16)), mat_grass, Mat4::identity());
 
@@ -64,10 +56,7 @@ Scene make_crowd() {
     b.object("lamp-" + std::to_string(i), lamp_mesh, mat_lamp, translate({x, 0, z}));
   }
 
-  Material sm;
-  sm.name = "sky";
-  sm.diffuse = b.texture(sky(512, 13));
-  b.object("sky", b.mesh(dome(80.0f, 48, 12)), b.material(sm), Mat4::identity());
+  b.object("sky", b.mesh(dome(80.0f, 48, 12)), b.material(Material::textured("sky", b.texture(sky(512, 13)))), Mat4::identity());
 
   // Camera: a slow walk along the crowd's edge at head height, looking across it.
   CameraPath& cam = b.scene().camera;

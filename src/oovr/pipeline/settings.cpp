@@ -1,0 +1,37 @@
+#include "oovr/core/config_sections.h"
+#include "oovr/core/error.h"
+#include "oovr/pipeline/pipeline.h"
+
+namespace oovr {
+
+const char* texture_format_name(TextureFormat f) {
+  switch (f) {
+    case TextureFormat::rgba8: return "rgba8";
+    case TextureFormat::bc1: return "bc1";
+    case TextureFormat::bc3: return "bc3";
+    case TextureFormat::bc: return "bc";
+  }
+  return "?";
+}
+
+TextureFormat parse_texture_format(const std::string& name) {
+  for (TextureFormat f : {TextureFormat::rgba8, TextureFormat::bc1, TextureFormat::bc3, TextureFormat::bc})
+    if (name == texture_format_name(f)) return f;
+  throw Error("unknown texture format '" + name + "': expected rgba8, bc1, bc3 or bc");
+}
+
+PipelineSettings PipelineSettings::from_config(const Config& c) {
+  PipelineSettings s;
+  s.texture_format = parse_texture_format(c.get_choice("pipeline.texture_format", texture_format_name(s.texture_format),
+                                                       {"rgba8", "bc1", "bc3", "bc"}));
+  return s;
+}
+
+namespace {
+
+const ConfigSections::Add reg("pipeline", {"how the functional pipeline stores textures",
+                                           [](const Config& c) { (void)PipelineSettings::from_config(c); }});
+
+}  // namespace
+
+}  // namespace oovr

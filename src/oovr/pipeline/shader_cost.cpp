@@ -1,0 +1,26 @@
+#include "oovr/pipeline/shader_cost.h"
+
+namespace oovr {
+
+uint32_t fragment_instructions(const Pass& pass) {
+  using C = FragmentCosts;
+  uint32_t n = C::setup + C::output;
+  for (size_t i = 0; i < pass.layers.size(); ++i) {
+    const TextureLayer& l = pass.layers[i];
+    n += C::coordinates + C::lookup;
+    // A static or a moving transform costs the same; only modifiers that
+    // do nothing are free (the compiler drops them).
+    bool transformed = false;
+    for (const TexMod& m : l.mods)
+      transformed = transformed || (m.kind == TexMod::Kind::scale ? (m.s != 1 || m.t != 1) : (m.s != 0 || m.t != 0));
+    if (transformed) n += C::transform;
+    if (l.scale != 1.0f) n += C::scale;
+    if (i > 0) n += C::combine;
+  }
+  const Vec4& c = pass.colour;
+  if (!(c.x == 1 && c.y == 1 && c.z == 1 && c.w == 1)) n += C::colour;
+  if (pass.alpha_tested()) n += C::alpha_test;
+  return n;
+}
+
+}  // namespace oovr
