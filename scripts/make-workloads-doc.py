@@ -94,15 +94,23 @@ model's polygon objects, as TORCS draws them.
 
 - **OpenArena**: every .pk3 of the game directory in engine order (later archives override
   earlier ones); `maps/MAP.bsp` parsed by oovr's own IBSP 46 reader; shader names resolved
-  through `scripts/*.shader` (the first stage that samples an image; `clampmap`, `animMap` frame
-  0, `alphaFunc`, `cull none`, `tcMod scale`, `surfaceparm nodraw`, `fogparms`), then .jpg, .tga
-  or .png; lightmaps from the lightmap lump with Quake 3's overbright shift (x4, hue-preserving
-  clamp, as ioquake3 does without hardware gamma). Polygons, meshes and Bezier patches are drawn;
-  billboards (flares), nodraw and fog surfaces are skipped and counted in the loader notes.
-  Quake units (inches) become metres, z-up becomes y-up. Textures are shared by image: one
-  texture, many objects. Not modelled: multi-stage effects (only the first stage with an image is
-  drawn, opaque), vertex lighting (vertex-lit surfaces are drawn unlit), and the sky box (sky
-  surfaces show the sky shader's first layer on their own texture coordinates).
+  through `scripts/*.shader`, every stage as ioquake3 parses it (`map`, `clampMap`, `animMap` frame
+  0, `$lightmap`, `blendFunc`, `alphaFunc`, `depthWrite`, `depthFunc`, `rgbGen`/`alphaGen const`,
+  `tcMod scale` and `scroll`, `detail`, `cull`, `sort`, `polygonOffset`, `skyParms`, `surfaceparm
+  nodraw`, `fogparms`), images as .jpg, .tga or .png; lightmaps from the lightmap lump with Quake
+  3's overbright shift (x4, hue-preserving clamp, as ioquake3 does without hardware gamma).
+  A surface group is drawn as ioquake3 draws it (`q3_passes`, scene/q3_shader.h): stages 0 and 1
+  in one multitexture pass where CollapseMultitexture allows it (the lightmap times the image,
+  the usual case), every other stage a blended pass in shader order, all with `GL_LEQUAL`; groups
+  in the order of their shaders' sort keys (sky first, opaque, decals, see-through, blended).
+  On oa_dm4, ctf_inyard and am_underworks2 that is 301, 1,311 and 382 passes for 208, 731 and 310
+  groups, against 301, 1,309 and 380 counted independently from the shader scripts. Polygons, meshes and Bezier patches are drawn; billboards
+  (flares), nodraw and fog surfaces and shaders without stages are skipped and counted in the
+  loader notes. Quake units (inches) become metres, z-up becomes y-up. Textures are shared by
+  image: one texture, many objects. Not modelled: vertex colours (vertex-lit surfaces and
+  `rgbGen vertex` stages are drawn white), waveform colours, `tcGen environment` and the `tcMod`
+  kinds other than scale and scroll (named in the loader notes), and the sky box as a cube:
+  sky surfaces draw the far box's front image, then the cloud layers, on their own coordinates.
 - **TORCS**: the track's `.acc` model (AC3D with TORCS's extra `texture` lines: the first, the
   base texture, is drawn; vertex normals and extra uv pairs are read past; triangle strips),
   textures from the track directory, then `data/textures` and `data/img` (SGI `.rgb` images by

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "oovr/core/error.h"
@@ -66,7 +67,7 @@ class MapBuilder {
     };
     std::vector<Group> groups;
     std::map<std::pair<int, int>, size_t> group_of;
-    int billboards = 0, nodraw = 0, fog = 0, patches = 0;
+    int billboards = 0, nodraw = 0, fog = 0, stageless = 0, patches = 0;
     std::vector<BspVertex> fv;
     std::vector<uint32_t> fi;
     for (size_t i = 0; i < bsp.faces.size(); ++i) {
@@ -83,6 +84,10 @@ class MapBuilder {
       }
       if (sh && sh->fog) {
         ++fog;
+        continue;
+      }
+      if (sh && sh->stages.empty() && !(sh->sky && !sh->sky_box.empty())) {
+        ++stageless;  // a script without stages draws nothing (its editor image is for the editor)
         continue;
       }
       patches += f.type == kBspPatch;
@@ -107,28 +112,37 @@ class MapBuilder {
         }
       }
       Mesh& mesh = groups[g].mesh;
-      const float ss = sh ? sh->tc_scale_s : 1.0f, ts = sh ? sh->tc_scale_t : 1.0f;
       const uint32_t base = uint32_t(mesh.vertices.size());
       for (const BspVertex& v : fv) {
         Vertex o;
         o.position = to_oovr(v.position);
-        // Quake 3 samples t = 0 at the image's top row; oovr's textures keep
-        // the bottom row first.
-        o.uv = {v.st.x * ss, 1.0f - v.st.y * ts};
+        // Quake 3's own coordinates (t = 0 at the image's top row: its
+        // images are stored top row first, below), so that tcMod works in
+        // the space the shader wrote it for.
+        o.uv = v.st;
         o.lm_uv = v.lm;
         mesh.vertices.push_back(o);
       }
       for (uint32_t k : fi) mesh.indices.push_back(base + k);
     }
 
-    std::map<std::pair<int, int>, int> material_of;
-    for (Group& g : groups) {
-      const auto key = std::make_pair(g.shader, g.lightmap);
+    // Surfaces are drawn in the order of their shaders' sort keys (sky,
+    // opaque, decals, see-through, blended...), as ioquake3's
+    // R_SortDrawSurfs; within a key, in the map's order.
+    std::map<std::pair<int, int>, std::pair<int, float>> material_of;
+    std::vector<std::pair<float, size_t>> order;
+    for (size_t k = 0; k < groups.size(); ++k) {
+      const auto key = std::make_pair(groups[k].shader, groups[k].lightmap);
       auto it = material_of.find(key);
-      if (it == material_of.end()) it = material_of.emplace(key, material(bsp, g.shader, g.lightmap)).first;
+      if (it == material_of.end()) it = material_of.emplace(key, material(bsp, groups[k].shader, groups[k].lightmap)).first;
+      order.push_back({it->second.second, k});
+    }
+    std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& [sort, k] : order) {
+      Group& g = groups[k];
       g.mesh.name = g.name;
       m_scene.meshes.push_back(std::move(g.mesh));
-      m_scene.objects.push_back({g.name, int(m_scene.meshes.size()) - 1, it->second, Mat4::identity()});
+      m_scene.add_draws(g.name, int(m_scene.meshes.size()) - 1, material_of[{g.shader, g.lightmap}].first, Mat4::identity());
     }
     if (m_scene.objects.empty()) throw Error("map '" + m_map + "' has no drawable surfaces");
 
@@ -137,6 +151,7 @@ class MapBuilder {
     if (billboards) m_scene.notes.push_back(std::to_string(billboards) + " billboard (flare) surfaces skipped");
     if (nodraw) m_scene.notes.push_back(std::to_string(nodraw) + " nodraw surfaces skipped");
     if (fog) m_scene.notes.push_back(std::to_string(fog) + " fog-volume surfaces skipped");
+    if (stageless) m_scene.notes.push_back(std::to_string(stageless) + " surfaces of shaders without stages skipped (the engine draws nothing)");
     if (patches)
       m_scene.notes.push_back(std::to_string(patches) + " Bezier patches tessellated at level " + std::to_string(m_opt.tessellation));
     if (!m_missing.empty()) {
@@ -145,7 +160,14 @@ class MapBuilder {
       if (m_missing.size() > 8) names += ", ...";
       m_scene.notes.push_back(std::to_string(m_missing.size()) + " shaders have no image in the archives and show the 'missing' texture: " + names);
     }
-    if (m_blended) m_scene.notes.push_back(std::to_string(m_blended) + " blended (translucent) shaders drawn opaque");
+    m_scene.notes.push_back(std::to_string(groups.size()) + " surface groups drawn in " + std::to_string(m_scene.objects.size()) +
+                            " passes (" + std::to_string(m_collapsed) + " with two stages in one multitexture pass, " +
+                            std::to_string(m_blended) + " sorted after the opaque ones)");
+    if (!m_unsupported.empty()) {
+      std::string kinds;
+      for (const auto& u : m_unsupported) kinds += (kinds.empty() ? "" : ", ") + u;
+      m_scene.notes.push_back("drawn without these texture-coordinate kinds: " + kinds);
+    }
     for (const auto& n : m_shaders.notes) m_scene.notes.push_back("shader script " + n);
     make_camera(bsp);
     m_scene.validate();
@@ -175,6 +197,11 @@ class MapBuilder {
     if (const auto it = m_textures.find(key); it != m_textures.end()) return it->second;
     const auto bytes = m_fs.read(vfs_path);
     MipLevel base = decode_image(bytes->data(), bytes->size(), vfs_path + " in " + m_fs.archive_of(vfs_path));
+    // Quake 3 uploads an image's top row first, so t = 0 is its top.
+    const size_t row = size_t(base.width) * 4;
+    for (int y = 0; y < base.height / 2; ++y)
+      std::swap_ranges(base.rgba.begin() + long(size_t(y) * row), base.rgba.begin() + long(size_t(y + 1) * row),
+                       base.rgba.begin() + long(size_t(base.height - 1 - y) * row));
     m_scene.textures.push_back(make_texture(vfs_path, "pk3:" + vfs_path, base.width, base.height, std::move(base.rgba),
                                             clamp ? Wrap::clamp_to_edge : Wrap::repeat));
     return m_textures[key] = int(m_scene.textures.size()) - 1;
@@ -210,35 +237,58 @@ class MapBuilder {
     m_scene.textures.push_back(make_texture("lightmap " + std::to_string(index), m_scene.name + "#lm" + std::to_string(index),
                                             kBspLightmapSize, kBspLightmapSize, std::move(rgba), Wrap::clamp_to_edge,
                                             /*mipmapped=*/false));
+    m_scene.textures.back().compress = false;  // engines upload lightmaps uncompressed
     return m_lightmaps[index] = int(m_scene.textures.size()) - 1;
   }
 
-  int material(const BspMap& bsp, int shader_index, int lightmap) {
+  // The images a surface's shader stages name, for q3_passes.
+  struct Lookup : Q3TextureLookup {
+    MapBuilder& b;
+    const BspMap& bsp;
+    std::string shader_name;
+    int lm;
+    Lookup(MapBuilder& b_, const BspMap& bsp_, std::string name, int lm_) : b(b_), bsp(bsp_), shader_name(std::move(name)), lm(lm_) {}
+    int image(const Q3Stage& st) override {
+      // A stage's image; for the implicit shader (no script), the shader
+      // name itself.
+      const auto path = b.find_image(st.image.empty() ? shader_name : st.image);
+      if (path) return b.texture_for_image(*path, st.clamp);
+      if (std::find(b.m_missing.begin(), b.m_missing.end(), shader_name) == b.m_missing.end()) b.m_missing.push_back(shader_name);
+      return b.missing();
+    }
+    int lightmap() override { return lm >= 0 ? b.lightmap_texture(bsp, lm) : -1; }  // already overbright-shifted
+  };
+
+  // The material of a (shader, lightmap) group: the passes ioquake3 draws
+  // it with, and their sort key.
+  std::pair<int, float> material(const BspMap& bsp, int shader_index, int lightmap) {
     const BspShaderRef& ref = bsp.shaders[size_t(shader_index)];
     const Q3Shader* sh = shader(ref.name);
-    int diffuse;
-    // A shader's chosen stage image; without one, the shader name itself.
-    auto image = sh ? find_image(sh->image) : std::nullopt;
-    if (!image) image = find_image(ref.name);
-    if (image) {
-      diffuse = texture_for_image(*image, sh && sh->clamp);
-    } else {
-      diffuse = missing();
-      if (std::find(m_missing.begin(), m_missing.end(), ref.name) == m_missing.end()) m_missing.push_back(ref.name);
+    Q3Shader sky;
+    if (sh && sh->sky && !sh->sky_box.empty() && find_image(sh->sky_box + "_ft")) {
+      // The far box first (its front face's image: oovr draws the sky
+      // surfaces with their own coordinates), then the cloud layers. A box
+      // whose images are not in the archives is left out.
+      sky = *sh;
+      Q3Stage box;
+      box.image = sh->sky_box + "_ft";
+      box.clamp = true;
+      sky.stages.insert(sky.stages.begin(), box);
+      sh = &sky;
     }
-    // Lightmaps are already overbright-shifted.
-    Material m = Material::textured(ref.name + (lightmap >= 0 ? " lm" + std::to_string(lightmap) : ""), diffuse,
-                                    lightmap >= 0 ? lightmap_texture(bsp, lightmap) : -1);
-    if (sh) {
-      m.two_sided = sh->two_sided;
-      if (sh->alpha_test) {
-        m.pass().alpha_func = AlphaFunc::gequal;
-        m.pass().alpha_ref = sh->alpha_cutoff;
-      }
-      m_blended += sh->blended;
-    }
-    m_scene.materials.push_back(m);
-    return int(m_scene.materials.size()) - 1;
+    Lookup lookup(*this, bsp, normalize_game_path(ref.name), lightmap);
+    const Q3Passes q = q3_passes(sh, lookup);
+    Material m;
+    m.name = ref.name + (lightmap >= 0 ? " lm" + std::to_string(lightmap) : "");
+    m.passes = q.passes;
+    m.two_sided = sh && sh->two_sided;
+    if (sh)
+      for (const Q3Stage& st : sh->stages)
+        for (const std::string& u : st.unsupported) m_unsupported.insert(u);
+    m_collapsed += q.collapsed;
+    m_blended += q.sort > q3_sort::opaque;
+    m_scene.materials.push_back(std::move(m));
+    return {int(m_scene.materials.size()) - 1, q.sort};
   }
 
   void make_camera(const BspMap& bsp) {
@@ -310,7 +360,8 @@ class MapBuilder {
   std::map<int, int> m_lightmaps;
   int m_missing_texture = -1;
   std::vector<std::string> m_missing;
-  int m_blended = 0;
+  int m_blended = 0, m_collapsed = 0;
+  std::set<std::string> m_unsupported;
 };
 
 }  // namespace
