@@ -89,9 +89,7 @@ PaperResults run_paper(const PaperOptions& o) {
         double vi = 0, fi = 0;
         for (const auto& ow : window.traces[0]->objects) vi += double(ow.vertices) * timing.vertex_instructions;
         for (const auto& tw : window.traces[0]->tiles)
-          fi += double(tw.quads) * 4.0 *
-                (timing.fragment_instructions > 0 ? timing.fragment_instructions
-                                                  : window.traces[0]->objects[tw.object].fragment_instructions);
+          fi += timing.fragment_work(tw.quads, uint64_t(tw.quads) * 4 * window.traces[0]->objects[tw.object].fragment_instructions);
         st.vertex_share = vi + fi > 0 ? vi / (vi + fi) : 0;
         res.stats[name] = st;
       }

@@ -130,19 +130,24 @@ class MapBuilder {
     // opaque, decals, see-through, blended...), as ioquake3's
     // R_SortDrawSurfs; within a key, in the map's order.
     std::map<std::pair<int, int>, std::pair<int, float>> material_of;
-    std::vector<std::pair<float, size_t>> order;
+    struct Draw {
+      float sort;
+      size_t group;
+      int material;
+    };
+    std::vector<Draw> order;
     for (size_t k = 0; k < groups.size(); ++k) {
       const auto key = std::make_pair(groups[k].shader, groups[k].lightmap);
       auto it = material_of.find(key);
       if (it == material_of.end()) it = material_of.emplace(key, material(bsp, groups[k].shader, groups[k].lightmap)).first;
-      order.push_back({it->second.second, k});
+      order.push_back({it->second.second, k, it->second.first});
     }
-    std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    for (const auto& [sort, k] : order) {
-      Group& g = groups[k];
+    std::stable_sort(order.begin(), order.end(), [](const Draw& x, const Draw& y) { return x.sort < y.sort; });
+    for (const Draw& d : order) {
+      Group& g = groups[d.group];
       g.mesh.name = g.name;
       m_scene.meshes.push_back(std::move(g.mesh));
-      m_scene.add_draws(g.name, int(m_scene.meshes.size()) - 1, material_of[{g.shader, g.lightmap}].first, Mat4::identity());
+      m_scene.add_draws(g.name, int(m_scene.meshes.size()) - 1, d.material, Mat4::identity());
     }
     if (m_scene.objects.empty()) throw Error("map '" + m_map + "' has no drawable surfaces");
 

@@ -77,8 +77,10 @@ bool blend_factor(const std::string& name, BlendFactor& f) {
   return false;
 }
 
-// One stage's keyword (tr_shader.c's ParseStage). False when unknown.
-bool parse_stage_key(const std::string& key, const std::vector<std::string>& a, Q3Stage& st, bool& depth_write_explicit,
+// One stage's keyword (tr_shader.c's ParseStage). Keywords that change
+// nothing oovr models (e.g. nopicmip) are skipped, as the engine skips
+// unknown ones.
+void parse_stage_key(const std::string& key, const std::vector<std::string>& a, Q3Stage& st, bool& depth_write_explicit,
                      std::string& problem) {
   if ((key == "map" || key == "clampmap") && !a.empty()) {
     const std::string v = lower(a[0]);
@@ -107,7 +109,7 @@ bool parse_stage_key(const std::string& key, const std::vector<std::string>& a, 
       st.dst = BlendFactor::one_minus_src_alpha;
     } else if (a.size() < 2 || !blend_factor(v, st.src) || !blend_factor(lower(a[1]), st.dst)) {
       problem = "bad blendFunc";
-      return true;
+      return;
     }
     // Blended stages stop writing depth unless they say depthWrite.
     if (!depth_write_explicit) st.depth_write = !st.blended();
@@ -157,10 +159,7 @@ bool parse_stage_key(const std::string& key, const std::vector<std::string>& a, 
     } else {
       st.unsupported.push_back("tcMod " + v);
     }
-  } else {
-    return false;
   }
-  return true;
 }
 
 }  // namespace
@@ -242,8 +241,7 @@ void parse_q3_shader_script(const std::string& text, const std::string& file, Q3
         }
       } else if (depth == 2) {
         std::string problem;
-        if (!parse_stage_key(key, a, stage, depth_write_explicit, problem))
-          ;  // keywords that change nothing oovr models (e.g. nopicmip) are skipped as the engine skips unknown ones
+        parse_stage_key(key, a, stage, depth_write_explicit, problem);
         if (!problem.empty()) note("shader '" + sh.name + "': " + problem, tok.line);
       } else {
         note("shader '" + sh.name + "' nests braces deeper than a stage", tok.line);
@@ -380,7 +378,9 @@ Q3Passes q3_passes(const Q3Shader* shader, Q3TextureLookup& textures) {
   }
   for (size_t s = first; s < stages.size(); ++s) out.passes.push_back(stage_pass(stages[s], stage_layers(stages[s], textures)));
   if (out.passes.empty()) out.passes.push_back(Pass{});  // a shader without stages draws white
-  // A one-layer modulate after a collapse keeps the first layer's combine.
+  // A pass's first layer starts its colour, so its combine means nothing;
+  // it is modulate everywhere (a collapse after a white stage 0 would
+  // otherwise leave stage 1's add there).
   for (Pass& p : out.passes)
     if (!p.layers.empty()) p.layers.front().combine = Combine::modulate;
   return out;

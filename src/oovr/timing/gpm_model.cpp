@@ -73,9 +73,8 @@ MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, c
 std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCounts& w, const UnitTraffic& t) const {
   const Gpm& r = m_gpm[size_t(gpm)];
   std::vector<std::pair<int, double>> d;
-  const double fragment = m_timing.fragment_instructions > 0 ? double(w.quads) * 4.0 * m_timing.fragment_instructions
-                                                             : double(w.fragment_instructions);
-  const double instructions = double(w.vertices) * m_timing.vertex_instructions + fragment;
+  const double instructions =
+      double(w.vertices) * m_timing.vertex_instructions + m_timing.fragment_work(w.quads, w.fragment_instructions);
   if (instructions > 0) d.push_back({r.shader, instructions});
   if (w.samples) d.push_back({r.texture, double(w.samples)});
   if (w.covered) d.push_back({r.raster, double(w.covered)});

@@ -41,6 +41,13 @@ struct TimingSpec {
   int draws_ahead = 64;
   Sharing sharing = Sharing::fair;  // how running units share resources (timing/sharing.h)
 
+  // Fragment lane instructions of `quads` 2x2 quads whose passes' own
+  // instructions come to `own` (4 lanes a quad): `own`, unless
+  // fragment_instructions overrides every pass.
+  double fragment_work(uint64_t quads, uint64_t own) const {
+    return fragment_instructions > 0 ? double(quads) * 4.0 * fragment_instructions : double(own);
+  }
+
   static TimingSpec from_config(const Config& c);
 };
 
