@@ -42,10 +42,11 @@ asan: deps
 fuzz: deps
 	cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
 	  -DOOVR_FUZZ=ON -DOOVR_BUILD_TESTS=OFF -DOOVR_BUILD_BENCH=OFF -DOOVR_BUILD_REFERENCE=OFF
-	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_bsp fuzz_sgi oovr-fuzz-seeds
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_bsp fuzz_sgi fuzz_q3_shader oovr-fuzz-seeds
 	$(FUZZ_BUILD)/fuzz/oovr-fuzz-seeds $(FUZZ_BUILD)/corpus
 	$(FUZZ_BUILD)/fuzz/fuzz_bsp $(FUZZ_BUILD)/corpus/bsp -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1
 	$(FUZZ_BUILD)/fuzz/fuzz_sgi $(FUZZ_BUILD)/corpus/sgi -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1
+	$(FUZZ_BUILD)/fuzz/fuzz_q3_shader $(FUZZ_BUILD)/corpus/shader -max_total_time=$(FUZZ_SECONDS) -max_len=16384 -rss_limit_mb=2048 -print_final_stats=1
 
 bench: build
 	$(BUILD)/bench/oovr-bench

@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "oovr/core/error.h"
-#include "oovr/scene/bsp.h"
+#include "oovr/scene/formats/bsp.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

@@ -4,9 +4,10 @@
 #
 # Usage: scripts/install-deps.sh [--game-data]
 #   --game-data  also install the real game levels used as workloads:
-#                OpenArena maps and textures (about 410 MB) and TORCS tracks
-#                (about 530 MB). Tests that need them report "skipped"
-#                without them; CI installs them.
+#                OpenArena maps and textures (about 410 MB), Nexuiz
+#                (nexuiz-data, about 800 MB) and TORCS tracks (about
+#                530 MB). Tests that need them report "skipped" without
+#                them; CI installs them.
 set -euo pipefail
 
 packages=(
@@ -30,6 +31,7 @@ packages=(
 game_data=(
   openarena-081-maps openarena-081-textures openarena-085-data openarena-088-data openarena-data
   torcs-data
+  nexuiz-data
 )
 
 for arg in "$@"; do

@@ -10,9 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "oovr/scene/bsp.h"
-#include "oovr/scene/openarena.h"
-#include "oovr/scene/torcs.h"
+#include "oovr/scene/formats/bsp.h"
+#include "oovr/scene/sources/nexuiz.h"
+#include "oovr/scene/sources/openarena.h"
+#include "oovr/scene/sources/torcs.h"
 
 namespace oovr::test {
 
@@ -140,8 +141,9 @@ inline std::vector<uint8_t> make_test_sgi(int w, int h, int channels, bool rle) 
 }
 
 // The game data the tests use, where the loaders look for it (Debian's
-// paths unless OOVR_OPENARENA_DIR / OOVR_TORCS_DIR say otherwise).
+// paths unless OOVR_OPENARENA_DIR / OOVR_NEXUIZ_DIR / OOVR_TORCS_DIR say otherwise).
 inline bool have_openarena() { return std::filesystem::exists(openarena_directory() + "/pak0.pk3"); }
+inline bool have_nexuiz() { return std::filesystem::exists(nexuiz_directory() + "/data.pk3"); }
 inline bool have_torcs() { return std::filesystem::exists(torcs_directory() + "/tracks/road/spring/spring.acc"); }
 
 }  // namespace oovr::test

@@ -7,7 +7,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/pipeline/image.h"
-#include "oovr/scene/ac3d.h"
+#include "oovr/scene/formats/ac3d.h"
 #include "oovr/scene/scene_info.h"
 #include "temp_dir.h"
 

@@ -9,9 +9,9 @@
 #include "game_data.h"
 #include "oovr/core/error.h"
 #include "oovr/scene/load.h"
-#include "oovr/scene/openarena.h"
+#include "oovr/scene/sources/openarena.h"
 #include "oovr/scene/scene_info.h"
-#include "oovr/scene/torcs.h"
+#include "oovr/scene/sources/torcs.h"
 #include "temp_dir.h"
 
 namespace oovr {
@@ -20,6 +20,8 @@ namespace fs = std::filesystem;
 
 #define REQUIRE_OPENARENA() \
   if (!test::have_openarena()) GTEST_SKIP() << "OpenArena data not installed (scripts/install-deps.sh --game-data)"
+#define REQUIRE_NEXUIZ() \
+  if (!test::have_nexuiz()) GTEST_SKIP() << "Nexuiz data not installed (scripts/install-deps.sh --game-data)"
 #define REQUIRE_TORCS() \
   if (!test::have_torcs()) GTEST_SKIP() << "TORCS data not installed (scripts/install-deps.sh --game-data)"
 
@@ -100,6 +102,49 @@ TEST(OpenArena, ListedInScenes) {
   const auto maps = list_openarena_maps();
   EXPECT_GE(maps.size(), 50u);
   EXPECT_NE(std::find(maps.begin(), maps.end(), "oa_dm4"), maps.end());
+}
+
+TEST(Nexuiz, EveryMapIsListedAndLoads) {
+  REQUIRE_NEXUIZ();
+  // nexuiz-data 2.5.2 ships 39 maps (maps/_init/_init.bsp is not one).
+  const auto listed = list_scenes();
+  std::vector<std::string> maps;
+  for (const auto& l : listed)
+    if (l.kind == "nexuiz") maps.push_back(l.name);
+  ASSERT_EQ(maps.size(), 39u);
+  for (const auto& m : maps) {
+    const Scene s = load_scene(m);  // throws on any problem
+    EXPECT_EQ(s.camera.frames.size(), 120u) << m;
+    EXPECT_FALSE(s.objects.empty()) << m;
+  }
+}
+
+TEST(Nexuiz, StrengthIsDrawnAsDarkPlacesDrawsIt) {
+  REQUIRE_NEXUIZ();
+  // Measured independently of oovr's loaders (issue 10): strength has 352
+  // (shader, lightmap) groups; its lightmaps are 14 pairs of 512x512
+  // lm_NNNN.tga lightmaps and deluxe maps.
+  const Scene s = load_scene("nexuiz:strength");
+  EXPECT_EQ(s.meshes.size(), 352u);
+  int lit = 0, normal = 0, gloss = 0, lightmapped = 0;
+  for (const Object& o : s.objects) {
+    const Pass& p = s.pass_of(o);
+    lightmapped += p.layer(LayerKind::lightmap) >= 0;
+    if (p.shading != Shading::deluxe) continue;
+    ++lit;
+    normal += p.layer(LayerKind::normal) >= 0;
+    gloss += p.layer(LayerKind::gloss) >= 0;
+    EXPECT_EQ(s.meshes[size_t(o.mesh)].frames.size(), s.meshes[size_t(o.mesh)].vertices.size());
+  }
+  EXPECT_EQ(lit, lightmapped) << "every lightmapped surface is lit per pixel";
+  EXPECT_GT(lit, 300);
+  EXPECT_GT(normal, lit / 2);
+  EXPECT_GT(gloss, lit / 2);
+  bool pairs = false;
+  for (const auto& n : s.notes) pairs = pairs || n.find("28 lightmap images of 512x512") != std::string::npos;
+  EXPECT_TRUE(pairs);
+  EXPECT_THROW(load_scene("nexuiz:no_such_map"), Error);
+  EXPECT_THROW(load_scene("nexuiz:strength?shading=flat"), Error);
 }
 
 TEST(Torcs, TracksMatchTheMeasuredNumbers) {

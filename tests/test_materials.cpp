@@ -3,6 +3,8 @@
 // fragment cost and the texture storage formats.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/pipeline/shader_cost.h"
@@ -247,6 +249,109 @@ TEST(Materials, TheStorageFormatChangesTrafficNotTheImage) {
   EXPECT_EQ(raw.colour.rgba, bc1.colour.rgba);
   EXPECT_EQ(bc1.trace.texture_format, TextureFormat::bc1);
   EXPECT_LT(bc1.trace.tex_lines.size(), raw.trace.tex_lines.size());
+}
+
+// A quad lit per pixel (Shading::deluxe) over solid layers; every vertex's
+// tangent frame is the world axes (S = x, T = y, N = z).
+struct LitQuad {
+  Scene scene;
+  Pass& pass() { return scene.materials[0].pass(); }
+  void add(LayerKind kind, Texture t) {
+    scene.textures.push_back(std::move(t));
+    const bool lm = kind == LayerKind::lightmap || kind == LayerKind::deluxe;
+    pass().layers.push_back({kind, int(scene.textures.size()) - 1, lm ? TexCoords::lightmap : TexCoords::surface,
+                             Combine::modulate, 1.0f, {}});
+  }
+  LitQuad() : scene(quad_scene(Material::textured("lit", -1))) {
+    pass().shading = Shading::deluxe;
+    for (auto& v : scene.meshes[0].vertices) v.uv = v.lm_uv = {v.position.x / 16, v.position.y / 16};
+    scene.meshes[0].frames.assign(scene.meshes[0].vertices.size(), TangentFrame{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+    add(LayerKind::diffuse, solid(200, 100, 50, 255));
+  }
+  FrameOutput render() {
+    scene.validate();
+    StereoView v = test::ortho_view(16, 16);
+    v.eye_position[0] = {8.5f, 8.5f, 100.0f};  // straight above the centre pixel
+    return render_frame(scene, v, test::exact_settings());
+  }
+};
+
+// The 0..255 encoding of a unit direction, as deluxe and normal maps store it.
+Texture direction(Vec3 d) {
+  auto enc = [](float c) { return uint8_t(std::lround((c * 0.5f + 0.5f) * 255.0f)); };
+  return solid(enc(d.x), enc(d.y), enc(d.z), 255);
+}
+
+void expect_pixel(const uint8_t* px, int r, int g, int b, int tolerance) {
+  EXPECT_NEAR(px[0], r, tolerance);
+  EXPECT_NEAR(px[1], g, tolerance);
+  EXPECT_NEAR(px[2], b, tolerance);
+}
+
+TEST(Materials, DeluxeLightingOfAFlatSurfaceIsDiffuseTimesLightmap) {
+  // Without a normal map the surface normal is N: the light's cosine and
+  // the division by L.z that undoes it cancel, whatever the direction
+  // (DarkPlaces' MODE_LIGHTDIRECTIONMAP_MODELSPACE).
+  for (const Vec3 dir : {Vec3{0, 0, 1}, Vec3{0.866f, 0, 0.5f}, Vec3{0, -0.6f, 0.8f}}) {
+    LitQuad q;
+    q.add(LayerKind::lightmap, solid(128, 160, 255, 255));
+    q.add(LayerKind::deluxe, direction(dir));
+    expect_pixel(centre(q.render()), 200 * 128 / 255, 100 * 160 / 255, 50, 1);
+  }
+}
+
+TEST(Materials, ANormalMapTurnedFromTheLightDarkensIt) {
+  LitQuad q;
+  q.add(LayerKind::normal, direction({0.866f, 0, 0.5f}));  // 60 degrees from the light
+  q.add(LayerKind::lightmap, solid(255, 255, 255, 255));
+  q.add(LayerKind::deluxe, direction({0, 0, 1}));
+  expect_pixel(centre(q.render()), 100, 50, 25, 2);
+}
+
+TEST(Materials, GlossAddsSpecularAndGlowAddsLight) {
+  LitQuad q;
+  q.add(LayerKind::gloss, solid(40, 40, 40, 255));
+  q.add(LayerKind::glow, solid(10, 20, 30, 255));
+  q.add(LayerKind::lightmap, solid(255, 255, 255, 255));
+  q.add(LayerKind::deluxe, direction({0, 0, 1}));
+  // Light and eye straight above: N.H = 1, so the full gloss colour is added.
+  expect_pixel(centre(q.render()), 200 + 40 + 10, 100 + 40 + 20, 50 + 40 + 30, 2);
+  // Glancing light: the highlight moves away from the eye and fades.
+  q.scene.textures[4] = direction({0.866f, 0, 0.5f});
+  const uint8_t* px = centre(q.render());
+  EXPECT_LT(px[0], 200 + 10 + 5);
+}
+
+TEST(Materials, DeluxePassesNeedTheirLayersAndFrames) {
+  LitQuad q;
+  q.add(LayerKind::lightmap, solid(255, 255, 255, 255));
+  EXPECT_THROW(q.scene.validate(), Error) << "no deluxe layer";
+  q.add(LayerKind::deluxe, direction({0, 0, 1}));
+  q.scene.validate();
+  q.scene.meshes[0].frames.pop_back();
+  EXPECT_THROW(q.scene.validate(), Error) << "frames for some vertices only";
+  q.scene.meshes[0].frames.clear();
+  EXPECT_THROW(q.scene.validate(), Error) << "a lit draw of a mesh without frames";
+}
+
+TEST(Materials, TheVertexBufferHoldsTheFrames) {
+  LitQuad q;
+  const Mesh& m = q.scene.meshes[0];
+  EXPECT_EQ(m.vertex_bytes(), m.vertices.size() * (sizeof(Vertex) + sizeof(TangentFrame)));
+}
+
+TEST(Materials, ALitPassCostsItsLightingAndEveryLayer) {
+  using C = FragmentCosts;
+  LitQuad q;
+  q.add(LayerKind::lightmap, solid(255, 255, 255, 255));
+  q.add(LayerKind::deluxe, direction({0, 0, 1}));
+  const uint32_t base = C::setup + C::output + C::lit_varyings + C::light_direction + C::light_colour + C::diffuse_light;
+  EXPECT_EQ(fragment_instructions(q.pass()), base + 3 * (C::coordinates + C::lookup));
+  q.add(LayerKind::normal, solid(128, 128, 255, 255));
+  q.add(LayerKind::gloss, solid(255, 255, 255, 255));
+  q.add(LayerKind::glow, solid(0, 0, 0, 255));
+  EXPECT_EQ(fragment_instructions(q.pass()),
+            base + C::surface_normal + C::specular + C::glow + 6 * (C::coordinates + C::lookup));
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "oovr/core/error.h"
-#include "oovr/scene/pk3.h"
+#include "oovr/scene/formats/pk3.h"
 #include "temp_dir.h"
 
 namespace oovr {

@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "oovr/scene/q3_shader.h"
+#include "oovr/scene/formats/q3_shader.h"
 
 namespace oovr {
 namespace {

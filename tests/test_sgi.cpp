@@ -7,7 +7,7 @@
 #include "game_data.h"
 #include "oovr/core/error.h"
 #include "oovr/scene/texture.h"
-#include "oovr/scene/torcs.h"
+#include "oovr/scene/sources/torcs.h"
 
 namespace oovr {
 namespace {

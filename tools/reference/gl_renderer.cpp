@@ -24,15 +24,26 @@ const char* kVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec2 uv;
 layout(location = 2) in vec2 lm_uv;
+layout(location = 3) in vec3 frame_s;  // tangent frame, for per-pixel lit passes
+layout(location = 4) in vec3 frame_t;
+layout(location = 5) in vec3 frame_n;
 uniform mat4 world_from_object;
 uniform mat4 clip_from_world;
+uniform vec3 eye_position;
 out vec2 v_uv;
 out vec2 v_lm;
+out vec3 v_s, v_t, v_n, v_eye;
 void main() {
   vec4 world = world_from_object * vec4(position, 1.0);
   gl_Position = clip_from_world * vec4(world.xyz, 1.0);
   v_uv = uv;
   v_lm = lm_uv;
+  // DarkPlaces' vertex shader: the frame and the eye's direction in it.
+  v_s = mat3(world_from_object) * frame_s;
+  v_t = mat3(world_from_object) * frame_t;
+  v_n = mat3(world_from_object) * frame_n;
+  vec3 eye = eye_position - world.xyz;
+  v_eye = vec3(dot(eye, v_s), dot(eye, v_t), dot(eye, v_n));
 }
 )";
 
@@ -41,8 +52,15 @@ void main() {
 // layer modulates (RGB x scale, alpha) or adds (RGB x scale; alpha
 // modulates); then the alpha function. Layer coordinates go through the
 // layer's affine transform (tcMod) per fragment, as oovr's pipeline does.
+// A deluxe pass (shading 1) samples every layer first, then lights the
+// fragment as scene/material.h writes out (DarkPlaces'
+// MODE_LIGHTDIRECTIONMAP_MODELSPACE).
 const char* kFragmentShader = R"(#version 450 core
 const int kMaxLayers = 8;
+uniform int shading;  // 0 layers, 1 deluxe
+uniform int lit_diffuse, lit_normal, lit_gloss, lit_glow, lit_lightmap, lit_deluxe;  // layer indices, -1 none
+uniform float specular_power, specular_intensity;
+in vec3 v_s, v_t, v_n, v_eye;
 uniform sampler2D layer_tex[kMaxLayers];
 uniform int layer_count;
 uniform bool layer_lightmap_coords[kMaxLayers];
@@ -57,9 +75,34 @@ uniform bool coverage_only;
 in vec2 v_uv;
 in vec2 v_lm;
 out vec4 frag;
+vec4 deluxe_colour() {
+  vec4 t[kMaxLayers];
+  for (int i = 0; i < layer_count; ++i) {
+    vec2 st = layer_lightmap_coords[i] ? v_lm : v_uv;
+    st = vec2(dot(layer_xf_s[i], vec3(st, 1.0)), dot(layer_xf_t[i], vec3(st, 1.0)));
+    t[i] = texture(layer_tex[i], st);
+  }
+  vec4 d = t[lit_diffuse];
+  vec3 lm_dir = t[lit_deluxe].rgb * 2.0 - 1.0;
+  vec3 l = normalize(vec3(dot(lm_dir, v_s), dot(lm_dir, v_t), dot(lm_dir, v_n)));
+  vec3 lc = t[lit_lightmap].rgb * (layer_scale[lit_lightmap] / max(0.25, l.z));
+  vec3 n = lit_normal >= 0 ? normalize(t[lit_normal].rgb - 0.5) : vec3(0.0, 0.0, 1.0);
+  float diffuse = max(dot(n, l), 0.0);
+  vec3 rgb = d.rgb * diffuse * lc;
+  if (lit_gloss >= 0) {
+    vec4 g = t[lit_gloss];
+    vec3 h = normalize(l + normalize(v_eye));
+    float nh = max(dot(n, h), 0.0);
+    float spec = nh > 0.0 ? pow(nh, specular_power * g.a) : 0.0;
+    rgb += g.rgb * (specular_intensity * spec) * lc;
+  }
+  if (lit_glow >= 0) rgb += t[lit_glow].rgb;
+  return vec4(rgb, d.a) * colour;
+}
+
 void main() {
   vec4 c = vec4(1.0);
-  for (int i = 0; i < layer_count; ++i) {
+  for (int i = 0; i < layer_count && shading == 0; ++i) {
     vec2 st = layer_lightmap_coords[i] ? v_lm : v_uv;
     st = vec2(dot(layer_xf_s[i], vec3(st, 1.0)), dot(layer_xf_t[i], vec3(st, 1.0)));
     vec4 s = texture(layer_tex[i], st);
@@ -72,6 +115,7 @@ void main() {
     }
   }
   if (layer_count == 0) c = colour;
+  if (shading == 1) c = deluxe_colour();
   if (!coverage_only) {
     if (alpha_func == 1 && !(c.a > alpha_ref)) discard;
     if (alpha_func == 2 && !(c.a < alpha_ref)) discard;
@@ -103,6 +147,7 @@ struct GlRenderer::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
   GLuint program = 0;
+  GLint u_shading = -1, u_lit[6] = {-1, -1, -1, -1, -1, -1}, u_specular_power = -1, u_specular_intensity = -1, u_eye = -1;
   GLint u_world = -1, u_clip = -1, u_layer_count = -1, u_colour = -1, u_alpha_func = -1, u_alpha_ref = -1,
         u_coverage = -1;
   GLint u_layer_lm[kMaxLayers], u_layer_add[kMaxLayers], u_layer_scale[kMaxLayers], u_layer_xf_s[kMaxLayers],
@@ -156,15 +201,15 @@ struct Uploaded {
       glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY, float(aniso));
     }
     vao.resize(scene.meshes.size());
-    buf.resize(scene.meshes.size() * 2);
+    buf.resize(scene.meshes.size() * 3);
     glGenVertexArrays(GLsizei(vao.size()), vao.data());
     glGenBuffers(GLsizei(buf.size()), buf.data());
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
       const Mesh& mesh = scene.meshes[i];
       glBindVertexArray(vao[i]);
-      glBindBuffer(GL_ARRAY_BUFFER, buf[2 * i]);
+      glBindBuffer(GL_ARRAY_BUFFER, buf[3 * i]);
       glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(), GL_STATIC_DRAW);
-      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[2 * i + 1]);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[3 * i + 1]);
       glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)), mesh.indices.data(), GL_STATIC_DRAW);
       glEnableVertexAttribArray(0);
       glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
@@ -172,6 +217,15 @@ struct Uploaded {
       glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, uv)));
       glEnableVertexAttribArray(2);
       glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, lm_uv)));
+      if (!mesh.frames.empty()) {
+        glBindBuffer(GL_ARRAY_BUFFER, buf[3 * i + 2]);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.frames.size() * sizeof(TangentFrame)), mesh.frames.data(), GL_STATIC_DRAW);
+        const size_t offsets[3] = {offsetof(TangentFrame, s), offsetof(TangentFrame, t), offsetof(TangentFrame, n)};
+        for (GLuint k = 0; k < 3; ++k) {
+          glEnableVertexAttribArray(3 + k);
+          glVertexAttribPointer(3 + k, 3, GL_FLOAT, GL_FALSE, sizeof(TangentFrame), reinterpret_cast<void*>(offsets[k]));
+        }
+      }
     }
   }
   ~Uploaded() {
@@ -319,6 +373,12 @@ GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
   m->u_alpha_func = glGetUniformLocation(p, "alpha_func");
   m->u_alpha_ref = glGetUniformLocation(p, "alpha_ref");
   m->u_coverage = glGetUniformLocation(p, "coverage_only");
+  m->u_shading = glGetUniformLocation(p, "shading");
+  const char* lit_names[6] = {"lit_diffuse", "lit_normal", "lit_gloss", "lit_glow", "lit_lightmap", "lit_deluxe"};
+  for (int k = 0; k < 6; ++k) m->u_lit[k] = glGetUniformLocation(p, lit_names[k]);
+  m->u_specular_power = glGetUniformLocation(p, "specular_power");
+  m->u_specular_intensity = glGetUniformLocation(p, "specular_intensity");
+  m->u_eye = glGetUniformLocation(p, "eye_position");
 }
 
 GlRenderer::~GlRenderer() {
@@ -368,6 +428,12 @@ void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, cons
     }
     glUniform4f(m.u_colour, pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w);
     glUniform1i(m.u_alpha_func, int(pass.alpha_func));
+    glUniform1i(m.u_shading, pass.shading == Shading::deluxe ? 1 : 0);
+    const LayerKind lit_kinds[6] = {LayerKind::diffuse, LayerKind::normal, LayerKind::gloss,
+                                    LayerKind::glow, LayerKind::lightmap, LayerKind::deluxe};
+    for (int k = 0; k < 6; ++k) glUniform1i(m.u_lit[k], pass.layer(lit_kinds[k]));
+    glUniform1f(m.u_specular_power, pass.specular_power);
+    glUniform1f(m.u_specular_intensity, pass.specular_intensity);
     glUniform1f(m.u_alpha_ref, pass.alpha_ref);
     if (mat.two_sided) glDisable(GL_CULL_FACE);
     else glEnable(GL_CULL_FACE);
@@ -380,6 +446,7 @@ void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, cons
       if (tiny_scissor) glScissor(vp.x, vp.y, 1, 1);
       else glScissor(vp.x, vp.y, vp.width, vp.height);
       glUniformMatrix4fv(m.u_clip, 1, GL_FALSE, &view.clip_from_world[e].m[0][0]);
+      glUniform3f(m.u_eye, view.eye_position[e].x, view.eye_position[e].y, view.eye_position[e].z);
       if (around) around(o * 2 + size_t(e), true);
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
       if (around) around(o * 2 + size_t(e), false);

@@ -23,8 +23,6 @@
 #include "oovr/experiments/hardware.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
-#include "oovr/scene/openarena.h"
-#include "oovr/scene/torcs.h"
 
 namespace {
 
@@ -104,16 +102,9 @@ Image diff_image(const Image& a, const Image& b) {
 
 // Exit 77 (skipped) when a game level's data is not installed.
 bool data_missing(const std::string& scene) {
-  std::error_code ec;
-  if (scene.rfind("oa:", 0) == 0 && !std::filesystem::is_directory(openarena_directory(), ec)) {
-    fmt::print("SKIPPED: OpenArena data not installed ({}); run scripts/install-deps.sh --game-data\n", openarena_directory());
-    return true;
-  }
-  if (scene.rfind("torcs:", 0) == 0 && !std::filesystem::is_directory(torcs_directory(), ec)) {
-    fmt::print("SKIPPED: TORCS data not installed ({}); run scripts/install-deps.sh --game-data\n", torcs_directory());
-    return true;
-  }
-  return false;
+  const std::string why = scene_data_missing(scene);
+  if (!why.empty()) fmt::print("SKIPPED: {}\n", why);
+  return !why.empty();
 }
 
 // --time: frames --frame .. --frame + --frames - 1 of every scene at every

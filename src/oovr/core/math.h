@@ -70,6 +70,12 @@ inline Vec4 transform_point(const Mat4& a, Vec3 p) {
   return r;
 }
 
+// Matrix times direction: GLSL's `mat3(M) * d`.
+inline Vec3 transform_direction(const Mat4& a, Vec3 d) {
+  return {a.m[0][0] * d.x + a.m[1][0] * d.y + a.m[2][0] * d.z, a.m[0][1] * d.x + a.m[1][1] * d.y + a.m[2][1] * d.z,
+          a.m[0][2] * d.x + a.m[1][2] * d.y + a.m[2][2] * d.z};
+}
+
 inline Vec3 transform_point3(const Mat4& a, Vec3 p) {
   const Vec4 r = transform_point(a, p);
   return {r.x, r.y, r.z};

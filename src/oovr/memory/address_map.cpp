@@ -30,7 +30,7 @@ SceneLayout::SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& 
                 std::to_string(map.line_bytes()) + " bytes; render the trace again with the memory system's line size");
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    m_vertex.push_back(map.add("mesh" + std::to_string(m) + ".vertices", Category::vertex, mesh.vertices.size() * sizeof(Vertex)));
+    m_vertex.push_back(map.add("mesh" + std::to_string(m) + ".vertices", Category::vertex, mesh.vertex_bytes()));
     m_index.push_back(map.add("mesh" + std::to_string(m) + ".indices", Category::index, mesh.indices.size() * sizeof(uint32_t)));
   }
   for (size_t t = 0; t < scene.textures.size(); ++t) {

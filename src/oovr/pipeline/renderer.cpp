@@ -46,10 +46,22 @@ namespace {
 constexpr int kSubpixelBits = 8;  // llvmpipe's FIXED_ORDER: 1/256 pixel
 constexpr float kSubpixelScale = float(1 << kSubpixelBits);
 
+// Per-pixel lighting's varyings (Shading::deluxe): the tangent frame S, T,
+// N and the tangent-space direction to the eye, as DarkPlaces' vertex
+// shader hands them to its fragment shader.
+constexpr int kLitVaryings = 12;
+
 struct ClipVertex {
   Vec4 pos;
   float u, v, lu, lv;
   bool generated;  // made by the clipper (its window position is computed without FMA)
+  float lit[kLitVaryings];  // only for per-pixel lit passes
+};
+
+// A lit triangle's varyings divided by w at each vertex (perspective-correct
+// interpolation, as SetupTri's uw, vw).
+struct LitTri {
+  float a[3][kLitVaryings];
 };
 
 // A triangle after clipping, projection and snapping, ready to rasterise.
@@ -66,6 +78,8 @@ struct SetupTri {
   float dzdx, dzdy, z0;
   float iw[3], uw[3], vw[3], luw[3], lvw[3];
   uint32_t vid[3];  // mesh vertices of the source triangle
+  uint32_t lit = kNoLit;  // index of its LitTri, for per-pixel lit passes
+  static constexpr uint32_t kNoLit = ~0u;
 };
 
 ClipVertex lerp_vertex(const ClipVertex& p, const ClipVertex& q, float t) {
@@ -76,6 +90,7 @@ ClipVertex lerp_vertex(const ClipVertex& p, const ClipVertex& q, float t) {
   r.v = p.v + (q.v - p.v) * t;
   r.lu = p.lu + (q.lu - p.lu) * t;
   r.lv = p.lv + (q.lv - p.lv) * t;
+  for (int k = 0; k < kLitVaryings; ++k) r.lit[k] = p.lit[k] + (q.lit[k] - p.lit[k]) * t;
   r.generated = true;
   return r;
 }
@@ -108,17 +123,27 @@ class GeometryStage {
 
   // Transforms object o once (SMP: world-space positions shared by both
   // eyes), projects into each eye and appends set-up triangles.
-  void run(uint32_t o, std::vector<SetupTri>& out, ObjectWork& work) {
+  void run(uint32_t o, std::vector<SetupTri>& out, std::vector<LitTri>& lit_out, ObjectWork& work) {
     const Object& obj = m_scene.objects[o];
     const Mesh& mesh = m_scene.meshes[size_t(obj.mesh)];
     const Material& mat = m_scene.materials[size_t(obj.material)];
+    const bool lit = m_scene.pass_of(obj).shading == Shading::deluxe;
+    m_lit_out = lit ? &lit_out : nullptr;
     work.vertices = uint32_t(mesh.vertices.size());
     work.triangles = uint32_t(mesh.triangle_count());
-    work.vertex_bytes = mesh.vertices.size() * sizeof(Vertex);
+    work.vertex_bytes = mesh.vertex_bytes();
     work.index_bytes = mesh.indices.size() * sizeof(uint32_t);
     m_world.resize(mesh.vertices.size());
     for (size_t i = 0; i < mesh.vertices.size(); ++i)
       m_world[i] = transform_point3(obj.world_from_object, mesh.vertices[i].position);
+    if (lit) {
+      m_frames.resize(mesh.vertices.size());
+      for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const TangentFrame& f = mesh.frames[i];
+        m_frames[i] = {transform_direction(obj.world_from_object, f.s), transform_direction(obj.world_from_object, f.t),
+                       transform_direction(obj.world_from_object, f.n)};
+      }
+    }
     for (int e = 0; e < m_view.eyes; ++e) {
       const Mat4& clip_from_world = m_view.clip_from_world[e];
       m_clip.resize(mesh.vertices.size());
@@ -138,7 +163,16 @@ class GeometryStage {
         ClipVertex v[3];
         for (int k = 0; k < 3; ++k) {
           const Vertex& src = mesh.vertices[vid[k]];
-          v[k] = {m_clip[vid[k]], src.uv.x, src.uv.y, src.lm_uv.x, src.lm_uv.y, false};
+          v[k] = {m_clip[vid[k]], src.uv.x, src.uv.y, src.lm_uv.x, src.lm_uv.y, false, {}};
+          if (lit) {
+            // DarkPlaces' vertex shader: the frame, and the eye's direction
+            // taken into it (EyeVector), per vertex.
+            const TangentFrame& f = m_frames[vid[k]];
+            const Vec3 eye = m_view.eye_position[e] - m_world[vid[k]];
+            const float vals[kLitVaryings] = {f.s.x, f.s.y, f.s.z, f.t.x, f.t.y, f.t.z, f.n.x, f.n.y, f.n.z,
+                                              dot(eye, f.s), dot(eye, f.t), dot(eye, f.n)};
+            std::copy(vals, vals + kLitVaryings, v[k].lit);
+          }
         }
         const uint32_t clip_planes = c0 | c1 | c2;
         if (!clip_planes) {
@@ -287,6 +321,13 @@ class GeometryStage {
       t.lvw[i] = v[i]->lv * iw[i];
       t.vid[i] = vid[i];
     }
+    if (m_lit_out) {
+      LitTri l;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < kLitVaryings; ++k) l.a[i][k] = v[i]->lit[k] * iw[i];
+      t.lit = uint32_t(m_lit_out->size());
+      m_lit_out->push_back(l);
+    }
     t.inv_area = float(1.0 / double(area));
     out.push_back(t);
     return true;
@@ -295,6 +336,8 @@ class GeometryStage {
   const Scene& m_scene;
   const StereoView& m_view;
   std::vector<Vec3> m_world;
+  std::vector<TangentFrame> m_frames;
+  std::vector<LitTri>* m_lit_out = nullptr;
   std::vector<Vec4> m_clip;
   std::vector<uint32_t> m_codes;
 };
@@ -314,7 +357,59 @@ struct PreparedPass {
   const Pass* pass;
   std::vector<PreparedLayer> layers;
   bool lightmap_coords = false;  // some layer samples with lightmap coordinates
+  // Shading::deluxe: which layer holds what (-1: none).
+  int diffuse = -1, normal = -1, gloss = -1, glow = -1, lightmap = -1, deluxe = -1;
 };
+
+// Shading::deluxe for one fragment (scene/material.h gives the formula;
+// DarkPlaces' MODE_LIGHTDIRECTIONMAP_MODELSPACE). Texels are 0..255; `lit`
+// the interpolated S, T, N and eye vector.
+detail::Rgba shade_deluxe(const PreparedPass& pp, const detail::Rgba* texel, const float* lit) {
+  const Pass& pass = *pp.pass;
+  const detail::Rgba& d = texel[pp.diffuse];
+  const detail::Rgba& lm = texel[pp.lightmap];
+  const detail::Rgba& dx = texel[pp.deluxe];
+  const float lm_scale = pp.layers[size_t(pp.lightmap)].scale;
+  const Vec3 S{lit[0], lit[1], lit[2]}, T{lit[3], lit[4], lit[5]}, N{lit[6], lit[7], lit[8]};
+  const Vec3 E{lit[9], lit[10], lit[11]};
+  const Vec3 lm_dir{dx.r / 255.0f * 2.0f - 1.0f, dx.g / 255.0f * 2.0f - 1.0f, dx.b / 255.0f * 2.0f - 1.0f};
+  const Vec3 l = normalize(Vec3{dot(lm_dir, S), dot(lm_dir, T), dot(lm_dir, N)});
+  const float k = lm_scale / std::max(0.25f, l.z) / 255.0f;
+  const Vec3 lc{lm.r * k, lm.g * k, lm.b * k};
+  Vec3 n{0, 0, 1};
+  if (pp.normal >= 0) {
+    const detail::Rgba& t = texel[pp.normal];
+    n = normalize(Vec3{t.r / 255.0f - 0.5f, t.g / 255.0f - 0.5f, t.b / 255.0f - 0.5f});
+  }
+  const float diffuse = std::max(dot(n, l), 0.0f);
+  detail::Rgba c{d.r * diffuse * lc.x, d.g * diffuse * lc.y, d.b * diffuse * lc.z, d.a};
+  if (pp.gloss >= 0) {
+    const detail::Rgba& g = texel[pp.gloss];
+    const Vec3 h = normalize(l + normalize(E));
+    const float nh = std::max(dot(n, h), 0.0f);
+    // pow(0, y) is left undefined by GLSL; both renderers call it 0.
+    const float spec = nh > 0.0f ? std::pow(nh, pass.specular_power * (g.a / 255.0f)) : 0.0f;
+    const float gk = pass.specular_intensity * spec;
+    c.r += g.r * gk * lc.x;
+    c.g += g.g * gk * lc.y;
+    c.b += g.b * gk * lc.z;
+  }
+  if (pp.glow >= 0) {
+    const detail::Rgba& g = texel[pp.glow];
+    c.r += g.r;
+    c.g += g.g;
+    c.b += g.b;
+  }
+  c.r *= pass.colour.x;
+  c.g *= pass.colour.y;
+  c.b *= pass.colour.z;
+  c.a *= pass.colour.w;
+  return c;
+}
+
+// A per-pixel lit pass samples at most this many layers (diffuse, normal,
+// gloss, glow, lightmap, deluxe and room for two more).
+constexpr size_t kMaxDeluxeLayers = 8;
 
 bool depth_passes(DepthFunc f, float z, float stored) {
   switch (f) {
@@ -359,10 +454,10 @@ float blend_factor(BlendFactor f, const detail::Rgba& s, const detail::Rgba& d, 
 // Per-tile rasterisation and shading. Writes only the tile's own pixels.
 class TileRasterizer {
  public:
-  TileRasterizer(const std::vector<SetupTri>& tris, const std::vector<PreparedPass>& passes,
+  TileRasterizer(const std::vector<SetupTri>& tris, const std::vector<LitTri>& lit, const std::vector<PreparedPass>& passes,
                  const PipelineSettings& settings, int block_w, int block_h, int frame_w,
                  uint8_t* colour, float* depth, uint32_t* ids)
-      : m_tris(tris), m_passes(passes), m_settings(settings),
+      : m_tris(tris), m_lit(lit), m_passes(passes), m_settings(settings),
         m_block_w(block_w), m_block_h(block_h), m_frame_w(frame_w), m_colour(colour),
         m_depth(depth), m_ids(ids) {}
 
@@ -454,7 +549,7 @@ class TileRasterizer {
 
         // Barycentrics and interpolated values at all four pixels (helpers
         // included: they provide the derivatives).
-        float z[4], u[4], v[4], lu[4], lv[4];
+        float z[4], u[4], v[4], lu[4], lv[4], lit[4][kLitVaryings];
         for (int p = 0; p < 4; ++p) {
           const float b0 = float(e[0][p]) * t.inv_area;
           const float b1 = float(e[1][p]) * t.inv_area;
@@ -468,6 +563,10 @@ class TileRasterizer {
           if (pp.lightmap_coords) {
             lu[p] = (b0 * t.luw[0] + b1 * t.luw[1] + b2 * t.luw[2]) * w;
             lv[p] = (b0 * t.lvw[0] + b1 * t.lvw[1] + b2 * t.lvw[2]) * w;
+          }
+          if (t.lit != SetupTri::kNoLit) {
+            const LitTri& L = m_lit[t.lit];
+            for (int k = 0; k < kLitVaryings; ++k) lit[p][k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
           }
         }
 
@@ -489,7 +588,10 @@ class TileRasterizer {
         detail::Rgba c[4];
         for (int p = 0; p < 4; ++p) c[p] = {255, 255, 255, 255};
         bool first = true;
-        for (const PreparedLayer& L : pp.layers) {
+        const bool deluxe = pass.shading == Shading::deluxe;
+        detail::Rgba texel[kMaxDeluxeLayers][4];
+        for (size_t li = 0; li < pp.layers.size(); ++li) {
+          const PreparedLayer& L = pp.layers[li];
           const float* su = L.lightmap_coords ? lu : u;
           const float* sv = L.lightmap_coords ? lv : v;
           float tu[4], tv[4];
@@ -506,6 +608,10 @@ class TileRasterizer {
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
             const detail::Rgba s = detail::sample(*L.texture, tu[p], tv[p], d, m_settings.max_anisotropy, lines, m_cur.samples);
+            if (deluxe) {
+              texel[li][p] = s;
+              continue;
+            }
             detail::Rgba& o = c[p];
             if (first) {
               // The first layer's texel starts the colour; the pass
@@ -535,7 +641,14 @@ class TileRasterizer {
           }
           first = false;
         }
-        if (first) {  // no layers: the pass colour alone
+        if (deluxe) {
+          for (int p = 0; p < 4; ++p) {
+            if (!(live & (1u << p))) continue;
+            detail::Rgba px[kMaxDeluxeLayers];
+            for (size_t li = 0; li < pp.layers.size(); ++li) px[li] = texel[li][p];
+            c[p] = shade_deluxe(pp, px, lit[p]);
+          }
+        } else if (first) {  // no layers: the pass colour alone
           for (int p = 0; p < 4; ++p) {
             c[p].r *= cr;
             c[p].g *= cg;
@@ -594,6 +707,7 @@ class TileRasterizer {
   }
 
   const std::vector<SetupTri>& m_tris;
+  const std::vector<LitTri>& m_lit;
   const std::vector<PreparedPass>& m_passes;
   const PipelineSettings& m_settings;
   int m_block_w, m_block_h, m_frame_w;
@@ -629,23 +743,30 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view,
   // Geometry: objects in parallel, each into its own list, then concatenated
   // in draw order so that bins keep draw order.
   std::vector<std::vector<SetupTri>> per_object(scene.objects.size());
+  std::vector<std::vector<LitTri>> per_object_lit(scene.objects.size());
   const unsigned threads = settings.threads ? settings.threads : default_thread_count();
   {
     const size_t chunks = std::min<size_t>(scene.objects.size(), size_t(threads) * 8);
     parallel_for(chunks, threads, [&](size_t c) {
       GeometryStage stage(scene, view);
       const size_t begin = scene.objects.size() * c / chunks, end = scene.objects.size() * (c + 1) / chunks;
-      for (size_t o = begin; o < end; ++o) stage.run(uint32_t(o), per_object[o], trace.objects[o]);
+      for (size_t o = begin; o < end; ++o) stage.run(uint32_t(o), per_object[o], per_object_lit[o], trace.objects[o]);
     });
   }
   std::vector<SetupTri> tris;
+  std::vector<LitTri> lit;
   {
     size_t n = 0;
     for (const auto& v : per_object) n += v.size();
     tris.reserve(n);
-    for (auto& v : per_object) {
-      tris.insert(tris.end(), v.begin(), v.end());
-      std::vector<SetupTri>().swap(v);
+    for (size_t o = 0; o < per_object.size(); ++o) {
+      const uint32_t base = uint32_t(lit.size());
+      for (SetupTri& t : per_object[o])
+        if (t.lit != SetupTri::kNoLit) t.lit += base;
+      tris.insert(tris.end(), per_object[o].begin(), per_object[o].end());
+      lit.insert(lit.end(), per_object_lit[o].begin(), per_object_lit[o].end());
+      std::vector<SetupTri>().swap(per_object[o]);
+      std::vector<LitTri>().swap(per_object_lit[o]);
     }
   }
 
@@ -693,13 +814,26 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view,
       pp.layers.push_back({&textures[size_t(l.texture)], lm, !xf.identity(), xf, l.combine, l.scale});
       pp.lightmap_coords = pp.lightmap_coords || lm;
     }
+    if (pass.shading == Shading::deluxe) {
+      if (pass.layers.size() > kMaxDeluxeLayers)
+        throw Error("a per-pixel lit pass samples " + std::to_string(pass.layers.size()) + " layers; at most " +
+                    std::to_string(kMaxDeluxeLayers) + " are supported");
+      pp.diffuse = pass.layer(LayerKind::diffuse);
+      pp.normal = pass.layer(LayerKind::normal);
+      pp.gloss = pass.layer(LayerKind::gloss);
+      pp.glow = pass.layer(LayerKind::glow);
+      pp.lightmap = pass.layer(LayerKind::lightmap);
+      pp.deluxe = pass.layer(LayerKind::deluxe);
+      if (pp.diffuse < 0 || pp.lightmap < 0 || pp.deluxe < 0)
+        throw Error("a per-pixel lit pass needs diffuse, lightmap and deluxe layers");
+    }
     trace.objects[o].fragment_instructions = fragment_instructions(pass);
     trace.objects[o].texture_layers = uint32_t(pass.layers.size());
   }
   std::vector<TileRasterizer::Output> outputs(bins.size());
   parallel_for(bins.size(), threads, [&](size_t i) {
     if (bins[i].empty()) return;
-    TileRasterizer r(tris, passes, settings, trace.block_w, trace.block_h, view.frame_width,
+    TileRasterizer r(tris, lit, passes, settings, trace.block_w, trace.block_h, view.frame_width,
                      result.colour.rgba.data(), depth.data(), result.object_id.data());
     r.run(int(i % size_t(tiles_x)), int(i / size_t(tiles_x)), bins[i], outputs[i]);
   });

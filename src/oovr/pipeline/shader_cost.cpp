@@ -5,6 +5,13 @@ namespace oovr {
 uint32_t fragment_instructions(const Pass& pass) {
   using C = FragmentCosts;
   uint32_t n = C::setup + C::output;
+  const bool lit = pass.shading == Shading::deluxe;
+  if (lit) {
+    n += C::lit_varyings + C::light_direction + C::light_colour + C::diffuse_light;
+    if (pass.layer(LayerKind::normal) >= 0) n += C::surface_normal;
+    if (pass.layer(LayerKind::gloss) >= 0) n += C::specular;
+    if (pass.layer(LayerKind::glow) >= 0) n += C::glow;
+  }
   for (size_t i = 0; i < pass.layers.size(); ++i) {
     const TextureLayer& l = pass.layers[i];
     n += C::coordinates + C::lookup;
@@ -15,7 +22,7 @@ uint32_t fragment_instructions(const Pass& pass) {
       transformed = transformed || (m.kind == TexMod::Kind::scale ? (m.s != 1 || m.t != 1) : (m.s != 0 || m.t != 0));
     if (transformed) n += C::transform;
     if (l.scale != 1.0f) n += C::scale;
-    if (i > 0) n += C::combine;
+    if (i > 0 && !lit) n += C::combine;  // a lit pass combines its layers through the lighting above
   }
   const Vec4& c = pass.colour;
   if (!(c.x == 1 && c.y == 1 && c.z == 1 && c.w == 1)) n += C::colour;

@@ -139,11 +139,14 @@ uint64_t scene_fingerprint(const Scene& s) {
       h.pod(p.alpha_ref);
       h.pod(p.depth_func);
       h.pod(p.depth_write);
+      h.pod(p.specular_power);
+      h.pod(p.specular_intensity);
     }
   }
   for (const auto& m : s.meshes) {
     h.bytes(m.vertices.data(), m.vertices.size() * sizeof(Vertex));
     h.bytes(m.indices.data(), m.indices.size() * sizeof(uint32_t));
+    h.bytes(m.frames.data(), m.frames.size() * sizeof(TangentFrame));
   }
   for (const auto& o : s.objects) {
     h.pod(o.mesh);

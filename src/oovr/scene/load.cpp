@@ -3,21 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <map>
 
 #include "oovr/core/error.h"
-#include "oovr/scene/builtin.h"
-#include "oovr/scene/openarena.h"
-#include "oovr/scene/torcs.h"
 
 namespace oovr {
 namespace {
 
 // Splits "name?key=value&key=value" into the name and its options.
-std::string split_options(const std::string& spec, std::map<std::string, std::string>& options) {
-  const auto q = spec.find('?');
-  if (q == std::string::npos) return spec;
-  std::string rest = spec.substr(q + 1);
+std::string split_options(const std::string& spec, const std::string& rest_in, SceneOptions& options) {
+  const auto q = rest_in.find('?');
+  if (q == std::string::npos) return rest_in;
+  const std::string rest = rest_in.substr(q + 1);
   size_t i = 0;
   while (i <= rest.size()) {
     const size_t amp = std::min(rest.find('&', i), rest.size());
@@ -28,10 +24,24 @@ std::string split_options(const std::string& spec, std::map<std::string, std::st
     options[kv.substr(0, eq)] = kv.substr(eq + 1);
     i = amp + 1;
   }
-  return spec.substr(0, q);
+  return rest_in.substr(0, q);
 }
 
-int parse_int_option(const std::string& key, const std::string& value, const std::string& spec) {
+// Sources in the order they are listed and asked: unprefixed ones by
+// `order`, then prefixed ones by prefix.
+std::vector<std::pair<std::string, const SceneSource*>> sources() {
+  std::vector<std::pair<std::string, const SceneSource*>> out;
+  for (const auto& key : SceneSources::names()) out.emplace_back(key, SceneSources::find(key));
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    if (a.second->prefixed != b.second->prefixed) return !a.second->prefixed;
+    return !a.second->prefixed && a.second->order < b.second->order;
+  });
+  return out;
+}
+
+}  // namespace
+
+int scene_int_option(const std::string& key, const std::string& value, const std::string& spec) {
   size_t used = 0;
   int v = 0;
   try {
@@ -44,52 +54,46 @@ int parse_int_option(const std::string& key, const std::string& value, const std
   return v;
 }
 
-Scene load_openarena(const std::string& spec, const std::string& map, const std::map<std::string, std::string>& options) {
-  OpenArenaOptions o;
-  for (const auto& [k, v] : options) {
-    if (k == "group") {
-      if (v == "shader-lightmap") o.group = OpenArenaOptions::Group::shader_lightmap;
-      else if (v == "face") o.group = OpenArenaOptions::Group::face;
-      else throw Error("scene option group='" + v + "' in '" + spec + "': expected shader-lightmap or face");
-    } else if (k == "tess") {
-      o.tessellation = parse_int_option(k, v, spec);
-    } else {
-      throw Error("unknown scene option '" + k + "' in '" + spec + "' (OpenArena maps take group and tess)");
-    }
-  }
-  return load_openarena_map(map, o);
+void unknown_scene_option(const std::string& key, const std::string& spec, const std::string& accepted) {
+  throw Error("unknown scene option '" + key + "' in '" + spec + "' (" + accepted + ")");
 }
 
-}  // namespace
+std::string scene_data_missing(const std::string& spec) {
+  const auto colon = spec.find(':');
+  if (colon == std::string::npos || colon == 0) return {};
+  const SceneSource* s = SceneSources::find(spec.substr(0, colon));
+  if (!s || !s->prefixed || !s->data_directory) return {};
+  const std::string dir = s->data_directory();
+  std::error_code ec;
+  if (std::filesystem::is_directory(dir, ec)) return {};
+  return s->kind + " data not installed (" + dir + "); run scripts/install-deps.sh --game-data";
+}
 
 std::vector<SceneListing> list_scenes() {
   std::vector<SceneListing> out;
-  for (const auto& name : BuiltinScenes::names())
-    out.push_back({name, "built-in", BuiltinScenes::find(name)->description});
-  for (const auto& map : list_openarena_maps()) out.push_back({"oa:" + map, "openarena", "OpenArena map"});
-  for (const auto& t : list_torcs_tracks()) out.push_back({"torcs:" + t.name, "torcs", "TORCS " + t.category + " track"});
+  for (const auto& [key, source] : sources()) {
+    if (!source->list) continue;
+    for (auto& l : source->list()) out.push_back(std::move(l));
+  }
   return out;
 }
 
 Scene load_scene(const std::string& spec) {
   if (spec.empty()) throw Error("no scene given");
-  if (const BuiltinScene* b = BuiltinScenes::find(spec)) return b->make();
-  std::map<std::string, std::string> options;
-  if (spec.rfind("oa:", 0) == 0) {
-    const std::string map = split_options(spec.substr(3), options);
-    return load_openarena(spec, map, options);
+  const auto all = sources();
+  if (const auto colon = spec.find(':'); colon != std::string::npos && colon > 0) {
+    const SceneSource* s = SceneSources::find(spec.substr(0, colon));
+    if (s && s->prefixed) {
+      SceneOptions options;
+      const std::string name = split_options(spec, spec.substr(colon + 1), options);
+      return s->load(spec, name, options);
+    }
   }
-  if (spec.rfind("torcs:", 0) == 0) {
-    const std::string track = split_options(spec.substr(6), options);
-    if (!options.empty()) throw Error("unknown scene option '" + options.begin()->first + "' in '" + spec + "' (TORCS tracks take none)");
-    return load_torcs_track(track);
-  }
-  std::error_code ec;
-  if (std::filesystem::exists(spec, ec)) return load_model_file(spec);
-  std::string names;
-  for (const auto& n : BuiltinScenes::names()) names += (names.empty() ? "" : ", ") + n;
-  throw Error("unknown scene '" + spec + "': not a built-in scene (" + names +
-              "), not oa:MAP or torcs:TRACK, and no such file; 'oovr scenes' lists them");
+  for (const auto& [key, s] : all)
+    if (!s->prefixed && s->claims && s->claims(spec)) return s->load(spec, spec, {});
+  std::string forms;
+  for (const auto& [key, s] : all) forms += (forms.empty() ? "" : ", ") + s->form;
+  throw Error("unknown scene '" + spec + "': none of " + forms + "; 'oovr scenes' lists them");
 }
 
 CameraPath orbit_camera_path(Vec3 lo, Vec3 hi, int frames) {

@@ -17,6 +17,20 @@ const char* layer_kind_name(LayerKind k) {
   return "?";
 }
 
+const char* shading_name(Shading s) {
+  switch (s) {
+    case Shading::layers: return "layers";
+    case Shading::deluxe: return "deluxe";
+  }
+  return "?";
+}
+
+int Pass::layer(LayerKind k) const {
+  for (size_t i = 0; i < layers.size(); ++i)
+    if (layers[i].kind == k) return int(i);
+  return -1;
+}
+
 const char* blend_factor_name(BlendFactor f) {
   switch (f) {
     case BlendFactor::zero: return "zero";

@@ -79,7 +79,22 @@ enum class DepthFunc : uint8_t { less, lequal, equal, always };
 // How a pass turns its layers into a colour.
 //  - layers: the layers combined in order (see Combine), times the pass
 //    colour; fixed-function multitexture.
-enum class Shading : uint8_t { layers };
+//  - deluxe: DarkPlaces' per-pixel lighting from a lightmap and a deluxe
+//    map of model-space light directions (its GLSL shader's
+//    MODE_LIGHTDIRECTIONMAP_MODELSPACE, for maps compiled with q3map2
+//    -deluxe). With D the diffuse texel, N = normalize(normal texel - 0.5)
+//    (0,0,1 without a normal layer), L the deluxe direction taken into the
+//    surface's tangent frame (S, T, N of Mesh::frames) and normalised, C the
+//    lightmap texel x scale / max(0.25, L.z) (undoing the cosine the
+//    lightmap already holds), E the normalised tangent-space direction to
+//    the eye and H = normalize(L + E):
+//      rgb = D.rgb x max(N.L, 0) x C
+//          + G.rgb x specular_intensity x pow(max(N.H, 0), specular_power x G.a) x C   (with a gloss layer G)
+//          + glow.rgb                                                                 (with a glow layer)
+//      a   = D.a; both then times the pass colour.
+//    Layers are found by kind; diffuse, lightmap and deluxe are required.
+enum class Shading : uint8_t { layers, deluxe };
+const char* shading_name(Shading s);
 
 struct Pass {
   std::vector<TextureLayer> layers;  // may be empty: the pass colour alone
@@ -90,6 +105,12 @@ struct Pass {
   float alpha_ref = 0.5f;
   DepthFunc depth_func = DepthFunc::less;
   bool depth_write = true;
+  // Shading::deluxe's specular term: DarkPlaces' r_shadow_glossexponent and
+  // r_shadow_glossintensity defaults.
+  float specular_power = 32.0f, specular_intensity = 1.0f;
+
+  // The index of the first layer of kind `k`, or -1.
+  int layer(LayerKind k) const;
 
   // A pass whose colour depends on what is already in the frame reads it.
   bool reads_colour() const;

@@ -62,11 +62,15 @@ void Scene::validate() const {
   }
   for (const auto& m : materials) {
     if (m.passes.empty()) throw Error(where("material '" + m.name + "' has no pass"));
-    for (const Pass& p : m.passes)
+    for (const Pass& p : m.passes) {
       for (const TextureLayer& l : p.layers)
         if (l.texture < 0 || l.texture >= int(textures.size()))
           throw Error(where("material '" + m.name + "' has a " + layer_kind_name(l.kind) +
                             " layer naming a texture that does not exist"));
+      if (p.shading == Shading::deluxe &&
+          (p.layer(LayerKind::diffuse) < 0 || p.layer(LayerKind::lightmap) < 0 || p.layer(LayerKind::deluxe) < 0))
+        throw Error(where("material '" + m.name + "' has a deluxe-lit pass without diffuse, lightmap and deluxe layers"));
+    }
   }
   for (const auto& mesh : meshes) {
     if (mesh.indices.size() % 3 != 0)
@@ -74,6 +78,8 @@ void Scene::validate() const {
     for (uint32_t i : mesh.indices)
       if (i >= mesh.vertices.size())
         throw Error(where("mesh '" + mesh.name + "' has an index past its vertices"));
+    if (!mesh.frames.empty() && mesh.frames.size() != mesh.vertices.size())
+      throw Error(where("mesh '" + mesh.name + "' has tangent frames for some vertices only"));
   }
   for (size_t k = 0; k < objects.size(); ++k) {
     const Object& o = objects[k];
@@ -85,6 +91,8 @@ void Scene::validate() const {
       throw Error(where("object '" + o.name + "' draws a pass its material does not have"));
     for (uint32_t p : o.after)
       if (p >= k) throw Error(where("object '" + o.name + "' must follow a draw that is not before it"));
+    if (pass_of(o).shading == Shading::deluxe && meshes[size_t(o.mesh)].frames.empty())
+      throw Error(where("object '" + o.name + "' is lit per pixel but its mesh has no tangent frames"));
   }
   if (camera.frames.empty()) throw Error(where("camera path has no frames"));
 }

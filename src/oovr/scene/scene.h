@@ -23,12 +23,25 @@ struct Vertex {
   Vec2 lm_uv;  // lightmap coordinates (unused when the material has no lightmap)
 };
 
+// A vertex's tangent frame, for per-pixel lighting (Shading::deluxe): S
+// and T follow the surface texture's s and t directions, N is the surface
+// normal; world space, unit length, S and T perpendicular to N (DarkPlaces'
+// svector, tvector and normal).
+struct TangentFrame {
+  Vec3 s, t, n;
+};
+
 struct Mesh {
   std::string name;
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;  // triangle list
+  // One per vertex when the mesh is drawn with per-pixel lighting, else
+  // empty; the vertex buffer then holds both (vertex_bytes).
+  std::vector<TangentFrame> frames;
 
   uint64_t triangle_count() const { return indices.size() / 3; }
+  // Bytes of the vertex buffer: positions, coordinates and any frames.
+  uint64_t vertex_bytes() const { return vertices.size() * sizeof(Vertex) + frames.size() * sizeof(TangentFrame); }
 };
 
 struct Object {

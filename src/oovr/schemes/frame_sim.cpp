@@ -141,7 +141,7 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   const uint64_t line = m_memory_spec.line.value;
   const Region& vb = m_map->region(m_layout->vertex_region(o.mesh));
   const Region& ib = m_map->region(m_layout->index_region(o.mesh));
-  for (uint64_t a = 0; a < mesh.vertices.size() * sizeof(Vertex); a += line) m_scratch.push_back({vb.base + a, Category::vertex, false});
+  for (uint64_t a = 0; a < mesh.vertex_bytes(); a += line) m_scratch.push_back({vb.base + a, Category::vertex, false});
   for (uint64_t a = 0; a < mesh.indices.size() * sizeof(uint32_t); a += line) m_scratch.push_back({ib.base + a, Category::index, false});
   UnitTraffic t = empty_traffic();
   m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);

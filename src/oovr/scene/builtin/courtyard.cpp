@@ -9,7 +9,7 @@
 
 #include "oovr/core/rng.h"
 #include "oovr/scene/builtin.h"
-#include "oovr/scene/procedural.h"
+#include "oovr/scene/builtin/procedural.h"
 
 namespace oovr {
 namespace {

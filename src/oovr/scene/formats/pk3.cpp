@@ -1,4 +1,4 @@
-#include "oovr/scene/pk3.h"
+#include "oovr/scene/formats/pk3.h"
 
 #include <zip.h>
 

@@ -1,9 +1,9 @@
-#include "oovr/scene/q3_shader.h"
+#include "oovr/scene/formats/q3_shader.h"
 
 #include <cmath>
 #include <cstdlib>
 
-#include "oovr/scene/pk3.h"
+#include "oovr/scene/formats/pk3.h"
 
 namespace oovr {
 namespace {

@@ -1,4 +1,4 @@
-#include "oovr/scene/ac3d.h"
+#include "oovr/scene/formats/ac3d.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "oovr/scene/procedural.h"
+#include "oovr/scene/builtin/procedural.h"
 
 #include <algorithm>
 #include <cmath>

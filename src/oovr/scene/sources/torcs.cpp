@@ -1,4 +1,4 @@
-#include "oovr/scene/torcs.h"
+#include "oovr/scene/sources/torcs.h"
 
 #include <pugixml.hpp>
 
@@ -9,8 +9,9 @@
 #include <optional>
 
 #include "oovr/core/error.h"
-#include "oovr/scene/ac3d.h"
+#include "oovr/scene/formats/ac3d.h"
 #include "oovr/scene/load.h"
+#include "oovr/scene/source.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
@@ -269,4 +270,21 @@ Scene load_torcs_track(const std::string& name) {
   return scene;
 }
 
+namespace {
+
+std::vector<SceneListing> list_tracks() {
+  std::vector<SceneListing> out;
+  for (const auto& t : list_torcs_tracks()) out.push_back({"torcs:" + t.name, "torcs", "TORCS " + t.category + " track"});
+  return out;
+}
+
+const SceneSources::Add reg("torcs", {"torcs", "torcs:TRACK", true, 0, list_tracks, nullptr,
+                                      [](const std::string& spec, const std::string& track, const SceneOptions& options) {
+                                        if (!options.empty())
+                                          unknown_scene_option(options.begin()->first, spec, "TORCS tracks take none");
+                                        return load_torcs_track(track);
+                                      },
+                                   torcs_directory});
+
+}  // namespace
 }  // namespace oovr

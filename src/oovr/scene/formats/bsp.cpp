@@ -1,4 +1,4 @@
-#include "oovr/scene/bsp.h"
+#include "oovr/scene/formats/bsp.h"
 
 #include <cmath>
 #include <cstring>
@@ -115,8 +115,8 @@ BspMap parse_bsp(const uint8_t* data, size_t size, const std::string& name) {
     if (f.type == kBspBillboard) continue;  // not drawn; nothing else is read
     if (f.first_vertex < 0 || f.vertex_count < 0 || uint64_t(f.first_vertex) + uint64_t(f.vertex_count) > n_vertices)
       throw fail(face + " has vertices outside the vertex lump");
-    if (f.lightmap >= m.lightmap_count)
-      throw fail(face + " names lightmap " + std::to_string(f.lightmap) + " of " + std::to_string(m.lightmap_count));
+    // A lightmap index past the lightmap lump is left to the loader: maps
+    // compiled with q3map2 -external keep their lightmaps in image files.
     if (!finite(f.normal)) f.normal = {0, 0, 0};
     if (f.type == kBspPatch) {
       if (f.patch_w < 3 || f.patch_h < 3 || f.patch_w % 2 == 0 || f.patch_h % 2 == 0 ||

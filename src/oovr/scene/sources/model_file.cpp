@@ -17,6 +17,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/scene/load.h"
+#include "oovr/scene/source.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
@@ -220,8 +221,18 @@ class AssimpLoader {
   std::map<std::string, int> m_textures;
 };
 
-}  // namespace
+// Model files are asked after the built-in scenes: any name that is an
+// existing file (a path may contain ':', so this runs when no prefix claimed it).
+const SceneSources::Add reg("file", {"model file", "a model file path (OBJ, glTF, PLY, AC3D)", false, 10, nullptr,
+                                     [](const std::string& name) {
+                                       std::error_code ec;
+                                       return fs::exists(name, ec);
+                                     },
+                                     [](const std::string&, const std::string& path, const SceneOptions&) {
+                                       return AssimpLoader(path).load();
+                                     },
+                                     nullptr});
 
-Scene load_model_file(const std::string& path) { return AssimpLoader(path).load(); }
+}  // namespace
 
 }  // namespace oovr
