@@ -143,6 +143,18 @@ TEST_F(NexuizDir, CorruptOrMismatchedLightmapsAreNamedErrors) {
   EXPECT_THROW(load(), Error) << "lightmap and deluxe map of different sizes";
 }
 
+TEST_F(NexuizDir, OnePassMaterialsAreTheOldWorkload) {
+  load();
+  const Scene s = load_scene("nexuiz:test?materials=one-pass");
+  EXPECT_EQ(s.objects.size(), s.meshes.size()) << "one pass per surface group";
+  const Pass& p = wall(s);
+  EXPECT_EQ(p.shading, Shading::layers);
+  ASSERT_EQ(p.layers.size(), 2u);
+  EXPECT_EQ(p.layers[0].kind, LayerKind::diffuse);
+  EXPECT_EQ(p.layers[1].kind, LayerKind::lightmap);
+  EXPECT_THROW(load_scene("nexuiz:test?materials=bogus"), Error);
+}
+
 TEST_F(NexuizDir, ListedWithItsPrefix) {
   load();
   const auto maps = list_nexuiz_maps();

@@ -58,6 +58,8 @@ int cmd_scene_info(const SceneInfoArgs& a) {
     j["textures"] = i.textures;
     j["texture_bytes"] = i.texture_bytes;
     j["camera_frames"] = i.camera_frames;
+    j["texture_layers"] = i.texture_layers;
+    j["lit_draws"] = i.lit_draws;
     j["max_objects_sharing_a_texture"] = i.max_sharing;
     nlohmann::ordered_json hist = nlohmann::ordered_json::object();
     for (const auto& [objects, textures] : i.sharing_histogram) hist[std::to_string(objects)] = textures;
@@ -76,6 +78,8 @@ int cmd_scene_info(const SceneInfoArgs& a) {
   fmt::print("triangles      {}\n", i.triangles);
   fmt::print("vertices       {}\n", i.vertices);
   fmt::print("textures       {} ({} with mip chains)\n", i.textures, human_bytes(i.texture_bytes));
+  fmt::print("layers         {} sampled over the draws ({:.2f} per draw); {} draws lit per pixel\n", i.texture_layers,
+             i.draws ? double(i.texture_layers) / double(i.draws) : 0.0, i.lit_draws);
   fmt::print("camera frames  {}\n", i.camera_frames);
   fmt::print("\nobjects sharing each texture:\n");
   fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", "texture", "size", "bytes", "objects");
@@ -161,6 +165,13 @@ int cmd_render(const RenderArgs& a) {
              tr.total_passed(), quads);
   fmt::print("  trace: {} (object, eye, tile) records, {} texture line reads ({}-byte lines)\n", tr.tiles.size(),
              tr.tex_lines.size(), tr.line_bytes);
+  // Texture work: layers sampled per shaded fragment and per pixel drawn
+  // (the frame's pixels some draw wrote), and the texture bytes touched.
+  const uint64_t drawn = uint64_t(std::count_if(out.object_id.begin(), out.object_id.end(), [](uint32_t id) { return id != kNoObject; }));
+  const double fetches = double(tr.layer_fetches());
+  fmt::print("  texture: {:.2f} layers per shaded fragment, {:.2f} per pixel drawn; {} of texture lines touched\n",
+             shaded ? fetches / double(shaded) : 0.0, drawn ? fetches / double(drawn) : 0.0,
+             human_bytes(tr.unique_tex_lines() * tr.line_bytes));
   fmt::print("  time: scene {:.0f} ms, render {:.0f} ms\n", ms(t1 - t0), ms(t2 - t1));
   return 0;
 }

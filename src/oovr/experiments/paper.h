@@ -28,6 +28,9 @@ struct PaperOptions {
   // Also run the claims with issue 9's model changes switched on one by one
   // (the document's before-and-after table).
   bool steps = true;
+  // Also run the game levels as one-pass workloads (paper_figures.h), for
+  // the document's workload section.
+  bool workloads = true;
   Config config;  // the machine: preset and --set overrides
   std::string command;  // as run, for the document
   std::function<void(const std::string&)> progress;
@@ -50,6 +53,9 @@ struct PaperSceneStats {
 
 struct PaperResults {
   std::vector<std::string> scenes;   // measured, in order
+  // Scenes also measured as one-pass workloads (their runs are under
+  // one_pass_scene(name), at the sweep resolution only).
+  std::vector<std::string> one_pass_scenes;
   std::map<std::string, PaperSceneStats> stats;
   std::vector<std::string> skipped;  // "scene: reason"
   std::vector<PaperRun> runs;

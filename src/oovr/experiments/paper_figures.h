@@ -67,6 +67,19 @@ inline std::vector<std::pair<std::string, std::string>> step_runs(const ModelSte
           {"object", "gpms=8"}, {"oo-app", ""},         {"oo-vr", ""},              {"oo-vr", "link.bandwidth=1TBps"},
           {"oo-vr", "link.bandwidth=32GBps"}, {"oo-vr", "gpms=8"}, {"single-gpm", ""}, {"two-pass", ""}};
 }
+// The one-pass workloads (issue 10's comparison): a game level drawn as
+// oovr drew it before real materials, one opaque pass of its first image
+// times its lightmap (the scene option below, for the sources that take
+// it), with textures stored as RGBA8 and every fragment costing 32
+// instructions. The workload section sets the claims on these beside the
+// same levels with their real materials.
+inline const std::string kOnePassOption = "materials=one-pass";
+inline const std::string kOnePassWindow = "pipeline.texture_format=rgba8";
+inline const std::string kOnePassVariant = "shader.fragment_instructions=32";
+inline std::string one_pass_scene(const std::string& scene) {
+  return scene + (scene.find('?') == std::string::npos ? "?" : "&") + kOnePassOption;
+}
+
 // The variant name of a step's run: its settings, then the extra ones.
 inline std::string step_variant(const ModelStep& step, const std::string& extra) {
   if (step.settings.empty()) return extra;

@@ -98,6 +98,12 @@ struct FrameTrace {
 
   uint64_t total_covered() const;
   uint64_t total_passed() const;
+  // Texture layers sampled over the frame: each shaded fragment times the
+  // layers its pass samples ("texture fetches", whatever their filtering).
+  uint64_t layer_fetches() const;
+  // Distinct texture lines the frame touched (x line_bytes: the texture
+  // bytes it needed, in the storage format).
+  uint64_t unique_tex_lines() const;
 };
 
 }  // namespace oovr

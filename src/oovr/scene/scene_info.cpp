@@ -19,6 +19,8 @@ SceneInfo scene_info(const Scene& s) {
   for (const auto& t : s.textures)
     i.texture_use.push_back({t.name, t.width(), t.height(), int(t.levels.size()), t.bytes(), 0});
   for (const auto& o : s.objects) {
+    i.texture_layers += s.pass_of(o).layers.size();
+    i.lit_draws += s.pass_of(o).shading == Shading::deluxe;
     // An object counts once per texture even if it names it twice.
     const auto tex = s.textures_of(o);
     for (int t : std::set<int>(tex.begin(), tex.end())) ++i.texture_use[size_t(t)].objects;

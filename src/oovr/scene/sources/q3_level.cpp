@@ -493,7 +493,8 @@ class MapBuilder {
     std::optional<Q3Passes> dp;
     // DarkPlaces draws skies as ioquake3 does (box, then cloud layers).
     if (m_game.engine == Q3Engine::darkplaces && !(sh && sh->sky)) dp = darkplaces_passes(bsp, sh, lookup, lightmap);
-    const Q3Passes q = dp ? *dp : q3_passes(sh, lookup);
+    Q3Passes q = dp ? *dp : q3_passes(sh, lookup);
+    if (m_opt.one_pass) q = one_pass(sh, lookup);
     Material m;
     m.name = ref.name + (lightmap >= 0 ? " lm" + std::to_string(lightmap) : "");
     m.passes = q.passes;
@@ -505,6 +506,23 @@ class MapBuilder {
     m_blended += q.sort > q3_sort::opaque;
     m_scene.materials.push_back(std::move(m));
     return {int(m_scene.materials.size()) - 1, q.sort};
+  }
+
+  // The one-pass material: the shader's first image stage (a sky's far box
+  // comes first) times the lightmap, opaque, sorted as the map's order.
+  Q3Passes one_pass(const Q3Shader* sh, Lookup& lookup) {
+    const Q3Stage implicit;
+    const Q3Stage* first = sh ? nullptr : &implicit;
+    if (sh && !first)
+      for (const Q3Stage& st : sh->stages)
+        if (st.source == Q3Stage::Source::image) {
+          first = &st;
+          break;
+        }
+    Q3Passes q;
+    q.passes.push_back(Pass::textured(first ? lookup.image(*first) : -1, lookup.lightmap()));
+    q.passes.front().depth_func = DepthFunc::lequal;
+    return q;
   }
 
   void lightmap_notes() {
@@ -620,8 +638,12 @@ Q3LevelOptions parse_q3_level_options(const std::string& spec, const SceneOption
       else throw Error("scene option group='" + v + "' in '" + spec + "': expected shader-lightmap or face");
     } else if (k == "tess") {
       o.tessellation = scene_int_option(k, v, spec);
+    } else if (k == "materials") {
+      if (v == "real") o.one_pass = false;
+      else if (v == "one-pass") o.one_pass = true;
+      else throw Error("scene option materials='" + v + "' in '" + spec + "': expected real or one-pass");
     } else {
-      unknown_scene_option(k, spec, "Quake 3 maps take group and tess");
+      unknown_scene_option(k, spec, "Quake 3 maps take group, tess and materials");
     }
   }
   return o;

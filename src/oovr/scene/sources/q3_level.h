@@ -43,9 +43,14 @@ struct Q3LevelOptions {
   enum class Group { shader_lightmap, face };
   Group group = Group::shader_lightmap;
   int tessellation = 4;  // segments per side of each 3x3 Bezier patch (1 to 16)
+  // "materials=one-pass": every group drawn with one opaque pass, its
+  // shader's first image times its lightmap, as oovr drew these levels
+  // before real materials (the paper comparison's one-pass workloads).
+  bool one_pass = false;
 };
 
-// Reads the options every Quake 3 level takes (group, tess); Error for any other.
+// Reads the options every Quake 3 level takes (group, tess, materials);
+// Error for any other.
 Q3LevelOptions parse_q3_level_options(const std::string& spec, const SceneOptions& options);
 
 // Map names (without "maps/" and ".bsp") in the game directory's archives,
