@@ -390,7 +390,9 @@ class Doc {
         "samples and computes ([workloads.md](workloads.md), [model.md](model.md)). This section runs the same {} levels\n"
         "both ways at {} (`{}` with `{}` and `{}`: the one-pass workloads) and sets the claims' means side by side.\n\n",
         games.size(), res(), kOnePassOption, kOnePassWindow, kOnePassVariant);
-    // What the change does to the work, per level.
+    // What the change does to the work, per level, and its span over the
+    // levels (frame time and remote texture bytes, for the prose below).
+    std::vector<double> frame, texture;
     out += "| scene | baseline frame time, real / one pass | baseline texture bytes from other GPMs, real / one pass "
            "| baseline inter-GPM bytes, real / one pass |\n| --- | --- | --- | --- |\n";
     for (const auto& sc : games) {
@@ -398,7 +400,9 @@ class Doc {
       const SchemeResult* b = r.find(sc, res(), "baseline");
       if (!a || !b) continue;
       const double ta = double(a->inter_gpm_bytes[size_t(Category::texture)]), tb = double(b->inter_gpm_bytes[size_t(Category::texture)]);
-      out += fmt::format("| `{}` | {} | {} | {} |\n", sc, times(b->frame_latency_s / a->frame_latency_s),
+      frame.push_back(b->frame_latency_s / a->frame_latency_s);
+      if (ta > 0) texture.push_back(tb / ta);
+      out += fmt::format("| `{}` | {} | {} | {} |\n", sc, times(frame.back()),
                          ta > 0 ? times(tb / ta) : "n/a",
                          a->total_inter_gpm_bytes() ? times(double(b->total_inter_gpm_bytes()) / double(a->total_inter_gpm_bytes())) : "n/a");
     }
@@ -416,16 +420,6 @@ class Doc {
     }
     std::string list;
     for (const auto& id : moved) list += (list.empty() ? "" : ", ") + id;
-    // The size of the two effects on the baseline, over the levels.
-    std::vector<double> frame, texture;
-    for (const auto& sc : games) {
-      const SchemeResult* a = r.find(one_pass_scene(sc), res(), "baseline", kOnePassVariant);
-      const SchemeResult* b = r.find(sc, res(), "baseline");
-      if (!a || !b) continue;
-      frame.push_back(b->frame_latency_s / a->frame_latency_s);
-      const double ta = double(a->inter_gpm_bytes[size_t(Category::texture)]);
-      if (ta > 0) texture.push_back(double(b->inter_gpm_bytes[size_t(Category::texture)]) / ta);
-    }
     const auto span = [](std::vector<double> v) {
       if (v.empty()) return std::string("n/a");
       std::sort(v.begin(), v.end());

@@ -601,7 +601,6 @@ class TileRasterizer {
         for (int p = 0; p < 4; ++p) c[p] = {255, 255, 255, 255};
         bool first = true;
         const bool deluxe = pass.shading == Shading::deluxe;
-        detail::Rgba texel[kMaxDeluxeLayers][4];
         for (size_t li = 0; li < pp.layers.size(); ++li) {
           const PreparedLayer& L = pp.layers[li];
           const float* su = L.lightmap_coords ? lu : u;
@@ -621,7 +620,7 @@ class TileRasterizer {
             if (!(live & (1u << p))) continue;
             const detail::Rgba s = detail::sample(*L.texture, tu[p], tv[p], d, m_settings.max_anisotropy, lines, m_cur.samples);
             if (deluxe) {
-              texel[li][p] = s;
+              m_texel[p][li] = s;
               continue;
             }
             detail::Rgba& o = c[p];
@@ -654,12 +653,8 @@ class TileRasterizer {
           first = false;
         }
         if (deluxe) {
-          for (int p = 0; p < 4; ++p) {
-            if (!(live & (1u << p))) continue;
-            detail::Rgba px[kMaxDeluxeLayers];
-            for (size_t li = 0; li < pp.layers.size(); ++li) px[li] = texel[li][p];
-            c[p] = shade_deluxe(pp, px, lit[p]);
-          }
+          for (int p = 0; p < 4; ++p)
+            if (live & (1u << p)) c[p] = shade_deluxe(pp, m_texel[p], lit[p]);
         } else if (first) {  // no layers: the pass colour alone
           for (int p = 0; p < 4; ++p) {
             c[p].r *= cr;
@@ -732,6 +727,9 @@ class TileRasterizer {
   bool m_open = false;
   std::vector<uint32_t> m_vids;
   detail::QuadLines m_quad_lines;
+  // A per-pixel lit quad's texels, per pixel and layer (shade_deluxe reads
+  // one pixel's row); a member so other passes do not initialise it per quad.
+  detail::Rgba m_texel[4][kMaxDeluxeLayers];
 };
 
 }  // namespace

@@ -492,9 +492,11 @@ class MapBuilder {
     Lookup lookup(*this, bsp, normalize_game_path(ref.name), lightmap);
     std::optional<Q3Passes> dp;
     // DarkPlaces draws skies as ioquake3 does (box, then cloud layers).
-    if (m_game.engine == Q3Engine::darkplaces && !(sh && sh->sky)) dp = darkplaces_passes(bsp, sh, lookup, lightmap);
-    Q3Passes q = dp ? *dp : q3_passes(sh, lookup);
-    if (m_opt.one_pass) q = one_pass(sh, lookup);
+    if (!m_opt.one_pass && m_game.engine == Q3Engine::darkplaces && !(sh && sh->sky))
+      dp = darkplaces_passes(bsp, sh, lookup, lightmap);
+    // Only the passes drawn load their images: a one-pass level holds no
+    // texture it does not sample.
+    const Q3Passes q = m_opt.one_pass ? one_pass(sh, lookup) : dp ? *dp : q3_passes(sh, lookup);
     Material m;
     m.name = ref.name + (lightmap >= 0 ? " lm" + std::to_string(lightmap) : "");
     m.passes = q.passes;
