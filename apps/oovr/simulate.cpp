@@ -176,12 +176,14 @@ int simulate(const SimulateArgs& a) {
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.outputs.size(),
              std::chrono::duration<double, std::milli>(t2 - t1).count());
+  for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
   if (!a.json.empty()) {
     nlohmann::ordered_json j = to_json(r);
     j["scene"] = f.scene.name;
     j["frame"] = a.frame;
     j["frames"] = window;
     j["frame_latency_cycles_per_frame"] = latencies_json(r);
+    j["trace_notes"] = f.notes;
     write_json(a.json, j);
   }
   if (!a.gpm_image.empty()) write_image(gpm_image(f.outputs.front(), r), a.gpm_image);
@@ -221,6 +223,7 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, window,
              std::chrono::duration<double, std::milli>(t2 - t1).count());
+  for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
   if (!a.json.empty()) {
     nlohmann::ordered_json j;
     j["scene"] = f.scene.name;
@@ -240,6 +243,7 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
       arr.push_back(x);
     }
     j["schemes"] = arr;
+    j["trace_notes"] = f.notes;
     write_json(a.json, j);
   }
   return 0;

@@ -19,6 +19,9 @@ struct FrameWindow {
   std::vector<FrameOutput> outputs;  // image and object ids only where rendered
   std::vector<const FrameTrace*> traces;
   int cached = 0;  // traces that came from the cache
+  // What the user should know about how the traces were got (a cache entry
+  // that did not verify and was rendered again).
+  std::vector<std::string> notes;
 };
 
 struct WindowRequest {

@@ -168,6 +168,7 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
     const StereoRig rig = parse_frame_resolution(p.resolution);
     p.oovr_us.assign(p.frames.size(), 0);
     // Frames are independent runs: in parallel, each into its own slot.
+    std::vector<std::vector<std::string>> frame_notes(p.frames.size());
     parallel_for(p.frames.size(), 0, [&](size_t i) {
       WindowRequest w;
       w.first = p.frames[i];
@@ -176,7 +177,10 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
       w.use_cache = o.use_cache;
       const FrameWindow f = load_window(scene, rig, o.config, w);
       p.oovr_us[i] = run_scheme_window(o.scheme, f.scene, f.traces, o.config, 1).frame_latency_s * 1e6;
+      frame_notes[i] = f.notes;
     });
+    for (const auto& n : frame_notes)
+      for (const auto& x : n) c.notes.push_back(p.scene + " " + p.resolution + ": " + x);
     p.gpu_median_us = median(p.gpu_us);
     p.oovr_median_us = median(p.oovr_us);
     if (o.progress)

@@ -70,6 +70,8 @@ void run_one_pass_workloads(const PaperOptions& o, PaperResults& res) {
     w.count = o.frames;
     w.aniso = o.aniso;
     const FrameWindow window = load_window(scene, parse_frame_resolution(o.sweep_resolution), config, w);
+    if (o.progress)
+      for (const auto& n : window.notes) o.progress(one + ": note: " + n);
     std::vector<Job> jobs;
     for (const auto& [scheme, extra] : step_runs(kSteps.back()))
       jobs.push_back({scheme, extra.empty() ? kOnePassVariant : kOnePassVariant + ";" + extra});
@@ -117,6 +119,8 @@ PaperResults run_paper(const PaperOptions& o) {
       w.count = o.frames;
       w.aniso = o.aniso;
       const FrameWindow window = load_window(scene, parse_frame_resolution(resolution), o.config, w);
+      if (o.progress)
+        for (const auto& n : window.notes) o.progress(name + " " + resolution + ": note: " + n);
       if (resolution == o.sweep_resolution) {
         PaperSceneStats st;
         st.draws = scene.objects.size();

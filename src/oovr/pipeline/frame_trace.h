@@ -36,6 +36,11 @@ struct TileWork {
   uint32_t object = 0;
   uint16_t eye = 0;
   uint16_t tile_x = 0, tile_y = 0;  // tile coordinates; y counts up from the frame's bottom row
+  // Explicit and zero (with reserved1), so that every byte of a record is
+  // set: the trace cache stores records as bytes under a checksum, and a
+  // trace must have one byte form (trace_cache.cpp asserts there is no
+  // hidden padding).
+  uint16_t reserved0 = 0;
   uint32_t triangles = 0;           // triangles binned to this tile (after clip and cull)
   uint32_t vertices = 0;            // distinct mesh vertices of those triangles
   uint32_t quads = 0;    // 2x2 quads shaded (at least one fragment shaded)
@@ -59,6 +64,7 @@ struct TileWork {
   // the requests of a quad), repeats across quads are kept.
   uint64_t tex_begin = 0;
   uint32_t tex_count = 0;
+  uint32_t reserved1 = 0;
 
   bool operator==(const TileWork&) const = default;
 };

@@ -1,8 +1,14 @@
 #include "oovr/pipeline/trace_cache.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -10,10 +16,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include "oovr/core/error.h"
+#include "oovr/pipeline/tiled_layout.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
@@ -21,8 +28,30 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[8] = {'O', 'O', 'V', 'R', 'T', 'R', 'C', '1'};
-// Bump when the trace's meaning or layout changes.
-constexpr uint32_t kFormat = 2;
+// Bump when the trace's meaning or layout changes (3: key and checksum).
+constexpr uint32_t kFormat = 3;
+
+// A 64-bit checksum of a payload, 8 bytes a step. Each step is a bijection
+// of the state for a fixed word and of the word for a fixed state, so any
+// change confined to one word (every flipped bit or byte) always changes
+// the result; wider damage goes unnoticed with probability 2^-64.
+uint64_t checksum(std::string_view b) {
+  constexpr uint64_t p1 = 0x9E3779B185EBCA87ull, p2 = 0xC2B2AE3D27D4EB4Full;
+  uint64_t h = 0x27D4EB2F165667C5ull ^ uint64_t(b.size());
+  size_t i = 0;
+  for (; i + 8 <= b.size(); i += 8) {
+    uint64_t w;
+    std::memcpy(&w, b.data() + i, 8);
+    h = std::rotl(h ^ (w * p2), 31) * p1;
+  }
+  uint64_t tail = 0;
+  std::memcpy(&tail, b.data() + i, b.size() - i);
+  h = std::rotl(h ^ (tail * p2), 31) * p1;
+  h ^= h >> 33;
+  h *= p2;
+  h ^= h >> 29;
+  return h;
+}
 
 struct Hasher {
   uint64_t h = 1469598103934665603ull;
@@ -39,6 +68,12 @@ struct Hasher {
   }
 };
 
+// Records are written as their bytes, so they must have no padding whose
+// bytes nobody set (a checksum would see noise).
+static_assert(std::has_unique_object_representations_v<TileWork>);
+static_assert(std::has_unique_object_representations_v<ObjectWork>);
+static_assert(std::has_unique_object_representations_v<TexLine>);
+
 template <class T>
 void put(std::string& out, const T& v) {
   out.append(reinterpret_cast<const char*>(&v), sizeof v);
@@ -51,7 +86,7 @@ void put_vector(std::string& out, const std::vector<T>& v) {
 
 class Reader {
  public:
-  explicit Reader(const std::string& s) : m_s(s) {}
+  explicit Reader(std::string_view s) : m_s(s) {}
   template <class T>
   bool get(T& v) {
     if (m_s.size() - m_at < sizeof v) return false;
@@ -64,14 +99,21 @@ class Reader {
     uint64_t n = 0;
     if (!get(n) || n > (m_s.size() - m_at) / sizeof(T)) return false;
     v.resize(n);
-    std::memcpy(v.data(), m_s.data() + m_at, n * sizeof(T));
+    if (n) std::memcpy(v.data(), m_s.data() + m_at, n * sizeof(T));
     m_at += n * sizeof(T);
     return true;
   }
+  bool get_bytes(uint64_t n, std::string_view& v) {
+    if (n > m_s.size() - m_at) return false;
+    v = m_s.substr(m_at, size_t(n));
+    m_at += size_t(n);
+    return true;
+  }
+  size_t left() const { return m_s.size() - m_at; }
   bool done() const { return m_at == m_s.size(); }
 
  private:
-  const std::string& m_s;
+  std::string_view m_s;
   size_t m_at = 0;
 };
 
@@ -159,11 +201,12 @@ uint64_t scene_fingerprint(const Scene& s) {
 
 TraceCache::TraceCache(std::string directory) : m_dir(std::move(directory)) {
   if (const char* m = std::getenv("OOVR_CACHE_MAX_MB"); m && *m) {
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long long mb = std::strtoull(m, &end, 10);
-    if (errno != 0 || *end != '\0' || m[0] == '-')
-      throw Error(std::string("OOVR_CACHE_MAX_MB must be a whole number of megabytes, not '") + m + "'");
+    // Digits only: strtoull alone would take " -5" as 2^64 - 5.
+    const std::string v = m;
+    const bool digits = v.size() <= 12 && v.find_first_not_of("0123456789") == std::string::npos;
+    const unsigned long long mb = digits ? std::strtoull(m, nullptr, 10) : 0;
+    if (!digits || mb < 1 || mb > (1ull << 30))
+      throw Error("OOVR_CACHE_MAX_MB must be a whole number of megabytes from 1 to 1073741824, not '" + v + "'");
     m_max_bytes = uint64_t(mb) << 20;
   }
   if (!m_dir.empty()) return;
@@ -196,8 +239,9 @@ std::string TraceCache::key(uint64_t fingerprint, int frame, const StereoView& v
 }
 
 std::string serialize_trace(const FrameTrace& t) {
-  std::string out(kMagic, sizeof kMagic);
-  put(out, kFormat);
+  std::string out;
+  out.reserve(64 + t.objects.size() * sizeof(ObjectWork) + t.tiles.size() * sizeof(TileWork) +
+              t.tex_lines.size() * sizeof(TexLine));
   put(out, t.frame);
   put(out, t.frame_width);
   put(out, t.frame_height);
@@ -214,37 +258,191 @@ std::string serialize_trace(const FrameTrace& t) {
   return out;
 }
 
-std::optional<FrameTrace> deserialize_trace(const std::string& bytes) {
-  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return std::nullopt;
-  const std::string body = bytes.substr(sizeof kMagic);
-  Reader r(body);
+std::optional<FrameTrace> deserialize_trace(std::string_view bytes) {
+  Reader r(bytes);
   FrameTrace t;
-  uint32_t format = 0;
-  if (!r.get(format) || format != kFormat) return std::nullopt;
   if (!(r.get(t.frame) && r.get(t.frame_width) && r.get(t.frame_height) && r.get(t.tile_size) && r.get(t.tiles_x) &&
-        r.get(t.tiles_y) && r.get(t.line_bytes) && r.get(t.block_w) && r.get(t.block_h) && r.get(t.texture_format) && r.get_vector(t.objects) &&
-        r.get_vector(t.tiles) && r.get_vector(t.tex_lines) && r.done()))
+        r.get(t.tiles_y) && r.get(t.line_bytes) && r.get(t.block_w) && r.get(t.block_h) && r.get(t.texture_format)))
     return std::nullopt;
-  // Reject anything a reader could trip over.
-  if (uint8_t(t.texture_format) > uint8_t(TextureFormat::bc)) return std::nullopt;
-  for (const TileWork& w : t.tiles)
-    if (w.object >= t.objects.size() || w.eye > 1 || w.tile_x >= t.tiles_x || w.tile_y >= t.tiles_y ||
-        w.tex_begin + w.tex_count > t.tex_lines.size())
+  // The header first, so that nothing below divides by or indexes with a
+  // value the renderer could not have written.
+  constexpr int kMaxSide = 1 << 16;
+  if (t.frame < 0 || t.frame_width <= 0 || t.frame_height <= 0 || t.frame_width > kMaxSide || t.frame_height > kMaxSide ||
+      t.tile_size != kTileSize || t.tiles_x != (t.frame_width + kTileSize - 1) / kTileSize ||
+      t.tiles_y != (t.frame_height + kTileSize - 1) / kTileSize || t.line_bytes < 32 || t.line_bytes > 1024 ||
+      (t.line_bytes & (t.line_bytes - 1)) != 0 || uint8_t(t.texture_format) > uint8_t(TextureFormat::bc))
+    return std::nullopt;
+  int bw = 0, bh = 0;
+  line_block_shape(t.line_bytes, bw, bh);
+  if (t.block_w != bw || t.block_h != bh) return std::nullopt;
+  if (!(r.get_vector(t.objects) && r.get_vector(t.tiles) && r.get_vector(t.tex_lines) && r.done())) return std::nullopt;
+  // Tile records in the renderer's order, (object, eye, tile_y, tile_x),
+  // each once, each naming a tile of the frame and a range of its lines.
+  const auto order = [](const TileWork& w) {
+    return std::array<uint64_t, 4>{w.object, w.eye, w.tile_y, w.tile_x};
+  };
+  for (size_t i = 0; i < t.tiles.size(); ++i) {
+    const TileWork& w = t.tiles[i];
+    if (w.object >= t.objects.size() || w.eye >= kEyes || w.tile_x >= t.tiles_x || w.tile_y >= t.tiles_y ||
+        w.tex_begin > t.tex_lines.size() || w.tex_count > t.tex_lines.size() - w.tex_begin)
       return std::nullopt;
+    if (i > 0 && !(order(t.tiles[i - 1]) < order(w))) return std::nullopt;
+  }
   return t;
 }
 
-std::optional<FrameTrace> TraceCache::load(const std::string& key) const {
-  const fs::path path = fs::path(m_dir) / (key + ".trace");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::stringstream buf;
-  buf << in.rdbuf();
-  auto t = deserialize_trace(buf.str());
-  // A hit is recent use: trim() drops the least recently used first.
-  std::error_code ec;
-  if (t) fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+std::string encode_entry(const std::string& key, const FrameTrace& t) {
+  const std::string payload = serialize_trace(t);
+  std::string out(kMagic, sizeof kMagic);
+  put(out, kFormat);
+  put(out, uint32_t(key.size()));
+  out += key;
+  put(out, uint64_t(payload.size()));
+  put(out, checksum(payload));
+  out += payload;
+  return out;
+}
+
+std::optional<FrameTrace> decode_entry(std::string_view bytes, const std::string& key, std::string* why) {
+  const auto fail = [&](const std::string& w) -> std::optional<FrameTrace> {
+    if (why) *why = w;
+    return std::nullopt;
+  };
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    return fail("not a trace-cache entry (bad magic)");
+  Reader r(bytes.substr(sizeof kMagic));
+  uint32_t format = 0, key_size = 0;
+  if (!r.get(format)) return fail("truncated header");
+  if (format != kFormat) return fail("format " + std::to_string(format) + ", expected " + std::to_string(kFormat));
+  std::string_view stored_key;
+  if (!r.get(key_size) || !r.get_bytes(key_size, stored_key)) return fail("truncated header");
+  if (stored_key != key) return fail("stored under another key");
+  uint64_t size = 0, sum = 0;
+  if (!r.get(size) || !r.get(sum)) return fail("truncated header");
+  if (size != r.left()) return fail("payload of " + std::to_string(r.left()) + " bytes, the header says " + std::to_string(size));
+  const std::string_view payload = bytes.substr(bytes.size() - size);
+  if (checksum(payload) != sum) return fail("checksum mismatch");
+  auto t = deserialize_trace(payload);
+  if (!t) return fail("inconsistent trace");
   return t;
+}
+
+std::string trace_mismatch(const FrameTrace& t, const Scene& scene, int frame, const StereoView& view,
+                           const PipelineSettings& settings) {
+  if (t.frame != frame) return "a trace of frame " + std::to_string(t.frame) + ", not " + std::to_string(frame);
+  if (t.frame_width != view.frame_width || t.frame_height != view.frame_height)
+    return "a trace of a " + std::to_string(t.frame_width) + "x" + std::to_string(t.frame_height) + " frame";
+  if (t.line_bytes != settings.line_bytes || t.texture_format != settings.texture_format)
+    return "a trace with another line size or texture format";
+  if (t.objects.size() != scene.objects.size())
+    return "a trace of " + std::to_string(t.objects.size()) + " objects, the scene has " + std::to_string(scene.objects.size());
+  for (const TileWork& w : t.tiles)
+    if (w.eye >= view.eyes) return "a trace with more eyes than the view";
+  if (!settings.record_texture_lines && !t.tex_lines.empty()) return "a trace with texture lines where none are recorded";
+  // Lines per texture in its storage format (tiled_layout.h).
+  std::vector<uint64_t> lines(scene.textures.size());
+  for (size_t i = 0; i < lines.size(); ++i) {
+    int bw = 0, bh = 0;
+    texture_line_shape(scene.textures[i], settings.texture_format, settings.line_bytes, bw, bh);
+    lines[i] = texture_layout(scene.textures[i], bw, bh).lines;
+  }
+  for (const TexLine l : t.tex_lines) {
+    const uint32_t tex = tex_line_texture(l);
+    if (tex >= lines.size() || tex_line_index(l) >= lines[tex])
+      return "a texture line outside the scene's textures";
+  }
+  return {};
+}
+
+namespace {
+
+// Reads the regular file at `path` whole when it is no larger than `limit`
+// bytes. Opened without following links and without blocking (a FIFO or a
+// device in the cache folder is refused, not read). Empty `why` and no
+// bytes: there is no such file.
+std::optional<std::string> read_entry_file(const fs::path& path, uint64_t limit, std::string& why) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno != ENOENT) why = std::string("cannot be opened: ") + std::strerror(errno);
+    return std::nullopt;
+  }
+  std::optional<std::string> bytes;
+  struct stat st{};
+  if (::fstat(fd, &st) != 0) {
+    why = std::string("cannot be read: ") + std::strerror(errno);
+  } else if (!S_ISREG(st.st_mode)) {
+    why = "not a regular file";
+  } else if (uint64_t(st.st_size) > limit) {
+    why = "larger than the cache (" + std::to_string(uint64_t(st.st_size)) + " bytes)";
+  } else {
+    std::string b(size_t(st.st_size), '\0');
+    size_t got = 0;
+    while (got < b.size()) {
+      const ssize_t n = ::read(fd, b.data() + got, b.size() - got);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      got += size_t(n);
+    }
+    if (got == b.size()) bytes = std::move(b);
+    else why = "shorter than its size (" + std::to_string(got) + " of " + std::to_string(b.size()) + " bytes read)";
+  }
+  ::close(fd);
+  return bytes;
+}
+
+// Temporary files of stores are named KEY.tmp.HOST.PID: one whose process
+// is gone (on this host), or older than an hour (any host: a cache folder
+// may be shared by a cluster), was left by an interrupted store.
+bool abandoned_temporary(const fs::directory_entry& e, const std::string& host) {
+  const std::string name = e.path().filename().string();
+  const size_t at = name.find(".tmp.");
+  if (at == std::string::npos) return false;
+  std::error_code ec;
+  const auto age = fs::file_time_type::clock::now() - e.last_write_time(ec);
+  if (!ec && age > std::chrono::hours(1)) return true;
+  const std::string rest = name.substr(at + 5);
+  const size_t dot = rest.rfind('.');
+  if (dot == std::string::npos || rest.substr(0, dot) != host) return false;
+  char* end = nullptr;
+  const long pid = std::strtol(rest.c_str() + dot + 1, &end, 10);
+  if (*end != '\0' || pid <= 0) return false;
+  return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+}
+
+std::string host_name() {
+  char buf[256] = {};
+  if (::gethostname(buf, sizeof buf - 1) != 0 || !buf[0]) return "host";
+  std::string h(buf);
+  for (char& c : h)
+    if (c == '.' || c == '/') c = '_';
+  return h;
+}
+
+}  // namespace
+
+TraceLookup TraceCache::load(const std::string& key, const Scene& scene, int frame, const StereoView& view,
+                             const PipelineSettings& settings) const {
+  TraceLookup out;
+  const fs::path path = fs::path(m_dir) / (key + ".trace");
+  const auto bytes = read_entry_file(path, m_max_bytes, out.rejected);
+  if (bytes) {
+    out.trace = decode_entry(*bytes, key, &out.rejected);
+    if (out.trace) {
+      out.rejected = trace_mismatch(*out.trace, scene, frame, view, settings);
+      if (!out.rejected.empty()) out.trace.reset();
+    }
+  }
+  std::error_code ec;
+  if (out.trace) {
+    // A hit is recent use: trim() drops the least recently used first.
+    fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+  } else if (!out.rejected.empty()) {
+    // Removed now, so that a store that cannot write does not leave it to
+    // be rejected again; a store replaces it otherwise.
+    out.rejected = path.filename().string() + ": " + out.rejected;
+    if (!fs::remove(path, ec) || ec) out.rejected += " (and it could not be removed: " + ec.message() + ")";
+  }
+  return out;
 }
 
 void TraceCache::trim(const fs::path& keep) const {
@@ -256,9 +454,14 @@ void TraceCache::trim(const fs::path& keep) const {
   std::vector<Entry> entries;
   uint64_t total = 0;
   std::error_code ec;
+  const std::string host = host_name();
   for (fs::directory_iterator it(m_dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (it->path().extension() != ".trace" || it->path() == keep) continue;
     std::error_code e2;
+    if (abandoned_temporary(*it, host)) {
+      fs::remove(it->path(), e2);
+      continue;
+    }
+    if (it->path().extension() != ".trace" || it->path() == keep || !it->is_regular_file(e2)) continue;
     const uint64_t bytes = it->file_size(e2);
     const auto time = it->last_write_time(e2);
     if (e2) continue;
@@ -280,14 +483,17 @@ bool TraceCache::store(const std::string& key, const FrameTrace& t) const {
   std::error_code ec;
   fs::create_directories(m_dir, ec);
   if (ec) return false;
+  const std::string bytes = encode_entry(key, t);
+  if (bytes.size() > m_max_bytes) return false;  // would leave no room for anything else
   // Write aside, then rename: readers never see a half-written file.
   const fs::path final_path = fs::path(m_dir) / (key + ".trace");
-  const fs::path tmp = fs::path(m_dir) / (key + ".tmp" + std::to_string(::getpid()));
+  const fs::path tmp = fs::path(m_dir) / (key + ".tmp." + host_name() + "." + std::to_string(::getpid()));
   {
-    std::ofstream out(tmp, std::ios::binary);
-    const std::string bytes = serialize_trace(t);
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), std::streamsize(bytes.size()));
+    out.flush();
     if (!out) {
+      out.close();
       fs::remove(tmp, ec);
       return false;
     }

@@ -1,15 +1,22 @@
 // A disk cache of FrameTraces (render once, replay per scheme): a trace is
 // stored under a key made from everything that decides it: the scene's
 // content (a hash of its geometry, textures, objects and camera), the frame,
-// the stereo view, and the pipeline settings. A stale or corrupt entry is a
-// miss, never a wrong answer; the key includes a hash of the executable, so a
-// rebuilt oovr never replays traces made by older code.
+// the stereo view, and the pipeline settings. The key includes a hash of the
+// executable, so a rebuilt oovr never replays traces made by older code.
+//
+// A stale or corrupt entry is a miss, never a wrong answer and never a
+// crash: an entry is read only from a regular file no larger than the cache,
+// it carries the key it was stored under and a checksum of its payload, and
+// the trace it holds must be one the renderer could have made of the scene,
+// frame, view and settings asked for. An entry that fails any of these is
+// reported (TraceLookup::rejected), removed and rendered again.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/pipeline/pipeline.h"
@@ -21,20 +28,33 @@ namespace oovr {
 // A hash of everything in the scene that a render depends on.
 uint64_t scene_fingerprint(const Scene& s);
 
+struct TraceLookup {
+  std::optional<FrameTrace> trace;  // a hit
+  // Why an entry stored under the key was not used (empty for a hit or when
+  // there was no entry); the entry has been removed when it could be.
+  std::string rejected;
+};
+
 class TraceCache {
  public:
   // `directory` empty: $OOVR_CACHE_DIR, else $XDG_CACHE_HOME/oovr/traces,
   // else ~/.cache/oovr/traces. The cache holds at most $OOVR_CACHE_MAX_MB
-  // megabytes (default 2048): storing a trace drops the least recently used
-  // others until it fits.
+  // megabytes (default 2048, at least 1): storing a trace drops the least
+  // recently used others until it fits; a trace larger than the whole cache
+  // is not stored, and no file larger than it is read.
   explicit TraceCache(std::string directory = {});
   const std::string& directory() const { return m_dir; }
   uint64_t max_bytes() const { return m_max_bytes; }
   void set_max_bytes(uint64_t b) { m_max_bytes = b; }
 
   std::string key(uint64_t scene_fingerprint, int frame, const StereoView& view, const PipelineSettings& s) const;
-  std::optional<FrameTrace> load(const std::string& key) const;
+  // The trace stored under `key`, if it verifies as a trace of `frame` of
+  // `scene` seen through `view` with `settings` (trace_mismatch).
+  TraceLookup load(const std::string& key, const Scene& scene, int frame, const StereoView& view,
+                   const PipelineSettings& settings) const;
   // Best effort: a cache that cannot be written is skipped, not an error.
+  // Written aside and renamed, so readers never see half an entry; also
+  // removes what interrupted stores left behind (trim).
   bool store(const std::string& key, const FrameTrace& t) const;
 
  private:
@@ -44,8 +64,24 @@ class TraceCache {
   uint64_t m_max_bytes = uint64_t(2048) << 20;
 };
 
-// Writes / reads the binary form of a trace (also used by the tests).
+// The binary form of a trace (the payload of a cache entry; also used by the
+// tests and the fuzz target). deserialize_trace accepts only a payload that
+// is whole and internally consistent: every tile record names an object,
+// eye and tile of the frame and a range of its texture lines, in the order
+// the renderer writes them.
 std::string serialize_trace(const FrameTrace& t);
-std::optional<FrameTrace> deserialize_trace(const std::string& bytes);
+std::optional<FrameTrace> deserialize_trace(std::string_view bytes);
+
+// A cache entry: magic, format, the key, the payload's size and checksum,
+// the payload. decode_entry returns the trace, or nothing with `why` set.
+std::string encode_entry(const std::string& key, const FrameTrace& t);
+std::optional<FrameTrace> decode_entry(std::string_view bytes, const std::string& key, std::string* why);
+
+// What makes `t` a trace the renderer could not have made of `frame` of
+// `scene` through `view` with `settings`: its frame, size, tiles, line and
+// storage format, object count, and every texture line within its texture's
+// layout. Empty when it could have.
+std::string trace_mismatch(const FrameTrace& t, const Scene& scene, int frame, const StereoView& view,
+                           const PipelineSettings& settings);
 
 }  // namespace oovr
