@@ -1,6 +1,9 @@
 // Units, the strict configuration tree, and every preset in configs/.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <filesystem>
 
 #include "oovr/core/config.h"
@@ -40,12 +43,39 @@ TEST(Units, ParseWithUnits) {
   EXPECT_EQ(format_bandwidth({64e9}), "64 GB/s");
 }
 
+// Whatever oovr prints as a value, it reads back as the same value (oovr
+// config once printed "124.9 KB", which --config then refused).
+TEST(Units, PrintedValuesReadBack) {
+  for (const uint64_t b : {0ull, 1ull, 1000ull, 127897ull, 128ull << 10, 1536ull << 10, 3ull << 30, (3ull << 30) + 1})
+    EXPECT_EQ(parse_bytes(format_bytes({b}), "k").value, b) << format_bytes({b});
+  EXPECT_EQ(format_bytes({1536 << 10}), "1536 KB");
+  EXPECT_EQ(format_bytes({127897}), "127897 B");
+  for (const double bw : {64e9, 1e12, 1.5e12, 123456789.0, 0.1e9 + 1, 900e6, 1e16})
+    EXPECT_EQ(parse_bandwidth(format_bandwidth({bw}), "k").value, bw) << format_bandwidth({bw});
+  for (const std::string t : {"100ns", "82ns", "1.3us", "0.1ns", "1ms", "7e-10s"}) {
+    Config c;
+    c.set("x", t);
+    const double v = c.get_time("x", {0}).value;
+    Config back;
+    back.set("x", c.resolved().at("x"));
+    EXPECT_EQ(back.get_time("x", {0}).value, v) << t << " printed as " << c.resolved().at("x");
+  }
+  for (const std::string f : {"1GHz", "1.3GHz", "1234567Hz", "999.9999MHz"}) {
+    Config c;
+    c.set("x", f);
+    const double v = c.get_frequency("x", {0}).value;
+    Config back;
+    back.set("x", c.resolved().at("x"));
+    EXPECT_EQ(back.get_frequency("x", {0}).value, v) << f << " printed as " << c.resolved().at("x");
+  }
+}
+
 TEST(Config, TomlTablesBecomeDottedKeys) {
   const Config c = Config::from_toml_string("gpms = 8\n[link]\nbandwidth = \"128GBps\"\n[cache.l2]\nways = 8\n", "t.toml");
-  EXPECT_EQ(c.get_int("gpms", 4), 8);
+  EXPECT_EQ(c.get_int("gpms", 4, 1, 32), 8);
   EXPECT_DOUBLE_EQ(c.get_bandwidth("link.bandwidth", {1}).value, 128e9);
-  EXPECT_EQ(c.get_int("cache.l2.ways", 16), 8);
-  EXPECT_EQ(c.get_int("absent", 42), 42);
+  EXPECT_EQ(c.get_int("cache.l2.ways", 16, 1, 1024), 8);
+  EXPECT_EQ(c.get_int("absent", 42, 0, 100), 42);
   EXPECT_NO_THROW(c.check_all_used());
   EXPECT_EQ(c.resolved().at("absent"), "42") << "defaults are part of the resolved configuration";
 }
@@ -54,7 +84,7 @@ TEST(Config, OverridesOnTheCommandLine) {
   Config c = Config::from_toml_string("gpms = 4\n[link]\nbandwidth = \"64GBps\"\n", "t.toml");
   c.set("link.bandwidth=128GBps");
   c.set("gpms=8");
-  EXPECT_EQ(c.get_int("gpms", 4), 8);
+  EXPECT_EQ(c.get_int("gpms", 4, 1, 32), 8);
   EXPECT_DOUBLE_EQ(c.get_bandwidth("link.bandwidth", {1}).value, 128e9);
   EXPECT_THROW(c.set("novalue"), Error);
   EXPECT_THROW(c.set("=5"), Error);
@@ -92,6 +122,74 @@ TEST(Config, IllTypedValuesAreErrorsNamingTheKey) {
   EXPECT_NE(message_of([] { Config::from_toml_string("gpms = [1, 2]\n", "t.toml"); }).find("'gpms'"), std::string::npos);
   EXPECT_NE(message_of([] { Config::from_toml_string("gpms = \n", "bad.toml"); }).find("bad.toml"), std::string::npos);
   EXPECT_THROW(Config::from_toml_file("/no/such/file.toml"), Error);
+}
+
+// Values are checked in the type they are used in: nothing is truncated,
+// nothing non-finite or out of its physical range gets through.
+TEST(Config, ValuesAreCheckedBeforeTheyAreNarrowed) {
+  const auto spec_error = [](const std::string& assignment) {
+    Config c;
+    c.set(assignment);
+    return message_of([&] {
+      (void)MemorySpec::from_config(c);
+      (void)TimingSpec::from_config(c);
+    });
+  };
+  // 4294967297 once became 1 GPM (2^32 + 1 truncated to int).
+  EXPECT_NE(spec_error("gpms=4294967297").find("'gpms' (--set) must be a whole number from 1 to 32"), std::string::npos);
+  EXPECT_NE(spec_error("cache.l1.ways=4294967300").find("'cache.l1.ways'"), std::string::npos);
+  EXPECT_NE(spec_error("gpm.sms=-4294967288").find("'gpm.sms'"), std::string::npos);
+  EXPECT_NE(spec_error("gpm.draws_ahead=9223372036854775807").find("'gpm.draws_ahead'"), std::string::npos);
+  EXPECT_NE(spec_error("gpm.draw_cycles=nan").find("'gpm.draw_cycles'"), std::string::npos);
+  EXPECT_NE(spec_error("gpm.draw_cycles=inf").find("'gpm.draw_cycles'"), std::string::npos);
+  EXPECT_NE(spec_error("link.latency=1e300s").find("'link.latency'"), std::string::npos);
+  EXPECT_NE(spec_error("frequency=1e-300Hz").find("'frequency'"), std::string::npos);
+  EXPECT_NE(spec_error("frequency=1e300Hz").find("'frequency'"), std::string::npos);
+  EXPECT_NE(spec_error("link.bandwidth=1e-300Bps").find("'link.bandwidth'"), std::string::npos);
+  EXPECT_NE(spec_error("dram.bandwidth=1e300Bps").find("'dram.bandwidth'"), std::string::npos);
+  EXPECT_NE(spec_error("cache.l1.size=1e300B").find("'cache.l1.size'"), std::string::npos);
+  EXPECT_EQ(spec_error("gpms=8"), "<no error>");
+  // The same checks from a file.
+  const auto file_error = [](const std::string& text) {
+    return message_of([&] {
+      const Config c = Config::from_toml_string(text, "t.toml");
+      (void)MemorySpec::from_config(c);
+      (void)TimingSpec::from_config(c);
+    });
+  };
+  EXPECT_NE(file_error("gpms = 4294967297\n").find("'gpms'"), std::string::npos);
+  EXPECT_NE(file_error("[gpm]\ndraw_cycles = nan\n").find("finite"), std::string::npos);
+  EXPECT_NE(file_error("[gpm]\ndraw_cycles = -inf\n").find("finite"), std::string::npos);
+}
+
+// A configuration file is read only when it is a regular file of bounded
+// size and shape.
+TEST(Config, FilesAreReadOnlyWhenTheyAreRegularAndBounded) {
+  EXPECT_NE(message_of([] { Config::from_toml_file(""); }).find("empty"), std::string::npos);
+  EXPECT_NE(message_of([] { Config::from_toml_file("/tmp"); }).find("directory"), std::string::npos);
+  EXPECT_NE(message_of([] { Config::from_toml_file("/dev/zero"); }).find("not a regular file"), std::string::npos);
+  const std::string fifo = std::filesystem::temp_directory_path() / ("oovr-test-fifo-" + std::to_string(::getpid()));
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(message_of([&] { Config::from_toml_file(fifo); }).find("not a regular file"), std::string::npos);
+  std::filesystem::remove(fifo);
+  std::string deep = "[";
+  for (int i = 0; i < 20000; ++i) deep += i ? ".a" : "a";
+  deep += "]\nx = 1\n";
+  EXPECT_NE(message_of([&] { Config::from_toml_string(deep, "deep.toml"); }).find("dotted parts"), std::string::npos);
+  std::string dotted;
+  for (int i = 0; i < 20000; ++i) dotted += i ? ".a" : "a";
+  EXPECT_NE(message_of([&] { Config::from_toml_string(dotted + " = 1\n", "deep.toml"); }).find("dotted parts"), std::string::npos);
+  std::string inl = "x = ";
+  for (int i = 0; i < 20000; ++i) inl += "{a = ";
+  EXPECT_NE(message_of([&] { Config::from_toml_string(inl + "1" + std::string(20000, '}') + "\n", "deep.toml"); }).find("deep.toml"),
+            std::string::npos);
+  // Dots in values and strings are not key parts.
+  std::string many = "x = [";
+  for (int i = 0; i < 100; ++i) many += "1.5, ";
+  many += "2.5]\ny = \"a.b.c.d.e.f.g.h.i.j.k.l.m.n.o.p.q.r.s.t.u.v.w.x.y.z.a.b.c.d.e.f.g.h\"\n";
+  EXPECT_EQ(message_of([&] { Config::from_toml_string(many, "many.toml"); }).find("dotted parts"), std::string::npos);
+  EXPECT_NE(message_of([] { Config::from_toml_string(std::string((1 << 20) + 1, ' '), "big.toml"); }).find("MiB"),
+            std::string::npos);
 }
 
 TEST(Config, EveryPresetLoads) {

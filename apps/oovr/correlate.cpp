@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/experiments/hardware.h"
 
 namespace oovr::cli {
@@ -43,11 +44,8 @@ int sweep(const CorrelateArgs& a, const HardwareData& data, CorrelationOptions o
 }  // namespace
 
 int correlate(const CorrelateArgs& a) {
-  if (!a.json.empty()) {
-    // An unwritable output fails now, not after the simulation.
-    std::ofstream probe(a.json, std::ios::app);
-    if (!probe) throw Error("cannot write JSON '" + a.json + "'");
-  }
+  // An unwritable output fails now, not after the simulation.
+  if (!a.json.empty()) check_output_path(a.json, "JSON output");
   const HardwareData data = HardwareData::read(a.hardware);
   CorrelationOptions o;
   o.scheme = a.scheme;
@@ -99,9 +97,7 @@ int correlate(const CorrelateArgs& a) {
                         {"oovr_us", p.oovr_us}, {"gpu_median_us", p.gpu_median_us}, {"oovr_median_us", p.oovr_median_us}});
     j["points"] = points;
     j["notes"] = c.notes;
-    std::ofstream out(a.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw Error("cannot write JSON '" + a.json + "'");
+    write_output_file(a.json, j.dump(2) + "\n", "JSON output");
   }
   if (a.min_r > -1 && !(c.r >= a.min_r))
     throw Error(fmt::format("Pearson r of the medians is {:.3f}, below --min-r {}", c.r, a.min_r));

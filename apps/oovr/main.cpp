@@ -3,6 +3,10 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <new>
+#include <system_error>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -11,6 +15,7 @@
 #include "commands.h"
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/core/config_sections.h"
 #include "oovr/schemes/i_scheme.h"
 #include "oovr/pipeline/pipeline.h"
@@ -129,6 +134,7 @@ struct RenderArgs {
 };
 
 int cmd_render(const RenderArgs& a) {
+  check_output_path(a.out, "image");
   PipelineSettings settings;
   settings.max_anisotropy = a.aniso;
   settings.threads = a.threads;
@@ -174,6 +180,30 @@ int cmd_render(const RenderArgs& a) {
              human_bytes(tr.unique_tex_lines() * tr.line_bytes));
   fmt::print("  time: scene {:.0f} ms, render {:.0f} ms\n", ms(t1 - t0), ms(t2 - t1));
   return 0;
+}
+
+// CLI11's Range lets NaN through (every comparison with it is false).
+const CLI::Validator kFinite(
+    [](std::string& text) {
+      double v = 0;
+      const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v))
+        return std::string("'" + text + "' is not a finite number");
+      return std::string();
+    },
+    "FINITE");
+
+// An option given with an empty value ("--config ''") is an error, never
+// the default: only --out and --doc of oovr paper take "" (meaning none).
+void check_no_empty_values(const CLI::App& cmd) {
+  for (const CLI::Option* o : cmd.get_options()) {
+    if (!o->count() || o->get_expected_min() == 0) continue;
+    const std::string& name = o->get_name();
+    if (cmd.get_name() == "paper" && (name == "--out" || name == "--doc")) continue;
+    for (const auto& r : o->results())
+      if (r.find_first_not_of(" \t") == std::string::npos)
+        throw Error(name + " is empty: give a value, or leave the option out");
+  }
 }
 
 }  // namespace
@@ -259,9 +289,9 @@ int main(int argc, char** argv) {
   corr_cmd->add_flag("--no-cache", corr.no_cache, "Render every frame even when its trace is cached");
   corr_cmd->add_option("--sweep", corr.sweep,
                        "key=v1,v2,...: correlate at each value of a key and name the one that makes oovr most proportional to the GPU (calibration)");
-  corr_cmd->add_option("--min-r", corr.min_r, "Fail when Pearson r of the medians is below this")->check(CLI::Range(-1.0, 1.0));
+  corr_cmd->add_option("--min-r", corr.min_r, "Fail when Pearson r of the medians is below this")->check(kFinite & CLI::Range(-1.0, 1.0));
   corr_cmd->add_option("--max-spread", corr.max_spread, "Fail when the largest ratio oovr/GPU over the smallest exceeds this")
-      ->check(CLI::Range(1.0, 1e9));
+      ->check(kFinite & CLI::Range(1.0, 1e9));
 
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
@@ -273,7 +303,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--aniso", render.aniso, "Maximum anisotropic filtering taps (1 = off)")
       ->capture_default_str()->check(CLI::Range(1, 16));
   render_cmd->add_option("--ipd", render.ipd_mm, "Interpupillary distance in millimetres")
-      ->capture_default_str()->check(CLI::Range(0.0f, 1000.0f));
+      ->capture_default_str()->check(kFinite & CLI::Range(0.0f, 1000.0f));
   render_cmd->add_option("--threads", render.threads, "Worker threads (0 = all cores)")->capture_default_str();
 
   try {
@@ -284,30 +314,55 @@ int main(int argc, char** argv) {
       if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, paper, correlate, config; see --help)");
     }
     app.parse(argc, argv);
-    if (render_cmd->count("--resolution") && render_cmd->count("--eye-resolution"))
-      throw Error("give --resolution or --eye-resolution, not both");
-    if (app.got_subcommand("scenes")) return cmd_scenes();
-    if (app.got_subcommand(info_cmd)) return cmd_scene_info(info);
-    if (app.got_subcommand(config_cmd)) return cmd_config(config);
-    if (app.got_subcommand(sim_cmd)) return cli::simulate(sim);
-    if (app.got_subcommand(cmp_cmd)) {
-      const std::vector<std::string> list = split_list(scheme_list.empty() ? all_schemes : scheme_list);
-      if (list.empty()) throw Error("--schemes names no scheme");
-      return cli::compare(cmp, list);
+    for (const CLI::App* cmd : app.get_subcommands()) {
+      check_no_empty_values(*cmd);
+      // Contradictory options are refused, not resolved by a silent rule.
+      if (cmd->get_option_no_throw("--eye-resolution") && cmd->count("--resolution") && cmd->count("--eye-resolution"))
+        throw Error("give --resolution or --eye-resolution, not both");
     }
-    if (app.got_subcommand(render_cmd)) return cmd_render(render);
-    if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
-    if (app.got_subcommand(paper_cmd)) {
-      paper.command = "oovr";
-      for (int i = 1; i < argc; ++i) paper.command += std::string(" ") + argv[i];
-      return cli::paper(paper);
-    }
+    const auto run = [&]() -> int {
+      if (app.got_subcommand("scenes")) return cmd_scenes();
+      if (app.got_subcommand(info_cmd)) return cmd_scene_info(info);
+      if (app.got_subcommand(config_cmd)) return cmd_config(config);
+      if (app.got_subcommand(sim_cmd)) return cli::simulate(sim);
+      if (app.got_subcommand(cmp_cmd)) {
+        const std::vector<std::string> list = split_list(cmp_cmd->count("--schemes") ? scheme_list : all_schemes);
+        if (list.empty()) throw Error("--schemes names no scheme");
+        return cli::compare(cmp, list);
+      }
+      if (app.got_subcommand(render_cmd)) return cmd_render(render);
+      if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
+      if (app.got_subcommand(paper_cmd)) {
+        paper.command = "oovr";
+        for (int i = 1; i < argc; ++i) paper.command += std::string(" ") + argv[i];
+        return cli::paper(paper);
+      }
+      return 0;
+    };
+    const int rc = run();
+    // What was printed must have been written (a full disk, a closed pipe).
+    check_stdout();
+    return rc;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
     std::fprintf(stderr, "oovr: error: %s\n", e.what());
     return 2;
   } catch (const Error& e) {
     std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    return 1;
+  } catch (const std::system_error& e) {
+    // fmt::print's failure on a full device or a closed pipe.
+    const std::string what = e.what();
+    if (what.rfind("cannot write to file", 0) == 0)
+      std::fprintf(stderr, "oovr: error: cannot write to standard output: %s\n", e.code().message().c_str());
+    else
+      std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    // Readers bound what an input may ask for (docs/reliability.md); what
+    // still does not fit is named by the inputs of the run.
+    std::fprintf(stderr, "oovr: error: out of memory running '%s' (a scene, resolution or --frames too large for this machine)\n",
+                 argc > 1 ? argv[1] : "oovr");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "oovr: error: %s\n", e.what());

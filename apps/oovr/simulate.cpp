@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
 #include "oovr/memory/memory_spec.h"
@@ -108,9 +109,7 @@ Image traffic_image(const FrameOutput& out, const SchemeResult& r) {
 }
 
 void write_json(const std::string& path, const nlohmann::ordered_json& j) {
-  std::ofstream out(path);
-  if (!out) throw Error("cannot write JSON '" + path + "'");
-  out << j.dump(2) << "\n";
+  write_output_file(path, j.dump(2) + "\n", "JSON output");
 }
 
 }  // namespace
@@ -126,8 +125,7 @@ namespace {
 // The frames every scheme is measured on: --frames, else one per GPM (so
 // that AFR's frames in flight and every other scheme see the same frames).
 int window_of(const SimulateArgs& a, const Config& config, const std::vector<std::string>& schemes) {
-  for (const auto& s : schemes)
-    if (!Schemes::find(s)) run_scheme(s, Scene{}, {}, config);  // throws the unknown-scheme error
+  for (const auto& s : schemes) check_scheme_config(s, config);  // before any trace is rendered
   if (a.frames > 0) {
     for (const auto& s : schemes) {
       const int m = scheme_frames_needed(s, config);
@@ -155,8 +153,20 @@ nlohmann::ordered_json latencies_json(const SchemeResult& r) {
 }  // namespace
 
 int simulate(const SimulateArgs& a) {
-  if (!a.gpm_image.empty()) check_image_path(a.gpm_image);
-  if (!a.traffic_image.empty()) check_image_path(a.traffic_image);
+  // Outputs are checked before any work, and may not share a path.
+  OutputPaths outputs;
+  if (!a.json.empty()) {
+    check_output_path(a.json, "JSON output");
+    outputs.claim(a.json, "JSON output (--json)");
+  }
+  if (!a.gpm_image.empty()) {
+    check_image_path(a.gpm_image);
+    outputs.claim(a.gpm_image, "GPM image (--gpm-image)");
+  }
+  if (!a.traffic_image.empty()) {
+    check_image_path(a.traffic_image);
+    outputs.claim(a.traffic_image, "traffic image (--traffic-image)");
+  }
   const Config config = machine_config(a.config, a.settings);
   const int window = window_of(a, config, {a.scheme});
   const auto t0 = std::chrono::steady_clock::now();
@@ -192,6 +202,7 @@ int simulate(const SimulateArgs& a) {
 }
 
 int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
+  if (!a.json.empty()) check_output_path(a.json, "JSON output");
   const Config config = machine_config(a.config, a.settings);
   const int window = window_of(a, config, schemes);
   const auto t0 = std::chrono::steady_clock::now();

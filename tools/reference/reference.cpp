@@ -19,6 +19,7 @@
 
 #include "gl_renderer.h"
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/core/text.h"
 #include "oovr/experiments/hardware.h"
 #include "oovr/pipeline/pipeline.h"
@@ -115,10 +116,7 @@ int time_frames(const Args& a) {
   for (const auto& r : resolutions) (void)parse_frame_resolution(r);
   for (const auto& s : a.scenes)
     if (data_missing(s)) return 77;
-  if (!a.csv.empty()) {
-    std::ofstream probe(a.csv, std::ios::app);
-    if (!probe) throw Error("cannot write '" + a.csv + "'");
-  }
+  if (!a.csv.empty()) check_output_path(a.csv, "CSV output");
   std::unique_ptr<reference::GlRenderer> gl;
   try {
     gl = std::make_unique<reference::GlRenderer>(a.platform == "gpu" ? reference::Platform::any : reference::Platform::llvmpipe);
@@ -153,9 +151,7 @@ int time_frames(const Args& a) {
   if (a.csv.empty()) {
     fmt::print("{}", data.csv());
   } else {
-    std::ofstream out(a.csv);
-    out << data.csv();
-    if (!out) throw Error("cannot write '" + a.csv + "'");
+    write_output_file(a.csv, data.csv(), "CSV output");
     fmt::print("wrote {} frames to {}\n", data.frames.size(), a.csv);
   }
   return 0;

@@ -3,20 +3,97 @@
 #include <toml++/toml.h>
 
 #include <charconv>
-#include <fstream>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 
 namespace oovr {
 namespace {
 
-std::string format_double(double d) {
-  std::ostringstream o;
-  o.precision(17);
-  o << d;
-  return o.str();
+std::string format_double(double d) { return format_number(d); }
+
+// A time or frequency printed in `unit` when its parser reads that back as
+// the same double, else in the base unit.
+std::string format_scaled(double v, double per_unit, const char* unit, const char* base,
+                          double (*parse)(const std::string&)) {
+  if (const double x = v * per_unit; std::isfinite(x)) {
+    const std::string scaled = format_number(x) + unit;
+    try {
+      if (parse(scaled) == v) return scaled;
+    } catch (const Error&) {
+    }
+  }
+  return format_number(v) + base;
+}
+
+// Limits on a configuration file's shape, checked on its text before toml++
+// parses it: a key of 20,000 dotted parts overflows the parser's stack.
+constexpr uint64_t kMaxConfigBytes = uint64_t(1) << 20;
+constexpr int kMaxKeyParts = 32;
+
+// Throws Error when a key (in a [table] header, before '=', or inside an
+// inline table) has more than kMaxKeyParts dotted parts. Strings and
+// comments are skipped; values' dots (1.5) are not counted.
+void check_toml_shape(const std::string& text, const std::string& name) {
+  int line = 1;
+  bool in_key = true;       // at a key: line start, after '{' or ',' in an inline table, in a header
+  int parts = 1;
+  std::vector<char> open;   // '[' (array or header) and '{' (inline table)
+  bool header = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      if (open.empty()) {
+        in_key = true;
+        parts = 1;
+        header = false;
+      }
+      continue;
+    }
+    if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+      continue;
+    }
+    if (c == '"' || c == '\'') {
+      const bool multi = text.compare(i, 3, std::string(3, c)) == 0;
+      const std::string end = multi ? std::string(3, c) : std::string(1, c);
+      size_t j = i + end.size();
+      while (j < text.size() && text.compare(j, end.size(), end) != 0) {
+        if (c == '"' && text[j] == '\\') ++j;  // an escape in a basic string
+        if (j < text.size() && text[j] == '\n') ++line;
+        ++j;
+      }
+      i = std::min(text.size(), j + end.size()) - 1;
+      continue;
+    }
+    if (in_key) {
+      if (c == '.' && ++parts > kMaxKeyParts)
+        throw Error("bad configuration '" + name + "' line " + std::to_string(line) + ": a key of more than " +
+                    std::to_string(kMaxKeyParts) + " dotted parts");
+      if (c == '=') in_key = false;
+      if (c == '[' && open.empty() && !header) header = true;  // [table] or [[array]]
+      else if (c == ']' && header) {
+        // the header's end; the next line starts a key
+      }
+      continue;
+    }
+    if (c == '[' || c == '{') {
+      open.push_back(c);
+      if (c == '{') {
+        in_key = true;
+        parts = 1;
+      }
+    } else if ((c == ']' || c == '}') && !open.empty()) {
+      open.pop_back();
+    } else if (c == ',' && !open.empty() && open.back() == '{') {
+      in_key = true;
+      parts = 1;
+    }
+  }
 }
 
 }  // namespace
@@ -24,6 +101,9 @@ std::string format_double(double d) {
 Config Config::from_toml_string(const std::string& text, const std::string& name) {
   Config c;
   c.m_origin = name;
+  if (text.size() > kMaxConfigBytes)
+    throw Error("bad configuration '" + name + "': more than " + std::to_string(kMaxConfigBytes >> 20) + " MiB");
+  check_toml_shape(text, name);
   try {
     const toml::table t = toml::parse(text, name);
     flatten(&t, "", name, c.m_values);
@@ -36,11 +116,7 @@ Config Config::from_toml_string(const std::string& text, const std::string& name
 }
 
 Config Config::from_toml_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read configuration '" + path + "'");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return from_toml_string(buf.str(), path);
+  return from_toml_string(read_input_file(path, "configuration", kMaxConfigBytes), path);
 }
 
 // `toml_table` is a toml::table; the header keeps toml++ out of its includes.
@@ -64,6 +140,8 @@ void Config::flatten(const void* toml_table, const std::string& prefix, const st
       v.kind = Kind::floating;
       v.d = f->get();
       v.text = format_double(v.d);
+      if (!std::isfinite(v.d))
+        throw Error("bad configuration '" + where + "': key '" + key + "' must be a finite number, not " + v.text);
     } else if (const auto* b = node.as_boolean()) {
       v.kind = Kind::boolean;
       v.b = b->get();
@@ -127,22 +205,26 @@ void Config::type_error(const std::string& key, const Value& v, const char* expe
   throw Error("configuration key '" + key + "' (" + v.source + ") must be " + expected + ", not '" + v.text + "'");
 }
 
-int64_t Config::get_int(const std::string& key, int64_t fallback) const {
+int64_t Config::get_int(const std::string& key, int64_t fallback, int64_t lo, int64_t hi) const {
   const Value* v = find(key);
   int64_t r = fallback;
   if (v) {
-    if (v->kind != Kind::integer) type_error(key, *v, "a whole number");
+    const std::string range = "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
+    if (v->kind != Kind::integer) type_error(key, *v, range.c_str());
+    if (v->i < lo || v->i > hi) type_error(key, *v, range.c_str());
     r = v->i;
   }
   record(key, std::to_string(r));
   return r;
 }
 
-double Config::get_double(const std::string& key, double fallback) const {
+double Config::get_double(const std::string& key, double fallback, double lo, double hi) const {
   const Value* v = find(key);
   double r = fallback;
   if (v) {
-    if (v->kind != Kind::integer && v->kind != Kind::floating) type_error(key, *v, "a number");
+    const std::string range = "a number from " + format_double(lo) + " to " + format_double(hi);
+    if (v->kind != Kind::integer && v->kind != Kind::floating) type_error(key, *v, range.c_str());
+    if (!(v->d >= lo && v->d <= hi)) type_error(key, *v, range.c_str());
     r = v->d;
   }
   record(key, format_double(r));
@@ -214,7 +296,7 @@ Seconds Config::get_time(const std::string& key, Seconds fallback) const {
     if (v->kind != Kind::string) type_error(key, *v, "a time such as 100ns");
     r = parse_time(v->text, "configuration key '" + key + "' (" + v->source + ")");
   }
-  record(key, format_double(r.value * 1e9) + "ns");
+  record(key, format_scaled(r.value, 1e9, "ns", "s", [](const std::string& t) { return parse_time(t, "").value; }));
   return r;
 }
 
@@ -225,7 +307,7 @@ Hertz Config::get_frequency(const std::string& key, Hertz fallback) const {
     if (v->kind != Kind::string) type_error(key, *v, "a frequency such as 1GHz");
     r = parse_frequency(v->text, "configuration key '" + key + "' (" + v->source + ")");
   }
-  record(key, format_double(r.value / 1e6) + "MHz");
+  record(key, format_scaled(r.value, 1e-6, "MHz", "Hz", [](const std::string& t) { return parse_frequency(t, "").value; }));
   return r;
 }
 

@@ -24,7 +24,9 @@ class Config {
  public:
   Config() = default;
   // Reads a TOML file; tables nest keys ("[link] bandwidth = ..." is
-  // "link.bandwidth"). Throws Error naming the file, line and problem.
+  // "link.bandwidth"). Throws Error naming the file, line and problem. Only
+  // a regular file of at most 1 MiB is read; keys have at most 32 dotted
+  // parts and values nest at most 256 deep; floats must be finite.
   static Config from_toml_file(const std::string& path);
   static Config from_toml_string(const std::string& text, const std::string& name);
 
@@ -35,8 +37,10 @@ class Config {
 
   bool has(const std::string& key) const { return m_values.count(key) != 0; }
 
-  int64_t get_int(const std::string& key, int64_t fallback) const;
-  double get_double(const std::string& key, double fallback) const;
+  // Numbers in [lo, hi], checked as read, before any narrowing: a value
+  // outside is an Error naming the key and the range (never truncated).
+  int64_t get_int(const std::string& key, int64_t fallback, int64_t lo, int64_t hi) const;
+  double get_double(const std::string& key, double fallback, double lo, double hi) const;
   bool get_bool(const std::string& key, bool fallback) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
   // One of `choices`; anything else is an Error listing them.

@@ -73,23 +73,29 @@ Hertz parse_frequency(const std::string& text, const std::string& what) {
 }
 
 std::string format_bytes(Bytes b) {
+  // Exact, in the largest unit that divides it, so that a printed size
+  // (oovr config, result files) reads back as the same number of bytes.
+  const uint64_t v = b.value;
+  const auto whole = [&](uint64_t unit, const char* name) {
+    return std::to_string(v / unit) + " " + name;
+  };
+  if (v >= (1ull << 30) && v % (1ull << 30) == 0) return whole(1ull << 30, "GB");
+  if (v >= (1ull << 20) && v % (1ull << 20) == 0) return whole(1ull << 20, "MB");
+  if (v >= 1024 && v % 1024 == 0) return whole(1024, "KB");
+  return whole(1, "B");
+}
+
+std::string format_number(double v) {
   char buf[64];
-  const double v = double(b.value);
-  if (b.value >= (1ull << 30) && b.value % (1ull << 30) == 0) std::snprintf(buf, sizeof buf, "%.0f GB", v / double(1ull << 30));
-  else if (b.value >= (1ull << 30)) std::snprintf(buf, sizeof buf, "%.2f GB", v / double(1ull << 30));
-  else if (b.value >= (1ull << 20) && b.value % (1ull << 20) == 0) std::snprintf(buf, sizeof buf, "%.0f MB", v / double(1ull << 20));
-  else if (b.value >= (1ull << 20)) std::snprintf(buf, sizeof buf, "%.2f MB", v / double(1ull << 20));
-  else if (b.value >= 1024 && b.value % 1024 == 0) std::snprintf(buf, sizeof buf, "%.0f KB", v / 1024.0);
-  else if (b.value >= 1024) std::snprintf(buf, sizeof buf, "%.1f KB", v / 1024.0);
-  else std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b.value));
-  return buf;
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest form that reads back exactly
+  return std::string(buf, r.ptr);
 }
 
 std::string format_bandwidth(BytesPerSecond b) {
-  char buf[64];
-  if (b.value >= 1e12) std::snprintf(buf, sizeof buf, "%g TB/s", b.value / 1e12);
-  else std::snprintf(buf, sizeof buf, "%g GB/s", b.value / 1e9);
-  return buf;
+  // In the largest of TB/s, GB/s and MB/s that reads back exactly, else in B/s.
+  for (const auto& [scale, unit] : {std::pair{1e12, " TB/s"}, std::pair{1e9, " GB/s"}, std::pair{1e6, " MB/s"}})
+    if (b.value >= scale && (b.value / scale) * scale == b.value) return format_number(b.value / scale) + unit;
+  return format_number(b.value) + " B/s";
 }
 
 }  // namespace oovr

@@ -33,7 +33,11 @@ BytesPerSecond parse_bandwidth(const std::string& text, const std::string& what)
 Seconds parse_time(const std::string& text, const std::string& what);
 Hertz parse_frequency(const std::string& text, const std::string& what);
 
-std::string format_bytes(Bytes b);              // "128 KB", "1.5 MB"
-std::string format_bandwidth(BytesPerSecond b); // "64 GB/s"
+// Printed forms read back by the parsers as the same value: sizes exactly in
+// the largest unit that divides them ("128 KB", "1536 KB", "127897 B"),
+// numbers in their shortest exact form.
+std::string format_bytes(Bytes b);
+std::string format_bandwidth(BytesPerSecond b);  // "64 GB/s"
+std::string format_number(double v);             // "0.1", "625", "1e-09"
 
 }  // namespace oovr

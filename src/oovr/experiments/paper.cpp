@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/experiments/paper_figures.h"
@@ -182,9 +183,7 @@ namespace {
 void write_file(const fs::path& path, const std::string& text) {
   std::error_code ec;
   if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw Error("cannot write '" + path.string() + "'");
+  write_output_file(path.string(), text, "output");
 }
 
 std::string xml(const std::string& s) {

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/experiments/paper.h"
 #include "oovr/experiments/paper_figures.h"
 #include "oovr/framework/distribution.h"
@@ -979,10 +980,7 @@ void write_paper_doc(const PaperResults& results, const PaperOptions& options, c
   }
   Doc d(results, options, link);
   const std::string text = d.write();
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw Error("cannot write '" + path + "'");
-  out << text;
-  if (!out) throw Error("cannot write '" + path + "'");
+  write_output_file(path, text, "comparison document");
 }
 
 }  // namespace oovr

@@ -10,12 +10,9 @@ namespace oovr {
 OOSpec OOSpec::parameters(const Config& c) {
   OOSpec s;
   const OOSpec d;
-  s.tsl_threshold = c.get_double("oo.tsl_threshold", d.tsl_threshold);
-  if (!(s.tsl_threshold >= 0 && s.tsl_threshold <= 1)) throw Error("configuration key 'oo.tsl_threshold' must be from 0 to 1");
+  s.tsl_threshold = c.get_double("oo.tsl_threshold", d.tsl_threshold, 0, 1);
   const auto positive = [&](const char* key, int def, int max) {
-    const int64_t v = c.get_int(key, def);
-    if (v < 1 || v > max) throw Error(std::string("configuration key '") + key + "' must be from 1 to " + std::to_string(max));
-    return int(v);
+    return int(c.get_int(key, def, 1, max));
   };
   s.batch_triangles = positive("oo.batch_triangles", d.batch_triangles, 1 << 30);
   s.warmup_batches = positive("oo.warmup_batches", d.warmup_batches, 1 << 20);

@@ -20,7 +20,7 @@ std::string names(const std::vector<std::string>& n) {
 CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def, Bytes line) {
   CacheSpec s;
   s.size = c.get_bytes(prefix + ".size", def.size);
-  s.ways = int(c.get_int(prefix + ".ways", def.ways));
+  s.ways = int(c.get_int(prefix + ".ways", def.ways, 1, 1024));
   s.replacement = c.get_string(prefix + ".replacement", def.replacement);
   s.latency = c.get_time(prefix + ".latency", def.latency);
   if (!(s.latency.value >= 0 && s.latency.value <= 1e-3))
@@ -28,7 +28,6 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
   if (!ReplacementPolicies::find(s.replacement))
     throw Error("configuration key '" + prefix + ".replacement' must be one of " + names(ReplacementPolicies::names()) +
                 ", not '" + s.replacement + "'");
-  if (s.ways < 1 || s.ways > 1024) throw Error("configuration key '" + prefix + ".ways' must be from 1 to 1024");
   const uint64_t lines = s.size.value / line.value;
   if (s.size.value % line.value != 0 || lines == 0 || lines % uint64_t(s.ways) != 0 ||
       !power_of_two(lines / uint64_t(s.ways)))
@@ -42,10 +41,8 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
 MemorySpec MemorySpec::from_config(const Config& c) {
   MemorySpec d;
   MemorySpec s;
-  s.gpms = int(c.get_int("gpms", d.gpms));
-  if (s.gpms < 1 || s.gpms > 32) throw Error("configuration key 'gpms' must be from 1 to 32, not " + std::to_string(s.gpms));
-  s.sms_per_gpm = int(c.get_int("gpm.sms", d.sms_per_gpm));
-  if (s.sms_per_gpm < 1 || s.sms_per_gpm > 1024) throw Error("configuration key 'gpm.sms' must be from 1 to 1024");
+  s.gpms = int(c.get_int("gpms", d.gpms, 1, kMaxGpms));
+  s.sms_per_gpm = int(c.get_int("gpm.sms", d.sms_per_gpm, 1, 1024));
   s.line = c.get_bytes("memory.line", d.line);
   if (!power_of_two(s.line.value) || s.line.value < 32 || s.line.value > 1024)
     throw Error("configuration key 'memory.line' must be a power of two from 32 B to 1 KB, not " + format_bytes(s.line));
@@ -69,8 +66,10 @@ MemorySpec MemorySpec::from_config(const Config& c) {
   if (!Topologies::find(s.topology))
     throw Error("configuration key 'link.topology' must be one of " + names(Topologies::names()) + ", not '" +
                 s.topology + "'");
-  if (!(s.dram_bandwidth.value > 0)) throw Error("configuration key 'dram.bandwidth' must be positive");
-  if (!(s.link_bandwidth.value > 0)) throw Error("configuration key 'link.bandwidth' must be positive");
+  // Wide physical bounds, so that no time computed from them overflows.
+  for (const auto& [key, b] : {std::pair{"dram.bandwidth", s.dram_bandwidth}, std::pair{"link.bandwidth", s.link_bandwidth}})
+    if (!(b.value >= 1e6 && b.value <= 1e16))
+      throw Error(std::string("configuration key '") + key + "' must be from 1 MB/s to 10000 TB/s, not " + format_bandwidth(b));
   for (const auto& [key, t] : {std::pair{"dram.latency", s.dram_latency}, std::pair{"link.latency", s.link_latency}})
     if (!(t.value >= 0 && t.value <= 1e-3)) throw Error(std::string("configuration key '") + key + "' must be from 0 to 1 ms");
   s.copy_capacity = c.get_bytes("memory.copies.capacity", d.copy_capacity);

@@ -17,6 +17,9 @@ struct CacheSpec {
   Seconds latency{0};  // from a request to its data, for a hit in this cache
 };
 
+// The most GPMs a machine may have (configuration key gpms).
+constexpr int kMaxGpms = 32;
+
 struct MemorySpec {
   int gpms = 4;          // GPU modules (Table 1)
   int sms_per_gpm = 8;   // SMs per GPM (Table 1), one L1 each

@@ -9,16 +9,29 @@
 #include <limits>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 
 namespace oovr {
 
+namespace {
+
+// stb encodes into memory; write_output_file then writes the bytes checked
+// (a full disk is an error, not a silently short file).
+void append_bytes(void* context, void* data, int size) {
+  static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+}
+
+}  // namespace
+
 void write_png(const Image& img, const std::string& path) {
   const int stride = img.width * 4;
+  if (img.width <= 0 || img.height <= 0) throw Error("cannot write PNG '" + path + "': the image is empty");
   // Point at the last row with a negative stride: PNG rows go top-down.
-  const uint8_t* last = img.rgba.data() + size_t(img.height - 1) * stride;
-  if (img.width <= 0 || img.height <= 0 ||
-      !stbi_write_png(path.c_str(), img.width, img.height, 4, last, -stride))
-    throw Error("cannot write PNG '" + path + "'");
+  const uint8_t* last = img.rgba.data() + size_t(img.height - 1) * size_t(stride);
+  std::string bytes;
+  if (!stbi_write_png_to_func(append_bytes, &bytes, img.width, img.height, 4, last, -stride))
+    throw Error("cannot encode PNG '" + path + "'");
+  write_output_file(path, bytes, "image");
 }
 
 static std::string lower_extension(const std::string& path) {
@@ -31,6 +44,7 @@ void check_image_path(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
     throw Error("cannot write '" + path + "': unsupported image type '" + ext + "' (use .png or .jpg)");
+  check_output_path(path, "image");
 }
 
 void write_image(const Image& img, const std::string& path) {
@@ -46,8 +60,10 @@ void write_image(const Image& img, const std::string& path) {
       o[1] = p[1];
       o[2] = p[2];
     }
-  if (img.width <= 0 || img.height <= 0 || !stbi_write_jpg(path.c_str(), img.width, img.height, 3, rgb.data(), 90))
-    throw Error("cannot write JPEG '" + path + "'");
+  std::string bytes;
+  if (img.width <= 0 || img.height <= 0 || !stbi_write_jpg_to_func(append_bytes, &bytes, img.width, img.height, 3, rgb.data(), 90))
+    throw Error("cannot encode JPEG '" + path + "'");
+  write_output_file(path, bytes, "image");
 }
 
 Image read_png(const std::string& path) {

@@ -26,7 +26,7 @@ void write_png(const Image& img, const std::string& path);
 void write_image(const Image& img, const std::string& path);
 // Throws the Error write_image would for an unsupported extension, so a
 // command can refuse a bad --out before doing any work.
-void check_image_path(const std::string& path);
+void check_image_path(const std::string& path);  // the type, and that the path can be written (core/files.h)
 // Reads a PNG written by write_png (or any 8-bit image stb_image decodes).
 Image read_png(const std::string& path);
 

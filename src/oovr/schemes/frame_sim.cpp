@@ -32,11 +32,23 @@ std::vector<ObjectRecords> records_by_object(const FrameTrace& t, size_t objects
   return r;
 }
 
+void FrameSim::check(const Config& config) {
+  const MemorySpec memory = MemorySpec::from_config(config);
+  (void)TimingSpec::from_config(config);
+  check_config(config);
+  // Pinned placement homes only the regions a program pins through
+  // MemorySystem::pin (the memory tests do); no scheme names homes, so it
+  // would fail at the first page touched.
+  if (memory.placement == "pinned")
+    throw Error("configuration key 'memory.placement': 'pinned' homes only regions a program pins to GPMs (MemorySystem::pin) "
+                "and no scheme does; use first-touch, interleaved, preallocated or replicated");
+}
+
 FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   if (!in.scene || in.frames.empty()) throw Error("a scheme needs a scene and at least one frame");
+  check(in.config);
   m_memory_spec = MemorySpec::from_config(in.config);
   m_timing_spec = TimingSpec::from_config(in.config);
-  check_config(in.config);
   const FrameTrace& f = *in.frames[0];
   CarriedState* carried = in.carried.get();
   if (carried && carried->memory) {

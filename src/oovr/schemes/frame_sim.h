@@ -42,6 +42,8 @@ class FrameSim {
   // `framebuffers`: colour + depth buffer pairs (one per GPM for schemes
   // that render into private buffers). Checks the whole configuration.
   FrameSim(const SchemeInput& in, int framebuffers = 1);
+  // Throws the Error the constructor would for `config`.
+  static void check(const Config& config);
 
   int gpms() const { return m_memory_spec.gpms; }
   int sms() const { return m_memory_spec.sms_per_gpm; }

@@ -95,6 +95,10 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
 // Frames of trace `name` needs with this configuration (1 for unknown names:
 // run_scheme reports those).
 int scheme_frames_needed(const std::string& name, const Config& config);
+// Throws the Error a run of `name` on this configuration would, before any
+// trace is rendered: an unknown scheme, a bad key or value, a placement
+// policy schemes cannot use.
+void check_scheme_config(const std::string& name, const Config& config);
 
 // Runs `name` over the first `window` of `frames`: a scheme with m frames in
 // flight (AFR: one per GPM) on each group of m frames, any other on each

@@ -13,7 +13,15 @@ int scheme_frames_needed(const std::string& name, const Config& config) {
   Config c = config;
   const auto scheme = f->make();
   scheme->configure(c);
-  return scheme->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms)));
+  return scheme->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms)));
+}
+
+void check_scheme_config(const std::string& name, const Config& config) {
+  const SchemeFactory* f = Schemes::find(name);
+  if (!f) (void)run_scheme(name, Scene{}, {}, config);  // throws the unknown-scheme error
+  Config c = config;
+  f->make()->configure(c);
+  FrameSim::check(c);
 }
 
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,

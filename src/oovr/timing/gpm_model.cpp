@@ -8,12 +8,11 @@ namespace oovr {
 TimingSpec TimingSpec::from_config(const Config& c) {
   TimingSpec d, s;
   const auto positive = [&](const char* key, int def) {
-    const int64_t v = c.get_int(key, def);
-    if (v < 1 || v > 1000000) throw Error(std::string("configuration key '") + key + "' must be from 1 to 1000000");
-    return int(v);
+    return int(c.get_int(key, def, 1, 1000000));
   };
   s.frequency = c.get_frequency("frequency", d.frequency);
-  if (!(s.frequency.value > 0)) throw Error("configuration key 'frequency' must be positive");
+  if (!(s.frequency.value >= 1e6 && s.frequency.value <= 1e11))
+    throw Error("configuration key 'frequency' must be from 1 MHz to 100 GHz");
   s.lanes_per_sm = positive("gpm.lanes", d.lanes_per_sm);
   s.texture_units_per_sm = positive("gpm.texture_units", d.texture_units_per_sm);
   s.rops = positive("gpm.rops", d.rops);
@@ -21,17 +20,13 @@ TimingSpec TimingSpec::from_config(const Config& c) {
   s.raster_fragments_per_clock = positive("gpm.raster_fragments_per_clock", d.raster_fragments_per_clock);
   s.setup_triangles_per_clock = positive("gpm.setup_triangles_per_clock", d.setup_triangles_per_clock);
   s.vertex_instructions = positive("shader.vertex_instructions", d.vertex_instructions);
-  s.fragment_instructions = int(c.get_int("shader.fragment_instructions", d.fragment_instructions));
-  if (s.fragment_instructions < 0 || s.fragment_instructions > 1000000)
-    throw Error("configuration key 'shader.fragment_instructions' must be from 0 (each pass's own) to 1000000");
+  // 0: each pass's own count.
+  s.fragment_instructions = int(c.get_int("shader.fragment_instructions", d.fragment_instructions, 0, 1000000));
   s.triangle_bytes = positive("shader.triangle_bytes", d.triangle_bytes);
-  s.requests_in_flight = int(c.get_int("gpm.requests_in_flight", d.requests_in_flight));
-  if (s.requests_in_flight < 0 || s.requests_in_flight > 1000000)
-    throw Error("configuration key 'gpm.requests_in_flight' must be from 0 (no limit) to 1000000");
-  s.draw_cycles = c.get_double("gpm.draw_cycles", d.draw_cycles);
-  if (!(s.draw_cycles >= 0 && s.draw_cycles <= 1e9)) throw Error("configuration key 'gpm.draw_cycles' must be from 0 to 1e9");
-  s.draws_ahead = int(c.get_int("gpm.draws_ahead", d.draws_ahead));
-  if (s.draws_ahead < 1 || s.draws_ahead > 1000000) throw Error("configuration key 'gpm.draws_ahead' must be from 1 to 1000000");
+  // 0: no limit.
+  s.requests_in_flight = int(c.get_int("gpm.requests_in_flight", d.requests_in_flight, 0, 1000000));
+  s.draw_cycles = c.get_double("gpm.draw_cycles", d.draw_cycles, 0, 1e9);
+  s.draws_ahead = int(c.get_int("gpm.draws_ahead", d.draws_ahead, 1, 1000000));
   s.sharing = c.get_choice("timing.sharing", d.sharing == Sharing::fair ? "fair" : "equal", {"fair", "equal"}) == "fair"
                   ? Sharing::fair
                   : Sharing::equal;

@@ -19,7 +19,7 @@ class Afr final : public Scheme {
   void configure(Config& c) const override { c.set("memory.placement", "replicated"); }
   int frames_needed(int gpms) const override { return gpms; }
   SchemeResult run(const SchemeInput& in) const override {
-    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms));
+    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
     if (int(in.frames.size()) < n)
       throw Error("afr needs " + std::to_string(n) + " frames of trace, one per GPM; got " + std::to_string(in.frames.size()));
     FrameSim sim(in, n);

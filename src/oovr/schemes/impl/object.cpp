@@ -24,7 +24,7 @@ namespace {
 class ObjectLevel final : public Scheme {
  public:
   SchemeResult run(const SchemeInput& in) const override {
-    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms));
+    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
     FrameSim sim(in, sort_last_framebuffers(n));
     Composer composer(sim, CompositionSpec::from_config(sim.config()), [](int, int) { return 0; });
     const FrameTrace& f = sim.frame();

@@ -126,7 +126,7 @@ class OO final : public Scheme {
 
   SchemeResult run(const SchemeInput& in) const override {
     const OOSpec spec = OOSpec::from_config(in.config, m_mechanisms);
-    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms));
+    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
     FrameSim sim(in, sort_last_framebuffers(n));
     const FrameTrace& f = sim.frame();
     Composer composer(sim, CompositionSpec::from_config(sim.config()), [&](int tile_x, int) {
