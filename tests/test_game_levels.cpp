@@ -119,6 +119,33 @@ TEST(Nexuiz, EveryMapIsListedAndLoads) {
   }
 }
 
+// Every scene `oovr scenes` lists loads (issue: 7 of 38 TORCS tracks, in
+// the older track3 format, were listed and failed).
+void every_listed_scene_of_kind_loads(const std::string& kind, size_t at_least) {
+  size_t n = 0;
+  for (const auto& l : list_scenes()) {
+    if (l.kind != kind) continue;
+    SCOPED_TRACE(l.name);
+    const Scene s = load_scene(l.name);  // throws on any problem
+    EXPECT_FALSE(s.objects.empty());
+    EXPECT_FALSE(s.camera.frames.empty());
+    ++n;
+  }
+  EXPECT_GE(n, at_least);
+}
+
+TEST(Torcs, EveryListedTrackLoads) {
+  REQUIRE_TORCS();
+  every_listed_scene_of_kind_loads("torcs", 38);
+}
+
+TEST(OpenArena, EveryListedMapLoads) {
+  REQUIRE_OPENARENA();
+  every_listed_scene_of_kind_loads("openarena", 50);
+}
+
+TEST(BuiltIn, EveryListedSceneLoads) { every_listed_scene_of_kind_loads("built-in", 2); }
+
 TEST(Nexuiz, StrengthIsDrawnAsDarkPlacesDrawsIt) {
   REQUIRE_NEXUIZ();
   // Measured independently of oovr's loaders (issue 10): strength has 352

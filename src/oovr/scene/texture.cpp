@@ -11,6 +11,8 @@
 #include <utility>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/limits.h"
 
 namespace oovr {
 
@@ -69,10 +71,51 @@ static bool is_sgi_name(const std::string& name) {
   return ext == ".rgb" || ext == ".rgba" || ext == ".sgi" || ext == ".bw" || ext == ".int" || ext == ".inta";
 }
 
+static bool has_extension(const std::string& name, const char* ext) {
+  std::string e = std::filesystem::path(name).extension().string();
+  for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e == ext;
+}
+
+// stb_image reads past the end of a TGA as zeros: a truncated file would
+// become a texture of black texels. Its pixel data (raw, or run-length
+// packets) must fit in the file.
+static void check_tga_data(const uint8_t* b, size_t size, const std::string& name, int w, int h) {
+  const auto truncated = [&] { throw Error("cannot decode image '" + name + "': the TGA file is truncated"); };
+  if (size < 18) truncated();
+  const int type = b[2], bpp = b[16];
+  const size_t cmap_len = size_t(b[5]) | (size_t(b[6]) << 8), cmap_bits = b[7];
+  const size_t start = 18 + size_t(b[0]) + (b[1] ? cmap_len * ((cmap_bits + 7) / 8) : 0);
+  const size_t pixel = size_t(bpp + 7) / 8, pixels = size_t(w) * size_t(h);
+  if (start > size || pixel == 0) truncated();
+  if (type >= 1 && type <= 3) {
+    if ((size - start) / pixel < pixels) truncated();
+  } else if (type >= 9 && type <= 11) {
+    size_t at = start, done = 0;
+    while (done < pixels) {
+      if (at >= size) truncated();
+      const size_t count = size_t(b[at] & 0x7f) + 1;
+      const size_t data = (b[at] & 0x80) ? pixel : count * pixel;
+      ++at;
+      if (data > size - at) truncated();
+      at += data;
+      done += count;
+    }
+  }
+}
+
 MipLevel decode_image(const uint8_t* bytes, size_t size, const std::string& name) {
   if (is_sgi_name(name)) return decode_sgi(bytes, size, name);
   if (size > size_t(std::numeric_limits<int>::max())) throw Error("image '" + name + "' is too large");
   int w = 0, h = 0, n = 0;
+  // The size the header declares, checked before anything is allocated.
+  if (stbi_info_from_memory(bytes, int(size), &w, &h, &n)) {
+    const InputLimits& lim = InputLimits::get();
+    if (w <= 0 || h <= 0) throw Error("cannot decode image '" + name + "': it declares " + std::to_string(w) + "x" + std::to_string(h) + " texels");
+    check_limit(uint64_t(std::max(w, h)), uint64_t(lim.image_side), "image_side", "image '" + name + "'", "texels on a side");
+    check_limit(uint64_t(w) * uint64_t(h), lim.image_texels, "image_texels", "image '" + name + "'", "texels");
+    if (has_extension(name, ".tga")) check_tga_data(bytes, size, name, w, h);
+  }
   stbi_uc* data = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
   if (!data) {
     const char* why = stbi_failure_reason();
@@ -91,10 +134,8 @@ MipLevel decode_image(const uint8_t* bytes, size_t size, const std::string& name
 }
 
 MipLevel load_image_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open image '" + path + "'");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return decode_image(bytes.data(), bytes.size(), path);
+  const std::string bytes = read_input_file(path, "image", InputLimits::get().file_bytes);
+  return decode_image(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
 }
 
 }  // namespace oovr

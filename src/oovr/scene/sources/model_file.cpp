@@ -16,6 +16,7 @@
 #include <map>
 
 #include "oovr/core/error.h"
+#include "oovr/scene/formats/model_checks.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/source.h"
 
@@ -44,7 +45,8 @@ class AssimpLoader {
     if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
       throw Error("cannot load '" + m_path +
                   "': unsupported file type (supported: .obj .gltf .glb .ply .ac .acc .ac3d)");
-    if (!fs::is_regular_file(m_path)) throw Error("cannot load '" + m_path + "': no such file");
+    if (!fs::exists(m_path)) throw Error("cannot load '" + m_path + "': no such file");
+    precheck_model_file(m_path);  // what assimp would trust: declared counts and lengths
     Assimp::Importer importer;
     // Points and lines are removed; only triangles are drawn.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);

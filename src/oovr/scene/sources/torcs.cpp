@@ -87,6 +87,8 @@ std::vector<TorcsTrack> list_torcs_tracks() {
   return out;
 }
 
+constexpr double kMaxTrackMetres = 1e6;  // 1,000 km: real tracks are under 10
+
 std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
   pugi::xml_document doc;
   // No DTD processing: TORCS files name an external entity for surfaces,
@@ -94,8 +96,15 @@ std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
   const pugi::xml_parse_result r = doc.load_file(xml_path.c_str(), pugi::parse_default & ~pugi::parse_doctype);
   if (!r) throw Error("cannot read track description '" + xml_path + "': " + r.description());
   const pugi::xml_node main = child_section(doc.child("params"), "Main Track");
-  const pugi::xml_node segments = child_section(main, "Track Segments");
-  if (!segments) throw Error("track description '" + xml_path + "' has no Main Track / Track Segments section");
+  // Two generations of the format: TORCS's track4 reads "Track Segments"
+  // with sides and borders in sections of their own ("Right Side": "start
+  // width"); the older track3 (a-speedway, dirt-4 to 6, e-track-5, mixed-1
+  // and 2) reads "segments" with them as attributes ("rside start width",
+  // "rborder width"). The geometry is the same.
+  pugi::xml_node segments = child_section(main, "Track Segments");
+  const bool v3 = !segments;
+  if (v3) segments = child_section(main, "segments");
+  if (!segments) throw Error("track description '" + xml_path + "' has no Main Track / Track Segments (or segments) section");
   const auto bad = [&](const pugi::xml_node& seg, const std::string& what) {
     return Error("track description '" + xml_path + "': segment '" + seg.attribute("name").as_string() + "' " + what);
   };
@@ -113,9 +122,16 @@ std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
   static const char* kSide[2] = {"Right Side", "Left Side"};
   static const char* kBorder[2] = {"Right Border", "Left Border"};
   double side_end[2], border[2];
+  static const char* kPrefix[2] = {"r", "l"};
+  // A side's or border's value `key` in `node` (the main track or a
+  // segment), in either generation of the format.
+  const auto side_value = [&](const pugi::xml_node& node, int k, bool is_border, const char* key) {
+    if (v3) return attnum(node, (std::string(kPrefix[k]) + (is_border ? "border " : "side ") + key).c_str());
+    return attnum(child_section(node, is_border ? kBorder[k] : kSide[k]), key);
+  };
   for (int k = 0; k < 2; ++k) {
-    side_end[k] = attnum(child_section(main, kSide[k]), "width").value_or(0.0);
-    border[k] = attnum(child_section(main, kBorder[k]), "width").value_or(0.0);
+    side_end[k] = side_value(main, k, false, "width").value_or(0.0);
+    border[k] = side_value(main, k, true, "width").value_or(0.0);
   }
   double x = 0, y = half, alf = 0;  // centre line position and heading
   double xmin = 0, ymin = 0;
@@ -148,12 +164,11 @@ std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
     }
     double side_start[2];
     for (int k = 0; k < 2; ++k) {
-      const pugi::xml_node sd = child_section(seg, kSide[k]);
-      const double sw = attnum(sd, "start width").value_or(side_end[k]);
-      const double w = attnum(sd, "width").value_or(sw);
+      const double sw = side_value(seg, k, false, "start width").value_or(side_end[k]);
+      const double w = side_value(seg, k, false, "width").value_or(sw);
       side_start[k] = sw;
-      side_end[k] = attnum(sd, "end width").value_or(w);
-      border[k] = attnum(child_section(seg, kBorder[k]), "width").value_or(border[k]);
+      side_end[k] = side_value(seg, k, false, "end width").value_or(w);
+      border[k] = side_value(seg, k, true, "width").value_or(border[k]);
     }
     const std::string profile = seg.find_child_by_attribute("attstr", "name", "profil").attribute("val").as_string("spline");
     int steps = 1;
@@ -181,7 +196,14 @@ std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
       // Turn centre, `radius` to the inside of the centre line.
       const double cx = x - sign * radius * std::sin(alf), cy = y + sign * radius * std::cos(alf);
       const double a0 = alf;
-      const int n = std::max(1, int(std::ceil(type == "str" ? step_length : step_arc * radius)));
+      // A centre line point a metre; a track is kilometres long, so a
+      // description whose segments add up to more is refused before the
+      // points are made (a 23 KB file once asked for gigabytes).
+      const double metres = std::ceil(type == "str" ? step_length : step_arc * radius);
+      if (!(metres < kMaxTrackMetres - double(centre.size())))
+        throw Error("track description '" + xml_path + "' describes a centre line over " +
+                    std::to_string(int(kMaxTrackMetres / 1000)) + " km long (segment '" + seg.attribute("name").as_string() + "')");
+      const int n = std::max(1, int(metres));
       for (int i = 1; i <= n; ++i) {
         const double f = double(i) / n;
         double outer[2];

@@ -1,0 +1,168 @@
+// Hostile inputs to the readers oovr does not own (assimp, stb): the sizes
+// a file declares are checked against the bytes that are there and against
+// InputLimits before anything is allocated; each case is one clear error
+// naming the file (docs/reliability.md).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/limits.h"
+#include "oovr/scene/formats/model_checks.h"
+#include "oovr/scene/load.h"
+#include "oovr/scene/texture.h"
+#include "temp_dir.h"
+
+namespace oovr {
+namespace {
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+const std::string kModels = "/usr/share/assimp/models";
+
+TEST(ModelChecks, PlyCountsMustFitTheFile) {
+  const std::string cube = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(cube, "c.ply"); }), "<no error>");
+  // A 214-byte file claiming two billion vertices grew past 14 GB in assimp.
+  std::string huge = cube;
+  huge.replace(huge.find("vertex 3"), 8, "vertex 2000000000");
+  EXPECT_NE(message_of([&] { precheck_model_bytes(huge, "h.ply"); }).find("$OOVR_LIMITS elements"), std::string::npos);
+  std::string many = cube;
+  many.replace(many.find("vertex 3"), 8, "vertex 3000");
+  EXPECT_NE(message_of([&] { precheck_model_bytes(many, "m.ply"); }).find("truncated"), std::string::npos);
+  // Truncated anywhere: header, records, a list's items.
+  for (size_t n : {size_t(10), size_t(60), cube.size() - 7, cube.size() - 3})
+    EXPECT_NE(message_of([&] { precheck_model_bytes(cube.substr(0, n), "t.ply"); }), "<no error>") << n;
+  std::string long_list = cube;
+  long_list.replace(long_list.rfind("3 0 1 2"), 7, "200 0 1 2");
+  EXPECT_NE(message_of([&] { precheck_model_bytes(long_list, "l.ply"); }).find("truncated"), std::string::npos);
+  EXPECT_NE(message_of([&] { precheck_model_bytes("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n1\n", "q.ply"); })
+                .find("unknown PLY property type"),
+            std::string::npos);
+}
+
+TEST(ModelChecks, TheShippedModelsPassAndTheirTruncationsDoNot) {
+  if (!std::filesystem::exists(kModels)) GTEST_SKIP() << "assimp's models are not installed (scripts/install-deps.sh)";
+  for (const char* f : {"PLY/cube.ply", "PLY/cube_binary.ply", "PLY/cube_uv.ply", "PLY/Wuson.ply",
+                        "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb", "glTF2/BoxTextured-glTF/BoxTextured.gltf",
+                        "glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
+    const std::string path = kModels + "/" + f;
+    EXPECT_NO_THROW(precheck_model_file(path)) << f;
+  }
+  // Half of Wuson.ply once aborted inside assimp (ai_assert).
+  const std::string wuson = read(kModels + "/PLY/Wuson.ply");
+  EXPECT_NE(message_of([&] { precheck_model_bytes(wuson.substr(0, wuson.size() / 2), "w.ply"); }).find("truncated"),
+            std::string::npos);
+  const std::string binary = read(kModels + "/PLY/cube_binary.ply");
+  for (size_t n = binary.find("end_header") + 11; n + 1 < binary.size(); n += 13)
+    EXPECT_NE(message_of([&] { precheck_model_bytes(binary.substr(0, n), "b.ply"); }), "<no error>") << n;
+}
+
+TEST(ModelChecks, GlbLengthsMustMatch) {
+  if (!std::filesystem::exists(kModels)) GTEST_SKIP() << "assimp's models are not installed (scripts/install-deps.sh)";
+  const std::string glb = read(kModels + "/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  ASSERT_GT(glb.size(), 2048u);
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(glb, "b.glb"); }), "<no error>");
+  // A chunk claiming 2 GB allocated 2 GB.
+  std::string big = glb;
+  const uint32_t two_gb = 1u << 31;
+  std::memcpy(&big[12], &two_gb, 4);
+  EXPECT_NE(message_of([&] { precheck_model_bytes(big, "b.glb"); }).find("a GLB chunk declares 2147483648 bytes"), std::string::npos);
+  EXPECT_NE(message_of([&] { precheck_model_bytes(glb.substr(0, 2048), "b.glb"); }).find("the GLB header declares"),
+            std::string::npos);
+  // A buffer larger than the binary chunk that holds it.
+  EXPECT_NE(message_of([] {
+              precheck_model_bytes(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":999999,"uri":"data:application/octet-stream;base64,AAAA"}]})",
+                                   "d.gltf");
+            }).find("its data URI holds 3"),
+            std::string::npos);
+  EXPECT_NE(message_of([] { precheck_model_bytes(R"({"accessors":[{"count":99999999999}]})", "a.gltf"); }).find("elements"),
+            std::string::npos);
+  EXPECT_NE(message_of([] { precheck_model_bytes("{not json", "j.gltf"); }).find("bad glTF JSON"), std::string::npos);
+}
+
+TEST(ModelChecks, ModelsAreRegularFiles) {
+  EXPECT_NE(message_of([] { load_scene("/dev/zero.ply"); }), "<no error>");
+  const test::TempDir dir;
+  std::filesystem::create_directories(dir.path() / "d.obj");
+  EXPECT_NE(message_of([&] { load_scene((dir.path() / "d.obj").string()); }).find("directory"), std::string::npos);
+}
+
+// An 18-byte TGA header claiming 23000x23000 was accepted (4 GB); a
+// truncated TGA became a texture of zeros.
+TEST(Images, DeclaredSizesAreBoundedAndMustBeThere) {
+  std::vector<uint8_t> tga(18, 0);
+  tga[2] = 2;  // uncompressed true colour
+  const auto dims = [&](int w, int h) {
+    tga[12] = uint8_t(w), tga[13] = uint8_t(w >> 8), tga[14] = uint8_t(h), tga[15] = uint8_t(h >> 8);
+  };
+  tga[16] = 32;
+  dims(23000, 23000);
+  EXPECT_NE(message_of([&] { decode_image(tga.data(), tga.size(), "big.tga"); }).find("$OOVR_LIMITS image_side"), std::string::npos);
+  dims(4, 4);
+  std::vector<uint8_t> whole = tga;
+  whole.resize(18 + 4 * 4 * 4, 200);
+  EXPECT_EQ(message_of([&] { decode_image(whole.data(), whole.size(), "ok.tga"); }), "<no error>");
+  EXPECT_NE(message_of([&] { decode_image(whole.data(), whole.size() - 5, "short.tga"); }).find("truncated"), std::string::npos);
+  // Run-length packets too: 16 texels in one run packet, then cut.
+  std::vector<uint8_t> rle = tga;
+  rle[2] = 10;
+  rle.push_back(0x80 | 15);
+  for (int k = 0; k < 4; ++k) rle.push_back(100);
+  EXPECT_EQ(message_of([&] { decode_image(rle.data(), rle.size(), "rle.tga"); }), "<no error>");
+  EXPECT_NE(message_of([&] { decode_image(rle.data(), rle.size() - 2, "rle.tga"); }).find("truncated"), std::string::npos);
+  rle[18] = 0x80 | 7;  // 8 of 16 texels
+  EXPECT_NE(message_of([&] { decode_image(rle.data(), rle.size(), "rle.tga"); }).find("truncated"), std::string::npos);
+}
+
+TEST(Limits, ParseNamesWhatIsWrong) {
+  const InputLimits l = InputLimits::parse("image_side=32768,scene_bytes=16GB,elements=1000");
+  EXPECT_EQ(l.image_side, 32768);
+  EXPECT_EQ(l.scene_bytes, uint64_t(16) << 30);
+  EXPECT_EQ(l.elements, 1000u);
+  EXPECT_NE(message_of([] { InputLimits::parse("bogus=1"); }).find("unknown limit 'bogus'"), std::string::npos);
+  EXPECT_NE(message_of([] { InputLimits::parse("image_side=-3"); }).find("image_side"), std::string::npos);
+  EXPECT_NE(message_of([] { InputLimits::parse("image_side=0"); }).find("image_side"), std::string::npos);
+  EXPECT_NE(message_of([] { InputLimits::parse("scene_bytes=lots"); }).find("scene_bytes"), std::string::npos);
+}
+
+TEST(Files, InputsAreRegularAndBoundedAndOutputsChecked) {
+  EXPECT_NE(message_of([] { read_input_file("/dev/zero", "input", 1 << 20); }).find("not a regular file"), std::string::npos);
+  EXPECT_NE(message_of([] { read_input_file("/tmp", "input", 1 << 20); }).find("directory"), std::string::npos);
+  const test::TempDir dir;
+  const std::string f = dir.file("f.txt", "0123456789");
+  EXPECT_EQ(read_input_file(f, "input", 10), "0123456789");
+  EXPECT_NE(message_of([&] { read_input_file(f, "input", 9); }).find("more than the limit"), std::string::npos);
+  EXPECT_NE(message_of([] { check_output_path("/no/such/folder/x.json", "JSON output"); }).find("does not exist"), std::string::npos);
+  EXPECT_NE(message_of([&] { check_output_path(dir.path().string(), "JSON output"); }).find("directory"), std::string::npos);
+  EXPECT_NE(message_of([] { write_output_file("/dev/full", "x", "JSON output"); }).find("No space left on device"), std::string::npos);
+  const std::string out = (dir.path() / "o.txt").string();
+  write_output_file(out, "hello", "output");
+  EXPECT_EQ(read(out), "hello");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 2) << "no temporary file left";
+  OutputPaths paths;
+  paths.claim(out, "first");
+  EXPECT_NE(message_of([&] { paths.claim((dir.path() / "." / "o.txt").string(), "second"); }).find("both"), std::string::npos);
+  EXPECT_NO_THROW(paths.claim("/dev/null", "third"));
+  EXPECT_NO_THROW(paths.claim("/dev/null", "fourth"));
+}
+
+}  // namespace
+}  // namespace oovr
