@@ -133,14 +133,14 @@ TEST(Images, DeclaredSizesAreBoundedAndMustBeThere) {
 }
 
 TEST(Limits, ParseNamesWhatIsWrong) {
-  const InputLimits l = InputLimits::parse("image_side=32768,scene_bytes=16GB,elements=1000");
+  const InputLimits l = InputLimits::parse("image_side=32768,file_bytes=16GB,elements=1000");
   EXPECT_EQ(l.image_side, 32768);
-  EXPECT_EQ(l.scene_bytes, uint64_t(16) << 30);
+  EXPECT_EQ(l.file_bytes, uint64_t(16) << 30);
   EXPECT_EQ(l.elements, 1000u);
   EXPECT_NE(message_of([] { InputLimits::parse("bogus=1"); }).find("unknown limit 'bogus'"), std::string::npos);
   EXPECT_NE(message_of([] { InputLimits::parse("image_side=-3"); }).find("image_side"), std::string::npos);
   EXPECT_NE(message_of([] { InputLimits::parse("image_side=0"); }).find("image_side"), std::string::npos);
-  EXPECT_NE(message_of([] { InputLimits::parse("scene_bytes=lots"); }).find("scene_bytes"), std::string::npos);
+  EXPECT_NE(message_of([] { InputLimits::parse("file_bytes=lots"); }).find("file_bytes"), std::string::npos);
 }
 
 TEST(Files, InputsAreRegularAndBoundedAndOutputsChecked) {

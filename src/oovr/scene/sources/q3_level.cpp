@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "oovr/core/error.h"
+#include "oovr/core/limits.h"
 #include "oovr/scene/formats/bsp.h"
 #include "oovr/scene/formats/pk3.h"
 #include "oovr/scene/formats/q3_shader.h"
@@ -111,6 +112,7 @@ class MapBuilder {
     std::vector<Group> groups;
     std::map<std::pair<int, int>, size_t> group_of;
     int billboards = 0, nodraw = 0, fog = 0, stageless = 0, patches = 0;
+    uint64_t made = 0;  // vertices the faces drawn make
     std::vector<BspVertex> fv;
     std::vector<uint32_t> fi;
     for (size_t i = 0; i < bsp.faces.size(); ++i) {
@@ -134,6 +136,13 @@ class MapBuilder {
         continue;
       }
       patches += f.type == kBspPatch;
+      // What tessellation will make, checked before it is made: 200 patch
+      // faces sharing one large control grid once ran out of memory.
+      const uint64_t level = uint64_t(std::clamp(m_opt.tessellation, 1, kMaxTessellation));
+      made += f.type == kBspPatch ? uint64_t(std::max(0, (f.patch_w - 1) / 2)) * uint64_t(std::max(0, (f.patch_h - 1) / 2)) *
+                                        (level + 1) * (level + 1)
+                                  : uint64_t(std::max(0, f.vertex_count));
+      check_limit(made, InputLimits::get().elements, "elements", "map '" + path + "'", "vertices after tessellation");
       fv.clear();
       fi.clear();
       bsp_face_triangles(bsp, f, m_opt.tessellation, fv, fi);
