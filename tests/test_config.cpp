@@ -8,6 +8,7 @@
 
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
+#include "test_util.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/timing/gpm_model.h"
 #include "oovr/core/config_sections.h"
@@ -16,14 +17,7 @@
 namespace oovr {
 namespace {
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+using test::message_of;
 
 TEST(Units, ParseWithUnits) {
   EXPECT_EQ(parse_bytes("128B", "k").value, 128u);
@@ -52,22 +46,20 @@ TEST(Units, PrintedValuesReadBack) {
   EXPECT_EQ(format_bytes({127897}), "127897 B");
   for (const double bw : {64e9, 1e12, 1.5e12, 123456789.0, 0.1e9 + 1, 900e6, 1e16})
     EXPECT_EQ(parse_bandwidth(format_bandwidth({bw}), "k").value, bw) << format_bandwidth({bw});
-  for (const std::string t : {"100ns", "82ns", "1.3us", "0.1ns", "1ms", "7e-10s"}) {
+  // A time or frequency goes through the configuration: set, resolved
+  // (printed), set again from the printed form.
+  const auto reads_back = [](const std::string& text, double (*get)(const Config&)) {
     Config c;
-    c.set("x", t);
-    const double v = c.get_time("x", {0}).value;
+    c.set("x", text);
+    const double v = get(c);
     Config back;
     back.set("x", c.resolved().at("x"));
-    EXPECT_EQ(back.get_time("x", {0}).value, v) << t << " printed as " << c.resolved().at("x");
-  }
-  for (const std::string f : {"1GHz", "1.3GHz", "1234567Hz", "999.9999MHz"}) {
-    Config c;
-    c.set("x", f);
-    const double v = c.get_frequency("x", {0}).value;
-    Config back;
-    back.set("x", c.resolved().at("x"));
-    EXPECT_EQ(back.get_frequency("x", {0}).value, v) << f << " printed as " << c.resolved().at("x");
-  }
+    EXPECT_EQ(get(back), v) << text << " printed as " << c.resolved().at("x");
+  };
+  for (const std::string t : {"100ns", "82ns", "1.3us", "0.1ns", "1ms", "7e-10s"})
+    reads_back(t, [](const Config& c) { return c.get_time("x", {0}).value; });
+  for (const std::string f : {"1GHz", "1.3GHz", "1234567Hz", "999.9999MHz"})
+    reads_back(f, [](const Config& c) { return c.get_frequency("x", {0}).value; });
 }
 
 TEST(Config, TomlTablesBecomeDottedKeys) {

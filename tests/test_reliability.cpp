@@ -10,6 +10,7 @@
 #include <functional>
 
 #include "oovr/core/error.h"
+#include "test_util.h"
 #include "oovr/core/files.h"
 #include "oovr/core/limits.h"
 #include "oovr/scene/formats/model_checks.h"
@@ -20,14 +21,7 @@
 namespace oovr {
 namespace {
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+using test::message_of;
 
 std::string read(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -2,13 +2,27 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
+
+#include "oovr/core/error.h"
 
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/scene.h"
 #include "oovr/scene/stereo.h"
 
 namespace oovr::test {
+
+// The message of the Error `f` throws, or "<no error>".
+inline std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
 
 // A one-eye view of a w x h frame (powers of two) in which world (x, y)
 // lands exactly on window (x, y) and world z in [-1, 1] is the depth.
