@@ -1,6 +1,7 @@
 # The two commands of the README's quick start, and a few more.
 #   make demo   installs dependencies, builds (Release), compares every scheme on the default scene
 #   make test   installs dependencies, builds, runs every test
+SHELL := /bin/bash
 BUILD ?= build/release
 ASAN_BUILD ?= build/asan
 JOBS ?= $(shell nproc)
@@ -37,16 +38,23 @@ asan: deps
 	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
 	  ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
 
-# libFuzzer targets for the BSP parser and the SGI decoder, each run for
-# FUZZ_SECONDS from seeds written by oovr-fuzz-seeds; a crash fails the target.
+# libFuzzer targets for every parser oovr owns or guards (BSP, SGI, Quake 3
+# shader scripts, configuration, trace cache, model checks, AC3D, TORCS),
+# each run for FUZZ_SECONDS from seeds written by oovr-fuzz-seeds; a crash,
+# a hang (-timeout) or a blown memory limit fails the target.
+FUZZ_TARGETS = bsp sgi q3_shader config trace model ac3d torcs
 fuzz: deps
 	cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
 	  -DOOVR_FUZZ=ON -DOOVR_BUILD_TESTS=OFF -DOOVR_BUILD_BENCH=OFF -DOOVR_BUILD_REFERENCE=OFF
-	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_bsp fuzz_sgi fuzz_q3_shader oovr-fuzz-seeds
-	$(FUZZ_BUILD)/fuzz/oovr-fuzz-seeds $(FUZZ_BUILD)/corpus
-	$(FUZZ_BUILD)/fuzz/fuzz_bsp $(FUZZ_BUILD)/corpus/bsp -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1
-	$(FUZZ_BUILD)/fuzz/fuzz_sgi $(FUZZ_BUILD)/corpus/sgi -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1
-	$(FUZZ_BUILD)/fuzz/fuzz_q3_shader $(FUZZ_BUILD)/corpus/shader -max_total_time=$(FUZZ_SECONDS) -max_len=16384 -rss_limit_mb=2048 -print_final_stats=1
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS)) oovr-fuzz-seeds
+	$(FUZZ_BUILD)/fuzz/oovr-fuzz-seeds $(FUZZ_BUILD)/corpus $(CURDIR)
+	@for t in $(FUZZ_TARGETS); do \
+	  dir=$$t; [ $$t = q3_shader ] && dir=shader; \
+	  echo "== fuzz_$$t ($(FUZZ_SECONDS) s)"; \
+	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 $(FUZZ_BUILD)/fuzz/fuzz_$$t $(FUZZ_BUILD)/corpus/$$dir -max_total_time=$(FUZZ_SECONDS) -max_len=65536 \
+	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 2>&1 | grep -E 'stat::number_of_executed_units|ERROR|SUMMARY|Done' ; \
+	  [ $${PIPESTATUS[0]} -eq 0 ] || exit 1; \
+	done
 
 bench: build
 	$(BUILD)/bench/oovr-bench

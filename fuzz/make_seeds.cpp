@@ -1,11 +1,15 @@
 // Writes seed corpora for the fuzzers: the synthetic BSP and SGI files of
-// the tests (tests/game_data.h) and shader scripts in the styles OpenArena
-// and Nexuiz write them. Usage: oovr-fuzz-seeds DIR
+// the tests (tests/game_data.h), shader scripts in the styles OpenArena and
+// Nexuiz write them, the configuration presets, a real trace and cache
+// entry, small PLY / GLB / glTF, AC3D and TORCS files of each form the
+// readers know. Usage: oovr-fuzz-seeds DIR [SOURCE_DIR]
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "game_data.h"
+#include "oovr/pipeline/trace_cache.h"
+#include "oovr/scene/builtin.h"
 
 namespace fs = std::filesystem;
 
@@ -14,11 +18,75 @@ static void write(const fs::path& p, const std::vector<uint8_t>& bytes) {
 }
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: oovr-fuzz-seeds DIR\n");
+  if (argc != 2 && argc != 3) {
+    std::fprintf(stderr, "usage: oovr-fuzz-seeds DIR [SOURCE_DIR]\n");
     return 2;
   }
   const fs::path dir = argv[1];
+  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs"}) fs::create_directories(dir / sub);
+  // Configuration: the presets, and keys of every kind.
+  if (argc == 3)
+    for (const auto& e : fs::directory_iterator(fs::path(argv[2]) / "configs"))
+      if (e.path().extension() == ".toml") fs::copy_file(e.path(), dir / "config" / e.path().filename(), fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "config" / "kinds.toml") << "gpms = 8\n[link]\nbandwidth = \"128GBps\"\nlatency = \"32ns\"\n"
+                                                    "[cache.l2]\nsize = \"2MB\"\nways = 16\n[oo]\ntsl_threshold = 0.5\n"
+                                                    "prealloc = false\n[gpm]\ndraw_cycles = 625.5\n";
+  // A trace of a small frame: its payload and its cache entry.
+  {
+    const oovr::Scene scene = oovr::BuiltinScenes::find("crowd")->make();
+    oovr::StereoRig rig;
+    rig.eye_width = 48;
+    rig.eye_height = 32;
+    const oovr::StereoView view = oovr::make_stereo_view(scene.camera, 0, rig);
+    const oovr::FrameTrace t = oovr::render_frame(scene, view, oovr::PipelineSettings{}, 0).trace;
+    const std::string payload = oovr::serialize_trace(t), entry = oovr::encode_entry("0123456789abcdef", t);
+    std::ofstream(dir / "trace" / "payload.bin", std::ios::binary) << payload;
+    std::ofstream(dir / "trace" / "entry.bin", std::ios::binary) << entry;
+  }
+  // Models: the first byte picks the format (0 PLY, 1 GLB, 2 glTF).
+  std::ofstream(dir / "model" / "ascii.ply", std::ios::binary)
+      << '\0' << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  {
+    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    ply.append(36, '\0');
+    ply += char(3);
+    for (int i = 0; i < 3; ++i) ply.append(std::string(1, char(i)) + std::string(3, '\0'));
+    std::ofstream(dir / "model" / "binary.ply", std::ios::binary) << '\0' << ply;
+  }
+  {
+    const std::string json = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":8}],"accessors":[{"count":2}]})";
+    std::string glb = "glTF";
+    const auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(2);
+    u32(uint32_t(12 + 8 + json.size() + 8 + 8));
+    u32(uint32_t(json.size()));
+    u32(0x4E4F534Au);
+    glb += json;
+    u32(8);
+    u32(0x004E4942u);
+    glb.append(8, '\0');
+    std::ofstream(dir / "model" / "box.glb", std::ios::binary) << '\1' << glb;
+    std::ofstream(dir / "model" / "box.gltf", std::ios::binary)
+        << '\2' << R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:application/octet-stream;base64,AAAA"}],"accessors":[{"count":1}]})";
+  }
+  // AC3D: a textured quad in a group, as TORCS writes them.
+  std::ofstream(dir / "ac3d" / "quad.ac") << "AC3Db\nMATERIAL \"m\" rgb 1 1 1 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 0 trans 0\n"
+                                              "OBJECT world\nkids 1\nOBJECT group\nkids 1\nOBJECT poly\nname \"quad\"\n"
+                                              "texture \"road.png\"\nnumvert 4\n0 0 0\n1 0 0\n1 0 1\n0 0 1\nnumsurf 1\n"
+                                              "SURF 0x10\nmat 0\nrefs 4\n0 0 0\n1 1 0\n2 1 1\n3 0 1\nkids 0\n";
+  // TORCS: an oval in both generations of the format.
+  const std::string oval = R"(<section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>
+      <attstr name="profil" val="linear"/><attnum name="end radius" val="60"/><attnum name="profil steps" val="4"/></section>
+      <section name="t2"><attstr name="type" val="rgt"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>)";
+  std::ofstream(dir / "torcs" / "v4.xml") << R"(<params name="oval"><section name="Main Track"><attnum name="width" val="10"/>
+    <section name="Right Side"><attnum name="width" val="4"/></section><section name="Left Border"><attnum name="width" val="1"/></section>
+    <section name="Track Segments">)" << oval << "</section></section></params>";
+  std::ofstream(dir / "torcs" / "v3.xml") << R"(<params name="oval"><section name="Main Track"><attnum name="width" val="10"/>
+    <attnum name="rside width" val="4"/><attnum name="lborder width" val="1"/><attnum name="profil steps length" val="8"/>
+    <section name="segments">)" << oval << "</section></section></params>";
   fs::create_directories(dir / "bsp");
   fs::create_directories(dir / "sgi");
   fs::create_directories(dir / "shader");

@@ -227,5 +227,39 @@ TEST(Torcs, CentreLineOfASyntheticCircuit) {
   EXPECT_NEAR(line.front().x, 59.0, 1e-3);
 }
 
+// The older track3 format of the same oval: "segments", sides as
+// attributes of the main track and the segments ("rside width").
+TEST(Torcs, CentreLineOfTheOlderFormat) {
+  const std::string v3 = R"(<?xml version="1.0"?>
+<params name="oval" type="param">
+  <section name="Main Track">
+    <attnum name="width" unit="m" val="10"/>
+    <attnum name="rside width" val="4"/>
+    <section name="segments">
+      <section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
+      <section name="s2"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t2"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
+    </section>
+  </section>
+</params>)";
+  const std::vector<Vec3> line = torcs_centre_line_from_text(v3, "v3.xml");
+  EXPECT_NEAR(line.front().z, -9.0, 1e-3);
+  EXPECT_NEAR(line.front().x, 59.0, 1e-3);
+  // A 23 KB description of huge arcs once asked for gigabytes of points.
+  std::string huge = v3;
+  const auto swap = [&](const std::string& from, const std::string& to) { huge.replace(huge.find(from), from.size(), to); };
+  swap("val=\"50\"", "val=\"99999\"");
+  swap("val=\"50\"", "val=\"99999\"");
+  swap("val=\"180\"", "val=\"5700\"");
+  std::string why;
+  try {
+    torcs_centre_line_from_text(huge, "huge.xml");
+  } catch (const Error& e) {
+    why = e.what();
+  }
+  EXPECT_NE(why.find("over 1000 km long"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace oovr

@@ -115,7 +115,10 @@ int cmd_config(const ConfigArgs& a) {
   // Printed as TOML (dotted keys), so that the output is itself a preset.
   fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
   for (const auto& [k, v] : c.resolved()) {
-    const bool bare = v == "true" || v == "false" || v.find_first_not_of("0123456789.-") == std::string::npos;
+    // Numbers and booleans bare, so they read back as numbers ("1e-05" too).
+    double number = 0;
+    const auto r = std::from_chars(v.data(), v.data() + v.size(), number);
+    const bool bare = v == "true" || v == "false" || (!v.empty() && r.ec == std::errc() && r.ptr == v.data() + v.size());
     if (bare) fmt::print("{} = {}\n", k, v);
     else fmt::print("{} = \"{}\"\n", k, v);
   }

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/scene/formats/ac3d.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/source.h"
@@ -90,10 +91,14 @@ std::vector<TorcsTrack> list_torcs_tracks() {
 constexpr double kMaxTrackMetres = 1e6;  // 1,000 km: real tracks are under 10
 
 std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
+  return torcs_centre_line_from_text(read_input_file(xml_path, "track description", uint64_t(64) << 20), xml_path);
+}
+
+std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std::string& xml_path) {
   pugi::xml_document doc;
   // No DTD processing: TORCS files name an external entity for surfaces,
   // which is not needed for the geometry.
-  const pugi::xml_parse_result r = doc.load_file(xml_path.c_str(), pugi::parse_default & ~pugi::parse_doctype);
+  const pugi::xml_parse_result r = doc.load_buffer(text.data(), text.size(), pugi::parse_default & ~pugi::parse_doctype);
   if (!r) throw Error("cannot read track description '" + xml_path + "': " + r.description());
   const pugi::xml_node main = child_section(doc.child("params"), "Main Track");
   // Two generations of the format: TORCS's track4 reads "Track Segments"
@@ -171,15 +176,18 @@ std::vector<Vec3> torcs_centre_line(const std::string& xml_path) {
       border[k] = side_value(seg, k, true, "width").value_or(border[k]);
     }
     const std::string profile = seg.find_child_by_attribute("attstr", "name", "profil").attribute("val").as_string("spline");
-    int steps = 1;
+    // Counted in double and checked before it becomes an int (a converted
+    // out-of-range double is undefined behaviour, fuzzing found).
+    double step_count = 1;
     if (profile == "spline") {
-      steps = int(attnum(seg, "profil steps").value_or(1.0));
-      if (steps == 1) {
+      step_count = std::floor(attnum(seg, "profil steps").value_or(1.0));
+      if (step_count == 1) {
         const double step_length = attnum(seg, "profil steps length").value_or(global_step);
-        steps = step_length > 0 ? int(length / step_length) + 1 : 1;
+        step_count = step_length > 0 ? std::floor(length / step_length) + 1 : 1;
       }
     }
-    if (steps < 1 || steps > 100000) throw bad(seg, "has an unusable number of profile steps");
+    if (!(step_count >= 1 && step_count <= 100000)) throw bad(seg, "has an unusable number of profile steps");
+    const int steps = int(step_count);
     double step_length = length / steps, step_arc = arc / steps, dradius = (radius_end - radius) / steps;
     if (radius_end != radius && steps != 1) {
       dradius = (radius_end - radius) / (steps - 1);

@@ -28,5 +28,8 @@ Scene load_torcs_track(const std::string& name);
 // (y up), one point per metre, and the start heading. Throws Error naming the
 // file when the description has no usable segments.
 std::vector<Vec3> torcs_centre_line(const std::string& xml_path);
+// The same from the description's text (`xml_path` names it in messages;
+// the fuzz target's entry point).
+std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std::string& xml_path);
 
 }  // namespace oovr
