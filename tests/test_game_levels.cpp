@@ -195,6 +195,15 @@ TEST(Torcs, TracksMatchTheMeasuredNumbers) {
   EXPECT_THROW(load_scene("torcs:forza?x=1"), Error);
 }
 
+// A 100 m straight, a 180-degree left turn of radius 50, another straight
+// and turn: a closed oval of length 200 + 2 * pi * 50.
+constexpr const char* kOvalSegments = R"(
+      <section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
+      <section name="s2"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
+      <section name="t2"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
+)";
+
 TEST(Torcs, CentreLineOfASyntheticCircuit) {
   // A 100 m straight, a 180-degree left turn of radius 50, another straight
   // and turn: a closed oval of length 200 + 2 * pi * 50.
@@ -206,11 +215,7 @@ TEST(Torcs, CentreLineOfASyntheticCircuit) {
     <attnum name="width" unit="m" val="10"/>
     <section name="Right Side"><attnum name="width" val="4"/></section>
     <section name="Track Segments">
-      <section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
-      <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
-      <section name="s2"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
-      <section name="t2"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
-    </section>
+)" + std::string(kOvalSegments) + R"(    </section>
   </section>
 </params>)");
   const std::vector<Vec3> line = torcs_centre_line(p);
@@ -236,11 +241,7 @@ TEST(Torcs, CentreLineOfTheOlderFormat) {
     <attnum name="width" unit="m" val="10"/>
     <attnum name="rside width" val="4"/>
     <section name="segments">
-      <section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
-      <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
-      <section name="s2"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
-      <section name="t2"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>
-    </section>
+)" + std::string(kOvalSegments) + R"(    </section>
   </section>
 </params>)";
   const std::vector<Vec3> line = torcs_centre_line_from_text(v3, "v3.xml");
