@@ -440,7 +440,8 @@ TraceLookup TraceCache::load(const std::string& key, const Scene& scene, int fra
     // Removed now, so that a store that cannot write does not leave it to
     // be rejected again; a store replaces it otherwise.
     out.rejected = path.filename().string() + ": " + out.rejected;
-    if (!fs::remove(path, ec) || ec) out.rejected += " (and it could not be removed: " + ec.message() + ")";
+    fs::remove(path, ec);  // false without an error: another run removed it first
+    if (ec) out.rejected += " (and it could not be removed: " + ec.message() + ")";
   }
   return out;
 }
