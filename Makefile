@@ -39,10 +39,10 @@ asan: deps
 	  ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
 
 # libFuzzer targets for every parser oovr owns or guards (BSP, SGI, Quake 3
-# shader scripts, configuration, trace cache, model checks, AC3D, TORCS),
+# shader scripts, configuration, trace cache, model checks, AC3D, TORCS, pk3),
 # each run for FUZZ_SECONDS from seeds written by oovr-fuzz-seeds; a crash,
 # a hang (-timeout) or a blown memory limit fails the target.
-FUZZ_TARGETS = bsp sgi q3_shader config trace model ac3d torcs
+FUZZ_TARGETS ?= bsp sgi q3_shader config trace model ac3d torcs pk3
 fuzz: deps
 	cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
 	  -DOOVR_FUZZ=ON -DOOVR_BUILD_TESTS=OFF -DOOVR_BUILD_BENCH=OFF -DOOVR_BUILD_REFERENCE=OFF

@@ -3,6 +3,8 @@
 // Nexuiz write them, the configuration presets, a real trace and cache
 // entry, small PLY / GLB / glTF, AC3D and TORCS files of each form the
 // readers know. Usage: oovr-fuzz-seeds DIR [SOURCE_DIR]
+#include <zip.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -23,7 +25,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs"}) fs::create_directories(dir / sub);
+  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3"}) fs::create_directories(dir / sub);
+  // pk3: a stored and a deflated entry, as the games' archives hold them.
+  {
+    int err = 0;
+    zip_t* z = zip_open((dir / "pk3" / "pak0.pk3").c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+    static const std::string shader = "textures/a/b\n{\n\t{\n\t\tmap textures/a/b.tga\n\t}\n}\n";
+    static const std::string lump(300, 'x');
+    const zip_int64_t i = zip_file_add(z, "scripts/a.shader", zip_source_buffer(z, shader.data(), shader.size(), 0), 0);
+    zip_set_file_compression(z, zip_uint64_t(i), ZIP_CM_STORE, 0);
+    zip_file_add(z, "maps/m.bsp", zip_source_buffer(z, lump.data(), lump.size(), 0), 0);
+    zip_close(z);
+  }
   // Configuration: the presets, and keys of every kind.
   if (argc == 3)
     for (const auto& e : fs::directory_iterator(fs::path(argv[2]) / "configs"))

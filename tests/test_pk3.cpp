@@ -50,6 +50,41 @@ TEST_F(Pk3Dir, LaterArchivesOverrideEarlierOnes) {
   EXPECT_NE(fs.archive_of("maps/m2.bsp").find("pak1-maps.pk3"), std::string::npos);
 }
 
+// A stored (uncompressed) entry whose bytes changed: its CRC no longer
+// matches, and reading it is an error naming it, not the changed bytes.
+TEST_F(Pk3Dir, EntriesWithABadCrcAreErrors) {
+  const std::string body = "the quick brown fox jumps over the lazy dog";
+  {
+    int err = 0;
+    zip_t* z = zip_open((m_dir / "pak0.pk3").c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+    ASSERT_NE(z, nullptr);
+    zip_source_t* src = zip_source_buffer(z, body.data(), body.size(), 0);
+    const zip_int64_t i = zip_file_add(z, "a.txt", src, ZIP_FL_OVERWRITE);
+    ASSERT_GE(i, 0);
+    ASSERT_EQ(zip_set_file_compression(z, zip_uint64_t(i), ZIP_CM_STORE, 0), 0);
+    ASSERT_EQ(zip_close(z), 0);
+  }
+  {
+    const Pk3FileSystem fs(m_dir.string());
+    EXPECT_EQ(text(fs, "a.txt"), body);
+  }
+  std::fstream f(m_dir / "pak0.pk3", std::ios::in | std::ios::out | std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const size_t at = bytes.find("quick");
+  ASSERT_NE(at, std::string::npos);
+  f.seekp(std::streamoff(at));
+  f.put('Q');
+  f.close();
+  const Pk3FileSystem fs(m_dir.string());
+  try {
+    (void)fs.read("a.txt");
+    ADD_FAILURE() << "a changed entry was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'a.txt' in archive"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("CRC"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(Pk3Dir, CorruptArchivesAreNamed) {
   archive("pak0.pk3", {{"a.txt", std::string(5000, 'a')}});
   const fs::path good = m_dir / "pak0.pk3";

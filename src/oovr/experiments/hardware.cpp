@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/scene/load.h"
@@ -111,11 +112,7 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
 }
 
 HardwareData HardwareData::read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read hardware data '" + path + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return parse(s.str(), path);
+  return parse(read_input_file(path, "hardware data", uint64_t(256) << 20), path);
 }
 
 std::string HardwareData::csv() const {

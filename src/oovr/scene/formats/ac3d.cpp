@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/limits.h"
 #include "oovr/scene/load.h"
 
 namespace oovr {
@@ -339,11 +341,7 @@ Scene parse_ac3d(const std::string& text, const std::string& name, const Ac3dOpt
 }
 
 Scene load_ac3d_file(const std::string& path, const Ac3dOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open AC3D file '" + path + "'");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return parse_ac3d(buf.str(), path, options);
+  return parse_ac3d(read_input_file(path, "AC3D file", InputLimits::get().file_bytes), path, options);
 }
 
 }  // namespace oovr

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
@@ -53,6 +54,8 @@ Pk3FileSystem::Pk3FileSystem(const std::string& directory) : m(std::make_unique<
     return normalize_game_path(fs::path(a).filename().string()) < normalize_game_path(fs::path(b).filename().string());
   });
   for (size_t a = 0; a < m_archive_paths.size(); ++a) {
+    // Only a regular file is opened (a FIFO named *.pk3 would block).
+    (void)check_input_file(m_archive_paths[a], "archive", uint64_t(64) << 30);
     int err = 0;
     zip_t* z = zip_open(m_archive_paths[a].c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &err);
     if (!z) throw Error("cannot open archive '" + m_archive_paths[a] + "': " + zip_code_message(err));
@@ -100,7 +103,15 @@ std::optional<std::vector<uint8_t>> Pk3FileSystem::read(const std::string& path,
     }
     got += zip_uint64_t(r);
   }
-  // zip_fclose reports CRC mismatches of corrupt entries.
+  // libzip checks an entry's CRC when a read reaches its end, not when the
+  // declared size has been read: read once more, expecting the end (a pk3
+  // entry with a bad CRC once loaded).
+  uint8_t extra = 0;
+  if (const zip_int64_t r = zip_fread(f, &extra, 1); r != 0) {
+    const std::string why = r < 0 ? zip_file_strerror(f) : "more data than its declared size";
+    zip_fclose(f);
+    throw Error("cannot read " + where + ": " + why);
+  }
   if (const int rc = zip_fclose(f); rc != 0) throw Error("cannot read " + where + ": " + zip_code_message(rc));
   return data;
 }
