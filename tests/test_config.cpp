@@ -140,6 +140,9 @@ TEST(Config, ValuesAreCheckedBeforeTheyAreNarrowed) {
   EXPECT_NE(spec_error("link.bandwidth=1e-300Bps").find("'link.bandwidth'"), std::string::npos);
   EXPECT_NE(spec_error("dram.bandwidth=1e300Bps").find("'dram.bandwidth'"), std::string::npos);
   EXPECT_NE(spec_error("cache.l1.size=1e300B").find("'cache.l1.size'"), std::string::npos);
+  // Every L1 holds a tag per line: 1 GB each once ran out of memory.
+  EXPECT_NE(spec_error("cache.l1.size=1GB").find("'cache.l1.size' must be at most 16 MB"), std::string::npos);
+  EXPECT_NE(spec_error("cache.l2.size=512MB").find("'cache.l2.size' must be at most 256 MB"), std::string::npos);
   EXPECT_EQ(spec_error("gpms=8"), "<no error>");
   // The same checks from a file.
   const auto file_error = [](const std::string& text) {

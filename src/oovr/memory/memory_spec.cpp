@@ -17,9 +17,15 @@ std::string names(const std::vector<std::string>& n) {
   return s;
 }
 
-CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def, Bytes line) {
+// `max`: the largest size simulated; every instance (an L1 per SM) holds a
+// tag per line, so a size without bound is memory without bound
+// (cache.l1.size=1GB once ended in std::bad_alloc). Real GPUs' largest are
+// tens of MB (H100's L2: 50 MB).
+CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def, Bytes line, Bytes max) {
   CacheSpec s;
   s.size = c.get_bytes(prefix + ".size", def.size);
+  if (s.size.value > max.value)
+    throw Error("configuration key '" + prefix + ".size' must be at most " + format_bytes(max) + ", not " + format_bytes(s.size));
   s.ways = int(c.get_int(prefix + ".ways", def.ways, 1, 1024));
   s.replacement = c.get_string(prefix + ".replacement", def.replacement);
   s.latency = c.get_time(prefix + ".latency", def.latency);
@@ -54,9 +60,9 @@ MemorySpec MemorySpec::from_config(const Config& c) {
   if (!PlacementPolicies::find(s.placement))
     throw Error("configuration key 'memory.placement' must be one of " + names(PlacementPolicies::names()) + ", not '" +
                 s.placement + "'");
-  s.l1 = cache(c, "cache.l1", d.l1, s.line);
-  s.l2 = cache(c, "cache.l2", d.l2, s.line);
-  s.remote = cache(c, "cache.remote", d.remote, s.line);
+  s.l1 = cache(c, "cache.l1", d.l1, s.line, Bytes{uint64_t(16) << 20});
+  s.l2 = cache(c, "cache.l2", d.l2, s.line, Bytes{uint64_t(256) << 20});
+  s.remote = cache(c, "cache.remote", d.remote, s.line, Bytes{uint64_t(256) << 20});
   s.remote_invalidate = c.get_choice("cache.remote.invalidate", d.remote_invalidate, {"draw", "frame", "never"});
   s.dram_bandwidth = c.get_bandwidth("dram.bandwidth", d.dram_bandwidth);
   s.dram_latency = c.get_time("dram.latency", d.dram_latency);

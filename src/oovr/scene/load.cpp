@@ -78,7 +78,9 @@ std::vector<SceneListing> list_scenes() {
   return out;
 }
 
-Scene load_scene(const std::string& spec) {
+namespace {
+
+Scene load_unchecked(const std::string& spec) {
   if (spec.empty()) throw Error("no scene given");
   const auto all = sources();
   if (const auto colon = spec.find(':'); colon != std::string::npos && colon > 0) {
@@ -94,6 +96,16 @@ Scene load_scene(const std::string& spec) {
   std::string forms;
   for (const auto& [key, s] : all) forms += (forms.empty() ? "" : ", ") + s->form;
   throw Error("unknown scene '" + spec + "': none of " + forms + "; 'oovr scenes' lists them");
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& spec) {
+  // Every source's scene is checked in one place: whatever a loader let
+  // through (a vertex at 3e38, a NaN texture coordinate) is an error here.
+  Scene s = load_unchecked(spec);
+  s.validate();
+  return s;
 }
 
 CameraPath orbit_camera_path(Vec3 lo, Vec3 hi, int frames) {

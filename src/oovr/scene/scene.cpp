@@ -1,8 +1,10 @@
 #include "oovr/scene/scene.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "oovr/core/error.h"
+#include "oovr/core/units.h"
 
 namespace oovr {
 
@@ -80,6 +82,21 @@ void Scene::validate() const {
         throw Error(where("mesh '" + mesh.name + "' has an index past its vertices"));
     if (!mesh.frames.empty() && mesh.frames.size() != mesh.vertices.size())
       throw Error(where("mesh '" + mesh.name + "' has tangent frames for some vertices only"));
+    // Positions far enough out to overflow a float once transformed (a
+    // vertex at 3e38 blanked a model while the timing model reported it as
+    // nearly free) or not numbers at all are refused; texture coordinates
+    // must be numbers (the sampler converts them to texel indices).
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+      const Vertex& x = mesh.vertices[v];
+      for (const float c : {x.position.x, x.position.y, x.position.z})
+        if (!(std::fabs(c) <= kMaxCoordinate))
+          throw Error(where("mesh '" + mesh.name + "' has vertex " + std::to_string(v) + " at a coordinate of " +
+                            format_number(c) + ", beyond 1e9 units or not a number"));
+      for (const float c : {x.uv.x, x.uv.y, x.lm_uv.x, x.lm_uv.y})
+        if (!std::isfinite(c))
+          throw Error(where("mesh '" + mesh.name + "' has vertex " + std::to_string(v) +
+                            " with a texture coordinate that is not a number"));
+    }
   }
   for (size_t k = 0; k < objects.size(); ++k) {
     const Object& o = objects[k];

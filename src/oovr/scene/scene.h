@@ -17,6 +17,11 @@
 
 namespace oovr {
 
+// The largest vertex coordinate a scene may hold (Scene::validate): far
+// beyond any level or model (game maps reach 10^5 units), far below what
+// overflows a float once transformed.
+constexpr float kMaxCoordinate = 1e9f;
+
 struct Vertex {
   Vec3 position;
   Vec2 uv;     // diffuse texture coordinates
