@@ -327,5 +327,42 @@ TEST(TraceCache, ACorruptEntryIsAMissWithTheUncachedResults) {
   EXPECT_EQ(run_scheme_window("oo-vr", got.scene, got.traces, config, 1).frame_latency_s, expected.frame_latency_s);
 }
 
+// A window beyond the memory budget is streamed from disk: the same numbers
+// as in memory, frame by frame, for schemes with one frame at a time and
+// with frames in flight, and its folder is gone afterwards.
+TEST(TraceCache, AStreamedWindowGivesTheNumbersOfOneInMemory) {
+  const test::TempDir dir;
+  const CacheDirectory env(dir.path());
+  const Scene scene = BuiltinScenes::find("crowd")->make();
+  const StereoRig rig = parse_eye_resolution("96x64");
+  const Config config;
+  WindowRequest w;
+  w.first = 5;
+  w.count = 8;
+  const FrameWindow memory = load_window(scene, rig, config, w);
+  EXPECT_FALSE(memory.streamed);
+  w.memory_budget = 1;
+  fs::path folder;
+  {
+    const FrameWindow streamed = load_window(scene, rig, config, w);
+    ASSERT_TRUE(streamed.streamed);
+    EXPECT_TRUE(streamed.traces.empty());
+    ASSERT_EQ(streamed.frames->size(), 8u);
+    ASSERT_FALSE(streamed.notes.empty());
+    EXPECT_NE(streamed.notes.back().find("streamed through"), std::string::npos) << streamed.notes.back();
+    for (const auto& e : fs::directory_iterator(dir.path()))
+      if (e.is_directory()) folder = e.path();
+    ASSERT_FALSE(folder.empty());
+    for (size_t k = 0; k < 8; ++k) EXPECT_EQ(streamed.frames->at(k)->tiles, memory.traces[k]->tiles) << k;
+    for (const char* scheme : {"baseline", "afr", "oo-vr"}) {
+      const SchemeResult a = run_scheme_window(scheme, memory.scene, *memory.frames, config, 8);
+      const SchemeResult b = run_scheme_window(scheme, streamed.scene, *streamed.frames, config, 8);
+      EXPECT_EQ(a.frame_latencies_s, b.frame_latencies_s) << scheme;
+      EXPECT_EQ(a.total_inter_gpm_bytes(), b.total_inter_gpm_bytes()) << scheme;
+    }
+  }
+  EXPECT_FALSE(fs::exists(folder)) << "the streamed window's folder is removed with it";
+}
+
 }  // namespace
 }  // namespace oovr

@@ -172,7 +172,7 @@ int simulate(const SimulateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   const Frames f = render_frames(a, config, window, !a.gpm_image.empty() || !a.traffic_image.empty());
   const auto t1 = std::chrono::steady_clock::now();
-  const SchemeResult r = run_scheme_window(a.scheme, f.scene, f.traces, config, window);
+  const SchemeResult r = run_scheme_window(a.scheme, f.scene, *f.frames, config, window);
   const auto t2 = std::chrono::steady_clock::now();
   fmt::print("{}: {} on {} GPMs, {}, {}x{} stereo{}\n", f.scene.name, r.scheme, r.gpms, frame_range(a.frame, window),
              f.rig.frame_width(), f.rig.frame_height(), window > 1 ? "; means per frame" : "");
@@ -184,7 +184,7 @@ int simulate(const SimulateArgs& a) {
     fmt::print(" cycles\n");
   }
   fmt::print("  time: traces {:.0f} ms ({} of {} from the cache), simulation {:.0f} ms\n",
-             std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.outputs.size(),
+             std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.frames->size(),
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
   if (!a.json.empty()) {
@@ -210,7 +210,7 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   const auto t1 = std::chrono::steady_clock::now();
   // Schemes are independent runs: in parallel, each into its own slot.
   std::vector<SchemeResult> results(schemes.size());
-  parallel_for(schemes.size(), 0, [&](size_t i) { results[i] = run_scheme_window(schemes[i], f.scene, f.traces, config, window); });
+  parallel_for(schemes.size(), 0, [&](size_t i) { results[i] = run_scheme_window(schemes[i], f.scene, *f.frames, config, window); });
   const auto t2 = std::chrono::steady_clock::now();
   const SchemeResult* base = nullptr;
   for (const auto& r : results)

@@ -1,13 +1,96 @@
 #include "oovr/experiments/frames.h"
 
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <new>
+
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/trace_cache.h"
 
 namespace oovr {
+namespace fs = std::filesystem;
+
+namespace {
+
+uint64_t memory_budget(const WindowRequest& r) {
+  if (r.memory_budget) return r.memory_budget;
+  const char* env = std::getenv("OOVR_TRACE_MEMORY_MB");
+  if (!env || !*env) return uint64_t(4096) << 20;
+  const std::string v = env;
+  const bool digits = v.size() <= 9 && v.find_first_not_of("0123456789") == std::string::npos;
+  const uint64_t mb = digits ? std::strtoull(env, nullptr, 10) : 0;
+  if (!digits || mb < 1) throw Error("OOVR_TRACE_MEMORY_MB must be a whole number of megabytes from 1, not '" + v + "'");
+  return mb << 20;
+}
+
+// A window's traces on disk, one file each, read back on demand; the folder
+// is removed with the last holder of the sequence.
+class StreamedFrames final : public FrameSequence {
+ public:
+  StreamedFrames(fs::path dir, std::shared_ptr<const FrameTrace> first) : m_dir(std::move(dir)), m_first(std::move(first)) {}
+  ~StreamedFrames() override {
+    std::error_code ec;
+    fs::remove_all(m_dir, ec);
+  }
+  size_t size() const override { return m_count; }
+  std::shared_ptr<const FrameTrace> at(size_t k) const override {
+    if (k >= m_count) throw Error("frame " + std::to_string(k) + " of a streamed window of " + std::to_string(m_count));
+    if (k == 0) return m_first;
+    const std::string path = file(k);
+    const std::string bytes = read_input_file(path, "streamed trace", uint64_t(1) << 40);
+    std::string why;
+    auto t = decode_entry(bytes, key(k), &why);
+    if (!t) throw Error("streamed trace '" + path + "' changed during the run: " + why);
+    return std::make_shared<const FrameTrace>(std::move(*t));
+  }
+  void add(const FrameTrace& t) {
+    if (m_count > 0) write_output_file(file(m_count), encode_entry(key(m_count), t), "streamed trace");
+    ++m_count;
+  }
+  const fs::path& directory() const { return m_dir; }
+
+ private:
+  static std::string key(size_t k) { return "frame-" + std::to_string(k); }
+  std::string file(size_t k) const { return (m_dir / (key(k) + ".trace")).string(); }
+
+  fs::path m_dir;
+  std::shared_ptr<const FrameTrace> m_first;
+  size_t m_count = 0;
+};
+
+// A fresh folder for a streamed window in the trace cache's folder, named
+// as the cache's temporaries are (removed by a later store if this process
+// dies first), after checking that `bytes` fit on its disk.
+fs::path stream_folder(const TraceCache& cache, uint64_t bytes, int count) {
+  static std::atomic<int> serial{0};
+  const std::string cache_dir = cache.directory();
+  const fs::path dir = cache.temporary_path("window-" + std::to_string(serial++));
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error("cannot stream the traces of " + std::to_string(count) + " frames: cannot create '" + dir.string() + "': " + ec.message());
+  struct statvfs st{};
+  if (::statvfs(dir.c_str(), &st) == 0) {
+    const uint64_t free = uint64_t(st.f_bavail) * uint64_t(st.f_frsize);
+    if (bytes > free) {
+      fs::remove_all(dir, ec);
+      throw Error("the traces of " + std::to_string(count) + " frames need about " + std::to_string(bytes >> 20) +
+                  " MB, more than the memory budget ($OOVR_TRACE_MEMORY_MB) and than the " + std::to_string(free >> 20) +
+                  " MB free in " + cache_dir + " ($OOVR_CACHE_DIR): use fewer frames or a larger disk");
+    }
+  }
+  return dir;
+}
+
+}  // namespace
 
 FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config, const WindowRequest& r) {
-  FrameWindow f{std::move(scene), rig, {}, {}, 0, {}};
+  FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
   Config probe = config;  // reading the line size must not mark keys used in the caller's config
   PipelineSettings p = PipelineSettings::from_config(probe);
   p.max_anisotropy = r.aniso;
@@ -16,29 +99,69 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
   const int path = int(f.scene.camera.frames.size());
   if (r.first < 0 || r.first >= path)
     throw Error("frame " + std::to_string(r.first) + " is out of range: the camera path has " + std::to_string(path) + " frames");
+  const uint64_t budget = memory_budget(r);
   const TraceCache cache;
   const uint64_t fingerprint = r.use_cache ? scene_fingerprint(f.scene) : 0;
-  f.outputs.reserve(size_t(r.count));
   std::vector<std::string> rejected;  // entries that did not verify
+  std::unique_ptr<StreamedFrames> stream;
+  uint64_t held = 0;  // bytes of traces in memory
+  f.outputs.reserve(size_t(std::min(r.count, 64)));
   for (int k = 0; k < r.count; ++k) {
     const int frame = (r.first + k) % path;
-    const StereoView view = make_stereo_view(f.scene.camera, frame, f.rig);
-    const std::string key = cache.key(fingerprint, frame, view, p);
-    if (r.use_cache && !(k == 0 && r.need_first_image)) {
-      TraceLookup hit = cache.load(key, f.scene, frame, view, p);
-      if (!hit.rejected.empty()) rejected.push_back(std::move(hit.rejected));
-      if (hit.trace) {
-        FrameOutput o;
-        o.trace = std::move(*hit.trace);
-        f.outputs.push_back(std::move(o));
-        ++f.cached;
-        continue;
+    FrameOutput out;
+    try {
+      const StereoView view = make_stereo_view(f.scene.camera, frame, f.rig);
+      const std::string key = cache.key(fingerprint, frame, view, p);
+      bool hit = false;
+      if (r.use_cache && !(k == 0 && r.need_first_image)) {
+        TraceLookup found = cache.load(key, f.scene, frame, view, p);
+        if (!found.rejected.empty()) rejected.push_back(std::move(found.rejected));
+        if (found.trace) {
+          out.trace = std::move(*found.trace);
+          ++f.cached;
+          hit = true;
+        }
       }
+      if (!hit) {
+        out = render_frame(f.scene, view, p, frame);
+        if (r.use_cache) cache.store(key, out.trace);
+        // Only the first frame's picture is ever used (GPM and traffic
+        // images); the others' would be 8 bytes a pixel held for nothing.
+        if (k > 0) {
+          out.colour = Image();
+          out.object_id = {};
+        }
+      }
+    } catch (const std::bad_alloc&) {
+      throw Error("out of memory rendering frame " + std::to_string(frame) + " of " + f.scene.name + " at " +
+                  std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) + ", with " +
+                  std::to_string(held >> 20) + " MB of traces held");
     }
-    f.outputs.push_back(render_frame(f.scene, view, p, frame));
-    if (r.use_cache) cache.store(key, f.outputs.back().trace);
+    const uint64_t bytes = out.trace.objects.size() * sizeof(ObjectWork) + out.trace.tiles.size() * sizeof(TileWork) +
+                           out.trace.tex_lines.size() * sizeof(TexLine);
+    // Decided on the first trace: the window's size is about count times it.
+    if (k == 0 && bytes * uint64_t(r.count) > budget && r.count > 1) {
+      auto first = std::make_shared<const FrameTrace>(out.trace);
+      stream = std::make_unique<StreamedFrames>(stream_folder(cache, bytes * uint64_t(r.count), r.count), first);
+      f.streamed = true;
+      f.notes.push_back("traces of " + std::to_string(r.count) + " frames (about " + std::to_string((bytes * uint64_t(r.count)) >> 20) +
+                        " MB) streamed through " + stream->directory().string() + ", beyond the memory budget of " +
+                        std::to_string(budget >> 20) + " MB ($OOVR_TRACE_MEMORY_MB)");
+    }
+    if (stream) {
+      stream->add(out.trace);
+      if (k == 0) f.outputs.push_back(std::move(out));
+    } else {
+      held += bytes;
+      f.outputs.push_back(std::move(out));
+    }
   }
-  for (const auto& o : f.outputs) f.traces.push_back(&o.trace);
+  if (stream) {
+    f.frames = std::shared_ptr<const FrameSequence>(std::move(stream));
+  } else {
+    for (const auto& o : f.outputs) f.traces.push_back(&o.trace);
+    f.frames = std::make_shared<FramesInMemory>(f.traces);
+  }
   // Once per window, however many entries: they were rendered again, so the
   // results are those of an uncached run.
   if (!rejected.empty()) {

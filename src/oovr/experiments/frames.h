@@ -1,8 +1,15 @@
 // The traces a simulation replays: `count` consecutive frames of a scene's
 // camera path (wrapping around), from the on-disk trace cache when they are
 // there, rendered and cached otherwise (render once, replay per scheme).
+//
+// A window whose traces would take more memory than $OOVR_TRACE_MEMORY_MB
+// (default 4096) is streamed: each trace is written to a folder of its own
+// beside the trace cache as it is made, and read back only while a scheme
+// runs its frame, so `--frames 1000` at 1280x1024 needs disk, not tens of
+// GB of memory. The numbers are the same either way.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,17 +17,24 @@
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/scene.h"
 #include "oovr/scene/stereo.h"
+#include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
 
 struct FrameWindow {
   Scene scene;
   StereoRig rig;
-  std::vector<FrameOutput> outputs;  // image and object ids only where rendered
+  // In memory: every frame's output (image and object ids only for the
+  // first frame, and only where rendered), and `traces` points at them. Streamed: only the first
+  // frame's output; `traces` is empty.
+  std::vector<FrameOutput> outputs;
   std::vector<const FrameTrace*> traces;
+  // Every frame of the window, in memory or streamed: what schemes replay.
+  std::shared_ptr<const FrameSequence> frames;
   int cached = 0;  // traces that came from the cache
+  bool streamed = false;
   // What the user should know about how the traces were got (a cache entry
-  // that did not verify and was rendered again).
+  // that did not verify and was rendered again, a streamed window).
   std::vector<std::string> notes;
 };
 
@@ -30,10 +44,15 @@ struct WindowRequest {
   int aniso = 16;
   bool use_cache = true;
   bool need_first_image = false;  // render frame `first` even when cached
+  // Bytes of traces held in memory before the window is streamed; 0:
+  // $OOVR_TRACE_MEMORY_MB megabytes (default 4096).
+  uint64_t memory_budget = 0;
 };
 
 // Loads the traces for `scene` (already loaded) with the memory system's
-// line size from `config`. Throws Error when `first` is off the path.
+// line size from `config`. Throws Error when `first` is off the path, when
+// a streamed window does not fit on the disk, or when memory runs out
+// (naming the frame).
 FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config, const WindowRequest& r);
 
 }  // namespace oovr

@@ -173,7 +173,7 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
       w.aniso = o.aniso;
       w.use_cache = o.use_cache;
       const FrameWindow f = load_window(scene, rig, o.config, w);
-      p.oovr_us[i] = run_scheme_window(o.scheme, f.scene, f.traces, o.config, 1).frame_latency_s * 1e6;
+      p.oovr_us[i] = run_scheme_window(o.scheme, f.scene, *f.frames, o.config, 1).frame_latency_s * 1e6;
       frame_notes[i] = f.notes;
     });
     for (const auto& n : frame_notes)

@@ -78,7 +78,7 @@ void run_one_pass_workloads(const PaperOptions& o, PaperResults& res) {
       jobs.push_back({scheme, extra.empty() ? kOnePassVariant : kOnePassVariant + ";" + extra});
     std::vector<SchemeResult> out(jobs.size());
     parallel_for(jobs.size(), 0, [&](size_t i) {
-      out[i] = run_scheme_window(jobs[i].scheme, window.scene, window.traces, with_variant(config, jobs[i].variant), o.frames);
+      out[i] = run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(config, jobs[i].variant), o.frames);
     });
     for (size_t i = 0; i < jobs.size(); ++i) res.runs.push_back({one, o.sweep_resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
     res.one_pass_scenes.push_back(name);
@@ -130,9 +130,10 @@ PaperResults run_paper(const PaperOptions& o) {
         Config probe = o.config;
         const TimingSpec timing = TimingSpec::from_config(probe);
         double vi = 0, fi = 0;
-        for (const auto& ow : window.traces[0]->objects) vi += double(ow.vertices) * timing.vertex_instructions;
-        for (const auto& tw : window.traces[0]->tiles)
-          fi += timing.fragment_work(tw.quads, uint64_t(tw.quads) * 4 * window.traces[0]->objects[tw.object].fragment_instructions);
+        const std::shared_ptr<const FrameTrace> first = window.frames->at(0);
+        for (const auto& ow : first->objects) vi += double(ow.vertices) * timing.vertex_instructions;
+        for (const auto& tw : first->tiles)
+          fi += timing.fragment_work(tw.quads, uint64_t(tw.quads) * 4 * first->objects[tw.object].fragment_instructions);
         st.vertex_share = vi + fi > 0 ? vi / (vi + fi) : 0;
         res.stats[name] = st;
       }
@@ -160,7 +161,7 @@ PaperResults run_paper(const PaperOptions& o) {
       }
       std::vector<SchemeResult> out(jobs.size());
       parallel_for(jobs.size(), 0, [&](size_t i) {
-        out[i] = run_scheme_window(jobs[i].scheme, window.scene, window.traces, with_variant(o.config, jobs[i].variant), o.frames);
+        out[i] = run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(o.config, jobs[i].variant), o.frames);
       });
       for (size_t i = 0; i < jobs.size(); ++i) res.runs.push_back({name, resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
       if (o.progress)

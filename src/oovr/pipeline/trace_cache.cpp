@@ -459,7 +459,7 @@ void TraceCache::trim(const fs::path& keep) const {
   for (fs::directory_iterator it(m_dir, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code e2;
     if (abandoned_temporary(*it, host)) {
-      fs::remove(it->path(), e2);
+      fs::remove_all(it->path(), e2);  // a file, or a streamed window's folder
       continue;
     }
     if (it->path().extension() != ".trace" || it->path() == keep || !it->is_regular_file(e2)) continue;
@@ -480,6 +480,10 @@ void TraceCache::trim(const fs::path& keep) const {
   }
 }
 
+std::string TraceCache::temporary_path(const std::string& stem) const {
+  return (fs::path(m_dir) / (stem + ".tmp." + host_name() + "." + std::to_string(::getpid()))).string();
+}
+
 bool TraceCache::store(const std::string& key, const FrameTrace& t) const {
   std::error_code ec;
   fs::create_directories(m_dir, ec);
@@ -488,7 +492,7 @@ bool TraceCache::store(const std::string& key, const FrameTrace& t) const {
   if (bytes.size() > m_max_bytes) return false;  // would leave no room for anything else
   // Write aside, then rename: readers never see a half-written file.
   const fs::path final_path = fs::path(m_dir) / (key + ".trace");
-  const fs::path tmp = fs::path(m_dir) / (key + ".tmp." + host_name() + "." + std::to_string(::getpid()));
+  const fs::path tmp = temporary_path(key);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), std::streamsize(bytes.size()));

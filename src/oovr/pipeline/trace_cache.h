@@ -56,6 +56,10 @@ class TraceCache {
   // Written aside and renamed, so readers never see half an entry; also
   // removes what interrupted stores left behind (trim).
   bool store(const std::string& key, const FrameTrace& t) const;
+  // A name in the cache folder for something this process writes and
+  // removes (STEM.tmp.HOST.PID): if the process dies first, a later store
+  // removes it, file or folder (trim).
+  std::string temporary_path(const std::string& stem) const;
 
  private:
   void trim(const std::filesystem::path& keep) const;

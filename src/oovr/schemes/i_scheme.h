@@ -100,6 +100,30 @@ int scheme_frames_needed(const std::string& name, const Config& config);
 // policy schemes cannot use.
 void check_scheme_config(const std::string& name, const Config& config);
 
+// Consecutive frames' traces handed out one at a time, so that a long
+// window need not be in memory at once (experiments/frames.h streams them
+// from disk). at() is safe to call from several threads; the caller holds
+// the trace while it uses it.
+class FrameSequence {
+ public:
+  virtual ~FrameSequence() = default;
+  virtual size_t size() const = 0;
+  virtual std::shared_ptr<const FrameTrace> at(size_t k) const = 0;
+};
+
+// Traces already in memory, not owned.
+class FramesInMemory final : public FrameSequence {
+ public:
+  explicit FramesInMemory(std::vector<const FrameTrace*> frames) : m_frames(std::move(frames)) {}
+  size_t size() const override { return m_frames.size(); }
+  std::shared_ptr<const FrameTrace> at(size_t k) const override {
+    return std::shared_ptr<const FrameTrace>(std::shared_ptr<const FrameTrace>(), m_frames.at(k));  // aliasing: no ownership
+  }
+
+ private:
+  std::vector<const FrameTrace*> m_frames;
+};
+
 // Runs `name` over the first `window` of `frames`: a scheme with m frames in
 // flight (AFR: one per GPM) on each group of m frames, any other on each
 // frame in turn, so that every scheme is measured on the same frames. The
@@ -111,6 +135,9 @@ void check_scheme_config(const std::string& name, const Config& config);
 // per-tile traffic and owners are those of the first measured run
 // (frames[0]). `runs`, when given, receives every run's own result. Throws
 // Error when `window` is not a multiple of m or frames are missing.
+// Only the frames of the group being run are held at a time.
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames,
+                               const Config& config, int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                                const Config& config, int window, std::vector<SchemeResult>* runs = nullptr);
 

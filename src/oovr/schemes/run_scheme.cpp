@@ -1,6 +1,7 @@
 // Running a scheme by name, on one frame or over a window of frames in
 // sequence (i_scheme.h).
 #include <algorithm>
+#include <new>
 
 #include "oovr/core/error.h"
 #include "oovr/schemes/frame_sim.h"
@@ -44,6 +45,11 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
 
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                                const Config& config, int window, std::vector<SchemeResult>* runs) {
+  return run_scheme_window(name, scene, FramesInMemory(frames), config, window, runs);
+}
+
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames,
+                               const Config& config, int window, std::vector<SchemeResult>* runs) {
   const int m = scheme_frames_needed(name, config);
   if (window < 1 || window % m != 0)
     throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
@@ -54,14 +60,24 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
   // the same frames: data is then where a game running these views would
   // have it (pre-allocated copies included), and the distribution engine's
   // rates are fitted.
-  const auto group = [&](size_t i) {
-    const auto first = frames.begin() + std::ptrdiff_t(i) * m;
-    return std::vector<const FrameTrace*>(first, first + m);
+  // Group i's frames, held only while it runs.
+  const auto run_group = [&](size_t i, const std::shared_ptr<CarriedState>& carried) {
+    std::vector<std::shared_ptr<const FrameTrace>> held;
+    std::vector<const FrameTrace*> group;
+    for (size_t k = 0; k < size_t(m); ++k) {
+      held.push_back(frames.at(i * size_t(m) + k));
+      group.push_back(held.back().get());
+    }
+    return run_scheme(name, scene, group, config, carried);
   };
   const auto carried = std::make_shared<CarriedState>();
-  for (size_t i = 0; i < size_t(window / m); ++i) (void)run_scheme(name, scene, group(i), config, carried);
   std::vector<SchemeResult> all;
-  for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_scheme(name, scene, group(i), config, carried));
+  try {
+    for (size_t i = 0; i < size_t(window / m); ++i) (void)run_group(i, carried);
+    for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_group(i, carried));
+  } catch (const std::bad_alloc&) {
+    throw Error("out of memory simulating " + name + " on " + scene.name + " (" + std::to_string(window) + " frames)");
+  }
   SchemeResult s = all.front();
   s.frame_latencies_s.clear();
   double time = 0;  // seconds the window's frames take, frames in flight overlapping
