@@ -247,13 +247,19 @@ TEST(TraceCache, SizeLimitIsAWholeNumberOfMegabytes) {
 // The experiment, done for every part of an entry: flip a byte of a
 // cached trace and run again. Each run must equal an uncached one, say
 // once that an entry did not verify, and leave a good entry behind.
-TEST(TraceCache, ACorruptEntryIsAMissWithTheUncachedResults) {
+// Windows of the crowd scene at 96x64 per eye, cached in the test's own
+// folder.
+class CrowdWindows : public ::testing::Test {
+ protected:
   const test::TempDir dir;
-  const CacheDirectory env(dir.path());
+  const CacheDirectory env{dir.path()};
   const Scene scene = BuiltinScenes::find("crowd")->make();
   const StereoRig rig = parse_eye_resolution("96x64");
   const Config config;
   WindowRequest w;
+};
+
+TEST_F(CrowdWindows, ACorruptEntryIsAMissWithTheUncachedResults) {
   w.first = 3;
   w.count = 1;
   w.use_cache = false;
@@ -330,13 +336,7 @@ TEST(TraceCache, ACorruptEntryIsAMissWithTheUncachedResults) {
 // A window beyond the memory budget is streamed from disk: the same numbers
 // as in memory, frame by frame, for schemes with one frame at a time and
 // with frames in flight, and its folder is gone afterwards.
-TEST(TraceCache, AStreamedWindowGivesTheNumbersOfOneInMemory) {
-  const test::TempDir dir;
-  const CacheDirectory env(dir.path());
-  const Scene scene = BuiltinScenes::find("crowd")->make();
-  const StereoRig rig = parse_eye_resolution("96x64");
-  const Config config;
-  WindowRequest w;
+TEST_F(CrowdWindows, AStreamedWindowGivesTheNumbersOfOneInMemory) {
   w.first = 5;
   w.count = 8;
   const FrameWindow memory = load_window(scene, rig, config, w);
