@@ -92,6 +92,25 @@ TEST(ModelChecks, GlbLengthsMustMatch) {
   EXPECT_NE(message_of([] { precheck_model_bytes("{not json", "j.gltf"); }).find("bad glTF JSON"), std::string::npos);
 }
 
+// assimp walks a glTF's node tree recursively: cycles and trees deeper
+// than $OOVR_LIMITS nesting (256) are refused first.
+TEST(ModelChecks, GltfNodeTreesAreBounded) {
+  const auto chain = [](int n, bool cycle) {
+    std::string j = R"({"asset":{"version":"2.0"},"nodes":[)";
+    for (int i = 0; i < n; ++i) {
+      if (i) j += ",";
+      const int child = i + 1 < n ? i + 1 : (cycle ? 0 : -1);
+      j += child >= 0 ? "{\"children\":[" + std::to_string(child) + "]}" : "{}";
+    }
+    return j + "]}";
+  };
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(chain(200, false), "deep.gltf"); }), "<no error>");
+  EXPECT_NE(message_of([&] { precheck_model_bytes(chain(300, false), "deep.gltf"); }).find("$OOVR_LIMITS nesting"), std::string::npos);
+  EXPECT_NE(message_of([&] { precheck_model_bytes(chain(5, true), "loop.gltf"); }).find("its own descendant"), std::string::npos);
+  EXPECT_NE(message_of([] { precheck_model_bytes(R"({"nodes":[{"children":[7]}]})", "bad.gltf"); }).find("does not exist"),
+            std::string::npos);
+}
+
 TEST(ModelChecks, ModelsAreRegularFiles) {
   EXPECT_NE(message_of([] { load_scene("/dev/zero.ply"); }), "<no error>");
   const test::TempDir dir;

@@ -30,9 +30,11 @@ InputLimits InputLimits::parse(const std::string& text) {
     else if (name == "image_texels") l.image_texels = whole(1, uint64_t(1) << 40);
     else if (name == "file_bytes") l.file_bytes = bytes();
     else if (name == "elements") l.elements = whole(1, uint64_t(1) << 40);
+    else if (name == "scene_bytes") l.scene_bytes = bytes();
+    else if (name == "nesting") l.nesting = int(whole(1, 100000));
     else
       throw Error("OOVR_LIMITS: unknown limit '" + name +
-                  "' (limits: image_side, image_texels, file_bytes, elements)");
+                  "' (limits: image_side, image_texels, file_bytes, elements, scene_bytes, nesting)");
   }
   return l;
 }

@@ -6,7 +6,7 @@
 //
 // The defaults hold every scene oovr ships or installs with a wide margin.
 // $OOVR_LIMITS overrides them: comma-separated name=value pairs, e.g.
-// OOVR_LIMITS=image_side=32768,file_bytes=4GB; an unknown name or a bad
+// OOVR_LIMITS=image_side=32768,scene_bytes=16GB; an unknown name or a bad
 // value is an Error.
 #pragma once
 
@@ -20,6 +20,8 @@ struct InputLimits {
   uint64_t image_texels = uint64_t(1) << 26;   // texels in one image (256 MiB as RGBA8)
   uint64_t file_bytes = uint64_t(2) << 30;     // bytes of one input file (a model, an archive entry)
   uint64_t elements = uint64_t(1) << 27;       // vertices, faces, indices or records one file declares or makes
+  uint64_t scene_bytes = uint64_t(8) << 30;    // a loaded scene's geometry and textures (mip chains included)
+  int nesting = 256;                           // depth of a model's node tree (glTF)
 
   // The limits in force ($OOVR_LIMITS over the defaults), read once.
   static const InputLimits& get();

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "oovr/core/error.h"
+#include "oovr/core/limits.h"
 
 namespace oovr {
 namespace {
@@ -105,6 +106,13 @@ Scene load_scene(const std::string& spec) {
   // through (a vertex at 3e38, a NaN texture coordinate) is an error here.
   Scene s = load_unchecked(spec);
   s.validate();
+  // Loading was bounded file by file; the whole scene is bounded here,
+  // before anything renders it.
+  uint64_t bytes = 0;
+  for (const auto& t : s.textures) bytes += t.bytes();
+  for (const auto& m : s.meshes)
+    bytes += m.vertices.size() * sizeof(Vertex) + m.indices.size() * sizeof(uint32_t) + m.frames.size() * sizeof(TangentFrame);
+  check_limit(bytes, InputLimits::get().scene_bytes, "scene_bytes", "scene '" + s.name + "'", "bytes of geometry and textures");
   return s;
 }
 

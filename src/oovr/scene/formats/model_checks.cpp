@@ -1,5 +1,6 @@
 #include "oovr/scene/formats/model_checks.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -183,6 +184,49 @@ void check_gltf_json(const std::string& text, const std::string& name, uint64_t 
             bad(name, "glTF buffer " + std::to_string(i) + " declares " + std::to_string(bytes) + " bytes, '" + u + "' has " +
                           std::to_string(size));
         }
+      }
+    }
+  }
+  // The node tree's depth (assimp walks it recursively): an explicit walk
+  // from every node, refusing cycles (a node among its own descendants)
+  // and trees deeper than the limit.
+  if (const auto it = j.find("nodes"); it != j.end() && it->is_array()) {
+    const size_t n = it->size();
+    check_limit(n, lim.elements, "elements", "model '" + name + "'", "glTF nodes");
+    std::vector<std::vector<size_t>> children(n);
+    for (size_t i = 0; i < n; ++i) {
+      const auto& node = (*it)[i];
+      const auto c = node.is_object() ? node.find("children") : node.end();
+      if (!node.is_object() || c == node.end() || !c->is_array()) continue;
+      for (const auto& k : *c) {
+        if (!k.is_number_unsigned() || k.get<uint64_t>() >= n) bad(name, "glTF node " + std::to_string(i) + " names a child that does not exist");
+        children[i].push_back(size_t(k.get<uint64_t>()));
+      }
+    }
+    // Depth of each node's subtree, children first (iterative, so a deep
+    // file cannot overflow this check's stack either).
+    std::vector<int> depth(n, -1), state(n, 0);  // state: 0 unseen, 1 on the path, 2 done
+    for (size_t root = 0; root < n; ++root) {
+      if (state[root]) continue;
+      std::vector<std::pair<size_t, size_t>> stack{{root, 0}};
+      state[root] = 1;
+      while (!stack.empty()) {
+        auto& [node, next] = stack.back();
+        if (next < children[node].size()) {
+          const size_t c = children[node][next++];
+          if (state[c] == 1) bad(name, "glTF node " + std::to_string(c) + " is its own descendant");
+          if (state[c] == 0) {
+            state[c] = 1;
+            stack.push_back({c, 0});
+          }
+          continue;
+        }
+        int d = 1;
+        for (const size_t c : children[node]) d = std::max(d, depth[c] + 1);
+        depth[node] = d;
+        state[node] = 2;
+        check_limit(uint64_t(d), uint64_t(lim.nesting), "nesting", "model '" + name + "'", "levels of glTF nodes");
+        stack.pop_back();
       }
     }
   }
