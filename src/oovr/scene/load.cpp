@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <new>
 
 #include "oovr/core/error.h"
 #include "oovr/core/limits.h"
@@ -104,7 +105,12 @@ Scene load_unchecked(const std::string& spec) {
 Scene load_scene(const std::string& spec) {
   // Every source's scene is checked in one place: whatever a loader let
   // through (a vertex at 3e38, a NaN texture coordinate) is an error here.
-  Scene s = load_unchecked(spec);
+  Scene s;
+  try {
+    s = load_unchecked(spec);
+  } catch (const std::bad_alloc&) {
+    throw Error("out of memory loading scene '" + spec + "' (its files are within $OOVR_LIMITS; lower them to refuse it sooner)");
+  }
   s.validate();
   // Loading was bounded file by file; the whole scene is bounded here,
   // before anything renders it.
