@@ -318,8 +318,8 @@ TEST(Materials, GlossAddsSpecularAndGlowAddsLight) {
   expect_pixel(centre(q.render()), 200 + 40 + 10, 100 + 40 + 20, 50 + 40 + 30, 2);
   // Glancing light: the highlight moves away from the eye and fades.
   q.scene.textures[4] = direction({0.866f, 0, 0.5f});
-  const uint8_t* px = centre(q.render());
-  EXPECT_LT(px[0], 200 + 10 + 5);
+  const FrameOutput glancing = q.render();  // held: centre() points into it
+  EXPECT_LT(centre(glancing)[0], 200 + 10 + 5);
 }
 
 TEST(Materials, DeluxePassesNeedTheirLayersAndFrames) {
