@@ -23,58 +23,80 @@ std::string size_text(uint64_t b) {
   return std::to_string(b) + " bytes";
 }
 
-// Opens `path` for reading as an input: without blocking (a FIFO opens at
-// once and is then refused), checked to be a regular file within the bound.
-int open_input(const std::string& path, const std::string& what, uint64_t max_bytes, uint64_t& size) {
-  if (path.empty()) throw Error("no " + what + " file given (the path is empty)");
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) throw Error("cannot read " + what + " " + quoted(path) + ": " + std::strerror(errno));
+// Opens `path` as a regular file of at most `max_bytes`: without blocking
+// (a FIFO opens at once and is then refused) and, unless `follow_links`,
+// without following a final link. Returns the descriptor, or -1 with the
+// failure in `r`.
+int open_regular(const std::string& path, uint64_t max_bytes, bool follow_links, FileRead& r) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | (follow_links ? 0 : O_NOFOLLOW));
+  if (fd < 0) {
+    r.failure = errno == ENOENT ? FileRead::Failure::missing : FileRead::Failure::unreadable;
+    r.why = std::strerror(errno);
+    return -1;
+  }
   struct stat st{};
   if (::fstat(fd, &st) != 0) {
-    const int e = errno;
-    ::close(fd);
-    throw Error("cannot read " + what + " " + quoted(path) + ": " + std::strerror(e));
+    r.failure = FileRead::Failure::unreadable;
+    r.why = std::strerror(errno);
+  } else if (!S_ISREG(st.st_mode)) {
+    r.failure = FileRead::Failure::not_regular;
+    r.why = S_ISDIR(st.st_mode) ? "it is a directory" : "not a regular file";
+  } else if ((r.size = uint64_t(st.st_size)) > max_bytes) {
+    r.failure = FileRead::Failure::too_large;
+    r.why = "it is " + size_text(r.size) + ", more than the limit of " + size_text(max_bytes);
+  } else {
+    return fd;
   }
-  if (!S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw Error("cannot read " + what + " " + quoted(path) + ": " +
-                (S_ISDIR(st.st_mode) ? "it is a directory" : "not a regular file"));
-  }
-  size = uint64_t(st.st_size);
-  if (size > max_bytes) {
-    ::close(fd);
-    throw Error("cannot read " + what + " " + quoted(path) + ": it is " + size_text(size) + ", more than the limit of " +
-                size_text(max_bytes));
-  }
-  return fd;
+  ::close(fd);
+  return -1;
+}
+
+// The Error an input that `r` could not read is.
+[[noreturn]] void input_error(const std::string& path, const std::string& what, const FileRead& r) {
+  throw Error("cannot read " + what + " " + quoted(path) + ": " + r.why);
 }
 
 }  // namespace
 
-uint64_t check_input_file(const std::string& path, const std::string& what, uint64_t max_bytes) {
-  uint64_t size = 0;
-  ::close(open_input(path, what, max_bytes, size));
-  return size;
-}
-
-std::string read_input_file(const std::string& path, const std::string& what, uint64_t max_bytes) {
-  uint64_t size = 0;
-  const int fd = open_input(path, what, max_bytes, size);
-  std::string bytes(size_t(size), '\0');
+FileRead read_regular_file(const std::string& path, uint64_t max_bytes, bool follow_links) {
+  FileRead r;
+  const int fd = open_regular(path, max_bytes, follow_links, r);
+  if (fd < 0) return r;
+  r.bytes.assign(size_t(r.size), '\0');
   size_t got = 0;
-  int err = 0;
-  while (got < bytes.size()) {
-    const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+  while (got < r.bytes.size()) {
+    const ssize_t n = ::read(fd, r.bytes.data() + got, r.bytes.size() - got);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) err = errno;
+    if (n < 0) {
+      r.failure = FileRead::Failure::unreadable;
+      r.why = std::strerror(errno);
+    }
     if (n <= 0) break;
     got += size_t(n);
   }
   ::close(fd);
-  if (err) throw Error("cannot read " + what + " " + quoted(path) + ": " + std::strerror(err));
-  if (got != bytes.size())
-    throw Error("cannot read " + what + " " + quoted(path) + ": it shrank while being read");
-  return bytes;
+  if (r.failure == FileRead::Failure::none && got != r.bytes.size()) {
+    r.failure = FileRead::Failure::unreadable;
+    r.why = "it shrank while being read (" + std::to_string(got) + " of " + std::to_string(r.size) + " bytes)";
+  }
+  if (r.failure != FileRead::Failure::none) r.bytes.clear();
+  return r;
+}
+
+uint64_t check_input_file(const std::string& path, const std::string& what, uint64_t max_bytes) {
+  if (path.empty()) throw Error("no " + what + " file given (the path is empty)");
+  FileRead r;
+  const int fd = open_regular(path, max_bytes, true, r);
+  if (fd < 0) input_error(path, what, r);
+  ::close(fd);
+  return r.size;
+}
+
+std::string read_input_file(const std::string& path, const std::string& what, uint64_t max_bytes) {
+  if (path.empty()) throw Error("no " + what + " file given (the path is empty)");
+  FileRead r = read_regular_file(path, max_bytes);
+  if (r.failure != FileRead::Failure::none) input_error(path, what, r);
+  return std::move(r.bytes);
 }
 
 void check_output_path(const std::string& path, const std::string& what) {

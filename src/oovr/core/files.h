@@ -16,6 +16,19 @@
 
 namespace oovr {
 
+// Reads `path` whole when it is a regular file of at most `max_bytes`,
+// without blocking and (unless `follow_links`) without following a final
+// link; never throws. The readers below, and the trace cache, which turns
+// a failure into a miss, are built on it.
+struct FileRead {
+  enum class Failure { none, missing, unreadable, not_regular, too_large };
+  Failure failure = Failure::none;
+  std::string why;    // what is wrong, for a message ("it is a directory", the system's reason)
+  uint64_t size = 0;  // the file's size, once known
+  std::string bytes;  // the file, when nothing failed
+};
+FileRead read_regular_file(const std::string& path, uint64_t max_bytes, bool follow_links = true);
+
 // Reads `path` whole. `what` names the input in messages ("configuration",
 // "image"); an Error says what is wrong with the path otherwise.
 std::string read_input_file(const std::string& path, const std::string& what, uint64_t max_bytes);

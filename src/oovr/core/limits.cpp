@@ -15,11 +15,10 @@ InputLimits InputLimits::parse(const std::string& text) {
     const std::string name = pair.substr(0, eq), value = eq == std::string::npos ? "" : pair.substr(eq + 1);
     const std::string what = "OOVR_LIMITS " + name;
     const auto whole = [&](uint64_t lo, uint64_t hi) {
-      const bool digits = !value.empty() && value.size() <= 19 && value.find_first_not_of("0123456789") == std::string::npos;
-      const uint64_t v = digits ? std::strtoull(value.c_str(), nullptr, 10) : 0;
-      if (!digits || v < lo || v > hi)
+      const auto v = parse_whole_number(value, lo, hi);
+      if (!v)
         throw Error(what + " must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", not '" + value + "'");
-      return v;
+      return *v;
     };
     const auto bytes = [&] {
       const Bytes b = parse_bytes(value, what);

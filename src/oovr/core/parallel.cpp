@@ -1,6 +1,7 @@
 #include "oovr/core/parallel.h"
 
 #include "oovr/core/error.h"
+#include "oovr/core/text.h"
 
 #include <algorithm>
 #include <atomic>
@@ -15,12 +16,9 @@ namespace oovr {
 
 unsigned default_thread_count() {
   if (const char* env = std::getenv("OOVR_THREADS")) {
-    char* end = nullptr;
-    const long n = std::strtol(env, &end, 10);
-    if (end == env || *end != '\0' || n < 1 || n > 1024)
-      throw Error(std::string("OOVR_THREADS must be a whole number from 1 to 1024, not '") + env +
-                  "'");
-    return unsigned(n);
+    const auto n = parse_whole_number(env, 1, 1024);
+    if (!n) throw Error(std::string("OOVR_THREADS must be a whole number from 1 to 1024, not '") + env + "'");
+    return unsigned(*n);
   }
   return std::max(1u, std::thread::hardware_concurrency());
 }

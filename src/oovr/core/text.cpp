@@ -1,6 +1,8 @@
 #include "oovr/core/text.h"
 
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 
 namespace oovr {
 
@@ -11,6 +13,20 @@ std::vector<std::string> split_list(const std::string& text) {
     if (comma > i) v.push_back(text.substr(i, comma - i));
     i = comma + 1;
   }
+  return v;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+std::optional<uint64_t> parse_whole_number(const std::string& text, uint64_t lo, uint64_t hi) {
+  // At most 19 digits: every such number fits in 64 bits.
+  if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  const uint64_t v = std::stoull(text);
+  if (v < lo || v > hi) return std::nullopt;
   return v;
 }
 

@@ -10,6 +10,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/text.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/trace_cache.h"
 
@@ -22,11 +23,9 @@ uint64_t memory_budget(const WindowRequest& r) {
   if (r.memory_budget) return r.memory_budget;
   const char* env = std::getenv("OOVR_TRACE_MEMORY_MB");
   if (!env || !*env) return uint64_t(4096) << 20;
-  const std::string v = env;
-  const bool digits = v.size() <= 9 && v.find_first_not_of("0123456789") == std::string::npos;
-  const uint64_t mb = digits ? std::strtoull(env, nullptr, 10) : 0;
-  if (!digits || mb < 1) throw Error("OOVR_TRACE_MEMORY_MB must be a whole number of megabytes from 1, not '" + v + "'");
-  return mb << 20;
+  const auto mb = parse_whole_number(env, 1, 999999999);
+  if (!mb) throw Error(std::string("OOVR_TRACE_MEMORY_MB must be a whole number of megabytes from 1 to 999999999, not '") + env + "'");
+  return *mb << 20;
 }
 
 // A window's traces on disk, one file each, read back on demand; the folder

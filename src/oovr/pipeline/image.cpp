@@ -10,6 +10,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/text.h"
 
 namespace oovr {
 
@@ -32,12 +33,6 @@ void write_png(const Image& img, const std::string& path) {
   if (!stbi_write_png_to_func(append_bytes, &bytes, img.width, img.height, 4, last, -stride))
     throw Error("cannot encode PNG '" + path + "'");
   write_output_file(path, bytes, "image");
-}
-
-static std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 void check_image_path(const std::string& path) {

@@ -1,8 +1,6 @@
 #include "oovr/pipeline/trace_cache.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +18,8 @@
 #include <vector>
 
 #include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/text.h"
 #include "oovr/pipeline/tiled_layout.h"
 
 namespace oovr {
@@ -202,12 +202,9 @@ uint64_t scene_fingerprint(const Scene& s) {
 TraceCache::TraceCache(std::string directory) : m_dir(std::move(directory)) {
   if (const char* m = std::getenv("OOVR_CACHE_MAX_MB"); m && *m) {
     // Digits only: strtoull alone would take " -5" as 2^64 - 5.
-    const std::string v = m;
-    const bool digits = v.size() <= 12 && v.find_first_not_of("0123456789") == std::string::npos;
-    const unsigned long long mb = digits ? std::strtoull(m, nullptr, 10) : 0;
-    if (!digits || mb < 1 || mb > (1ull << 30))
-      throw Error("OOVR_CACHE_MAX_MB must be a whole number of megabytes from 1 to 1073741824, not '" + v + "'");
-    m_max_bytes = uint64_t(mb) << 20;
+    const auto mb = parse_whole_number(m, 1, uint64_t(1) << 30);
+    if (!mb) throw Error(std::string("OOVR_CACHE_MAX_MB must be a whole number of megabytes from 1 to 1073741824, not '") + m + "'");
+    m_max_bytes = *mb << 20;
   }
   if (!m_dir.empty()) return;
   if (const char* d = std::getenv("OOVR_CACHE_DIR"); d && *d) m_dir = d;
@@ -356,40 +353,6 @@ std::string trace_mismatch(const FrameTrace& t, const Scene& scene, int frame, c
 
 namespace {
 
-// Reads the regular file at `path` whole when it is no larger than `limit`
-// bytes. Opened without following links and without blocking (a FIFO or a
-// device in the cache folder is refused, not read). Empty `why` and no
-// bytes: there is no such file.
-std::optional<std::string> read_entry_file(const fs::path& path, uint64_t limit, std::string& why) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    if (errno != ENOENT) why = std::string("cannot be opened: ") + std::strerror(errno);
-    return std::nullopt;
-  }
-  std::optional<std::string> bytes;
-  struct stat st{};
-  if (::fstat(fd, &st) != 0) {
-    why = std::string("cannot be read: ") + std::strerror(errno);
-  } else if (!S_ISREG(st.st_mode)) {
-    why = "not a regular file";
-  } else if (uint64_t(st.st_size) > limit) {
-    why = "larger than the cache (" + std::to_string(uint64_t(st.st_size)) + " bytes)";
-  } else {
-    std::string b(size_t(st.st_size), '\0');
-    size_t got = 0;
-    while (got < b.size()) {
-      const ssize_t n = ::read(fd, b.data() + got, b.size() - got);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      got += size_t(n);
-    }
-    if (got == b.size()) bytes = std::move(b);
-    else why = "shorter than its size (" + std::to_string(got) + " of " + std::to_string(b.size()) + " bytes read)";
-  }
-  ::close(fd);
-  return bytes;
-}
-
 // Temporary files of stores are named KEY.tmp.HOST.PID: one whose process
 // is gone (on this host), or older than an hour (any host: a cache folder
 // may be shared by a cluster), was left by an interrupted store.
@@ -424,9 +387,14 @@ TraceLookup TraceCache::load(const std::string& key, const Scene& scene, int fra
                              const PipelineSettings& settings) const {
   TraceLookup out;
   const fs::path path = fs::path(m_dir) / (key + ".trace");
-  const auto bytes = read_entry_file(path, m_max_bytes, out.rejected);
-  if (bytes) {
-    out.trace = decode_entry(*bytes, key, &out.rejected);
+  // Not following links: a link to /dev/zero in the cache is refused too.
+  FileRead file = read_regular_file(path.string(), m_max_bytes, false);
+  if (file.failure == FileRead::Failure::too_large)
+    out.rejected = "larger than the cache (" + std::to_string(file.size) + " bytes)";
+  else if (file.failure != FileRead::Failure::none && file.failure != FileRead::Failure::missing)
+    out.rejected = file.why;
+  if (file.failure == FileRead::Failure::none) {
+    out.trace = decode_entry(file.bytes, key, &out.rejected);
     if (out.trace) {
       out.rejected = trace_mismatch(*out.trace, scene, frame, view, settings);
       if (!out.rejected.empty()) out.trace.reset();

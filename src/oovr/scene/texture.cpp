@@ -13,6 +13,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/limits.h"
+#include "oovr/core/text.h"
 
 namespace oovr {
 
@@ -66,15 +67,8 @@ Texture make_texture(std::string name, std::string source, int width, int height
 }
 
 static bool is_sgi_name(const std::string& name) {
-  std::string ext = std::filesystem::path(name).extension().string();
-  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(name);
   return ext == ".rgb" || ext == ".rgba" || ext == ".sgi" || ext == ".bw" || ext == ".int" || ext == ".inta";
-}
-
-static bool has_extension(const std::string& name, const char* ext) {
-  std::string e = std::filesystem::path(name).extension().string();
-  for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e == ext;
 }
 
 // stb_image reads past the end of a TGA as zeros: a truncated file would
@@ -114,7 +108,7 @@ MipLevel decode_image(const uint8_t* bytes, size_t size, const std::string& name
     if (w <= 0 || h <= 0) throw Error("cannot decode image '" + name + "': it declares " + std::to_string(w) + "x" + std::to_string(h) + " texels");
     check_limit(uint64_t(std::max(w, h)), uint64_t(lim.image_side), "image_side", "image '" + name + "'", "texels on a side");
     check_limit(uint64_t(w) * uint64_t(h), lim.image_texels, "image_texels", "image '" + name + "'", "texels");
-    if (has_extension(name, ".tga")) check_tga_data(bytes, size, name, w, h);
+    if (lower_extension(name) == ".tga") check_tga_data(bytes, size, name, w, h);
   }
   stbi_uc* data = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
   if (!data) {

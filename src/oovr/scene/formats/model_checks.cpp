@@ -13,17 +13,12 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/limits.h"
+#include "oovr/core/text.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
 
 [[noreturn]] void bad(const std::string& name, const std::string& why) {
   throw Error("cannot load '" + name + "': " + why);
@@ -282,8 +277,10 @@ void precheck_model_bytes(const std::string& bytes, const std::string& name) {
 void precheck_model_file(const std::string& path) {
   const InputLimits& lim = InputLimits::get();
   const std::string ext = lower_extension(path);
-  check_input_file(path, "model", lim.file_bytes);
+  // Either way only a regular file within the bound gets to assimp; the
+  // formats with declared sizes are read and checked.
   if (ext == ".ply" || ext == ".glb" || ext == ".gltf") precheck_model_bytes(read_input_file(path, "model", lim.file_bytes), path);
+  else check_input_file(path, "model", lim.file_bytes);
 }
 
 }  // namespace oovr

@@ -16,6 +16,7 @@
 #include <map>
 
 #include "oovr/core/error.h"
+#include "oovr/core/text.h"
 #include "oovr/scene/formats/model_checks.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/source.h"
@@ -40,7 +41,7 @@ class AssimpLoader {
   explicit AssimpLoader(const std::string& path) : m_path(path), m_dir(fs::path(path).parent_path()) {}
 
   Scene load() {
-    const std::string ext = lower(fs::path(m_path).extension().string());
+    const std::string ext = lower_extension(m_path);
     static const char* kSupported[] = {".obj", ".gltf", ".glb", ".ply", ".ac", ".acc", ".ac3d"};
     if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
       throw Error("cannot load '" + m_path +
@@ -68,10 +69,6 @@ class AssimpLoader {
   }
 
  private:
-  static std::string lower(std::string s) {
-    for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-  }
 
   void visit(const aiNode* node, const Mat4& parent) {
     const Mat4 world = parent * to_mat4(node->mTransformation);
@@ -140,7 +137,7 @@ class AssimpLoader {
       // A textured material's diffuse colour in OBJ files is usually a
       // default that engines ignore when a texture is bound; keep it only
       // for glTF, where base colour factor multiplies the texture by spec.
-      const std::string ext = lower(fs::path(m_path).extension().string());
+      const std::string ext = lower_extension(m_path);
       if (ext != ".gltf" && ext != ".glb") pass.colour = {1, 1, 1, pass.colour.w};
     }
     m_scene.materials.push_back(m);
