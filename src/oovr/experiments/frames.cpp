@@ -32,7 +32,7 @@ uint64_t memory_budget(const WindowRequest& r) {
 // is removed with the last holder of the sequence.
 class StreamedFrames final : public FrameSequence {
  public:
-  StreamedFrames(fs::path dir, std::shared_ptr<const FrameTrace> first) : m_dir(std::move(dir)), m_first(std::move(first)) {}
+  explicit StreamedFrames(fs::path dir) : m_dir(std::move(dir)) {}
   ~StreamedFrames() override {
     std::error_code ec;
     fs::remove_all(m_dir, ec);
@@ -40,7 +40,6 @@ class StreamedFrames final : public FrameSequence {
   size_t size() const override { return m_count; }
   std::shared_ptr<const FrameTrace> at(size_t k) const override {
     if (k >= m_count) throw Error("frame " + std::to_string(k) + " of a streamed window of " + std::to_string(m_count));
-    if (k == 0) return m_first;
     const std::string path = file(k);
     const std::string bytes = read_input_file(path, "streamed trace", uint64_t(1) << 40);
     std::string why;
@@ -49,7 +48,7 @@ class StreamedFrames final : public FrameSequence {
     return std::make_shared<const FrameTrace>(std::move(*t));
   }
   void add(const FrameTrace& t) {
-    if (m_count > 0) write_output_file(file(m_count), encode_entry(key(m_count), t), "streamed trace");
+    write_output_file(file(m_count), encode_entry(key(m_count), t), "streamed trace");
     ++m_count;
   }
   const fs::path& directory() const { return m_dir; }
@@ -59,7 +58,6 @@ class StreamedFrames final : public FrameSequence {
   std::string file(size_t k) const { return (m_dir / (key(k) + ".trace")).string(); }
 
   fs::path m_dir;
-  std::shared_ptr<const FrameTrace> m_first;
   size_t m_count = 0;
 };
 
@@ -140,8 +138,7 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
                            out.trace.tex_lines.size() * sizeof(TexLine);
     // Decided on the first trace: the window's size is about count times it.
     if (k == 0 && bytes * uint64_t(r.count) > budget && r.count > 1) {
-      auto first = std::make_shared<const FrameTrace>(out.trace);
-      stream = std::make_unique<StreamedFrames>(stream_folder(cache, bytes * uint64_t(r.count), r.count), first);
+      stream = std::make_unique<StreamedFrames>(stream_folder(cache, bytes * uint64_t(r.count), r.count));
       f.streamed = true;
       f.notes.push_back("traces of " + std::to_string(r.count) + " frames (about " + std::to_string((bytes * uint64_t(r.count)) >> 20) +
                         " MB) streamed through " + stream->directory().string() + ", beyond the memory budget of " +
@@ -149,7 +146,7 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
     }
     if (stream) {
       stream->add(out.trace);
-      if (k == 0) f.outputs.push_back(std::move(out));
+      if (k == 0) f.outputs.push_back(std::move(out));  // its picture, for the GPM and traffic images
     } else {
       held += bytes;
       f.outputs.push_back(std::move(out));
