@@ -174,6 +174,10 @@ TEST(Config, FilesAreReadOnlyWhenTheyAreRegularAndBounded) {
   std::string dotted;
   for (int i = 0; i < 20000; ++i) dotted += i ? ".a" : "a";
   EXPECT_NE(message_of([&] { Config::from_toml_string(dotted + " = 1\n", "deep.toml"); }).find("dotted parts"), std::string::npos);
+  // After an empty inline table, later lines' keys are still counted (the
+  // check lost track of them and toml++ overflowed its stack).
+  EXPECT_NE(message_of([&] { Config::from_toml_string("x = {}\ny = 1\n" + dotted + " = 1\n", "deep.toml"); }).find("dotted parts"),
+            std::string::npos);
   std::string inl = "x = ";
   for (int i = 0; i < 20000; ++i) inl += "{a = ";
   EXPECT_NE(message_of([&] { Config::from_toml_string(inl + "1" + std::string(20000, '}') + "\n", "deep.toml"); }).find("deep.toml"),

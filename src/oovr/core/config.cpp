@@ -41,8 +41,7 @@ void check_toml_shape(const std::string& text, const std::string& name) {
   int line = 1;
   bool in_key = true;       // at a key: line start, after '{' or ',' in an inline table, in a header
   int parts = 1;
-  std::vector<char> open;   // '[' (array or header) and '{' (inline table)
-  bool header = false;
+  std::vector<char> open;   // '[' (array) and '{' (inline table) of values
   for (size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\n') {
@@ -50,7 +49,6 @@ void check_toml_shape(const std::string& text, const std::string& name) {
       if (open.empty()) {
         in_key = true;
         parts = 1;
-        header = false;
       }
       continue;
     }
@@ -75,9 +73,10 @@ void check_toml_shape(const std::string& text, const std::string& name) {
         throw Error("bad configuration '" + name + "' line " + std::to_string(line) + ": a key of more than " +
                     std::to_string(kMaxKeyParts) + " dotted parts");
       if (c == '=') in_key = false;
-      if (c == '[' && open.empty() && !header) header = true;  // [table] or [[array]]
-      else if (c == ']' && header) {
-        // the header's end; the next line starts a key
+      // An inline table closed where a key could start ("{}", "{a = 1, }").
+      if (c == '}' && !open.empty() && open.back() == '{') {
+        open.pop_back();
+        in_key = false;
       }
       continue;
     }
