@@ -13,8 +13,9 @@ set -euo pipefail
 packages=(
   # build
   build-essential pkg-config cmake ninja-build ccache
-  # clang and its runtime for the libFuzzer targets
-  clang libclang-rt-14-dev
+  # clang and its runtime for the sanitizer and libFuzzer build;
+  # clang-format for the style check (.clang-format)
+  clang libclang-rt-14-dev clang-format
   # libraries
   libassimp-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libtomlplusplus-dev libpng-dev zlib1g-dev libpugixml-dev

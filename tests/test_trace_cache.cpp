@@ -255,7 +255,7 @@ class CrowdWindows : public ::testing::Test {
   const CacheDirectory env{dir.path()};
   const Scene scene = BuiltinScenes::find("crowd")->make();
   const StereoRig rig = parse_eye_resolution("96x64");
-  const Config config;
+  const Config config{};
   WindowRequest w;
 };
 

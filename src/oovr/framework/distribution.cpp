@@ -22,10 +22,10 @@ Rates Rates::fit(std::span<const BatchSample> samples) {
   Rates r;
   r.c0 = ty / tt;
   // Sum of squared residuals of (c1, c2), for choosing among fits.
-  const auto residual = [&](double c1, double c2) {
+  const auto residual = [&](double per_vertex, double per_pixel) {
     double e = 0;
     for (const auto& s : samples) {
-      const double d = s.seconds - c1 * s.vertices - c2 * s.pixels;
+      const double d = s.seconds - per_vertex * s.vertices - per_pixel * s.pixels;
       e += d * d;
     }
     return e;
