@@ -8,11 +8,15 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <new>
+#include <string>
+#include <vector>
 
 #include "oovr/core/error.h"
 #include "test_util.h"
 #include "oovr/core/files.h"
 #include "oovr/core/limits.h"
+#include "oovr/core/out_of_memory.h"
 #include "oovr/scene/formats/model_checks.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/texture.h"
@@ -154,6 +158,28 @@ TEST(Images, DeclaredSizesAreBoundedAndMustBeThere) {
   EXPECT_NE(message_of([&] { decode_image(rle.data(), rle.size() - 2, "rle.tga"); }).find("truncated"), std::string::npos);
   rle[18] = 0x80 | 7;  // 8 of 16 texels
   EXPECT_NE(message_of([&] { decode_image(rle.data(), rle.size(), "rle.tga"); }).find("truncated"), std::string::npos);
+}
+
+// What the readers' limits let through and the machine cannot hold ends in
+// std::bad_alloc; the error then says how much was asked for.
+TEST(OutOfMemory, TheFailedRequestIsRecordedAndNamed) {
+  if (!records_failed_allocations()) GTEST_SKIP() << "the sanitizers' allocator replaces oovr's operator new";
+  const uint64_t huge = uint64_t(3) << 50;  // 3 PiB: no machine gives it
+  bool thrown = false;
+  try {
+    void* volatile p = ::operator new(huge);
+    ::operator delete(p);
+  } catch (const std::bad_alloc&) {
+    thrown = true;
+  }
+  ASSERT_TRUE(thrown);
+  EXPECT_EQ(failed_allocation_bytes(), huge);
+  const std::string m = out_of_memory_message("loading scene 'x'");
+  EXPECT_EQ(m.rfind("out of memory loading scene 'x': a request for 3145728.0 GB failed, with ", 0), 0u) << m;
+  EXPECT_NE(m.find(" of memory in use at the peak"), std::string::npos) << m;
+  // Ordinary allocations still work, and are freed.
+  std::vector<int> v(1000, 7);
+  EXPECT_EQ(v[999], 7);
 }
 
 TEST(Limits, ParseNamesWhatIsWrong) {

@@ -16,6 +16,7 @@
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/out_of_memory.h"
 #include "oovr/core/config_sections.h"
 #include "oovr/schemes/i_scheme.h"
 #include "oovr/pipeline/pipeline.h"
@@ -364,8 +365,8 @@ int main(int argc, char** argv) {
   } catch (const std::bad_alloc&) {
     // Readers bound what an input may ask for (docs/reliability.md); what
     // still does not fit is named by the inputs of the run.
-    std::fprintf(stderr, "oovr: error: out of memory running '%s' (a scene, resolution or --frames too large for this machine)\n",
-                 argc > 1 ? argv[1] : "oovr");
+    const std::string message = out_of_memory_message(std::string("running '") + (argc > 1 ? argv[1] : "oovr") + "'");
+    std::fprintf(stderr, "oovr: error: %s (a scene, resolution or --frames too large for this machine)\n", message.c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "oovr: error: %s\n", e.what());

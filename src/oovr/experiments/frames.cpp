@@ -10,6 +10,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/out_of_memory.h"
 #include "oovr/core/text.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/trace_cache.h"
@@ -130,9 +131,9 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
         }
       }
     } catch (const std::bad_alloc&) {
-      throw Error("out of memory rendering frame " + std::to_string(frame) + " of " + f.scene.name + " at " +
-                  std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) + ", with " +
-                  std::to_string(held >> 20) + " MB of traces held");
+      throw Error(out_of_memory_message("rendering frame " + std::to_string(frame) + " of " + f.scene.name + " at " +
+                                        std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) +
+                                        ", with " + std::to_string(held >> 20) + " MB of traces held"));
     }
     const uint64_t bytes = out.trace.objects.size() * sizeof(ObjectWork) + out.trace.tiles.size() * sizeof(TileWork) +
                            out.trace.tex_lines.size() * sizeof(TexLine);

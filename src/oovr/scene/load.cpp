@@ -7,6 +7,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/limits.h"
+#include "oovr/core/out_of_memory.h"
 
 namespace oovr {
 namespace {
@@ -109,7 +110,8 @@ Scene load_scene(const std::string& spec) {
   try {
     s = load_unchecked(spec);
   } catch (const std::bad_alloc&) {
-    throw Error("out of memory loading scene '" + spec + "' (its files are within $OOVR_LIMITS; lower them to refuse it sooner)");
+    throw Error(out_of_memory_message("loading scene '" + spec + "'") +
+                " (its files are within $OOVR_LIMITS; lower them to refuse it sooner)");
   }
   s.validate();
   // Loading was bounded file by file; the whole scene is bounded here,

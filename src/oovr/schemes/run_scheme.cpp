@@ -4,6 +4,7 @@
 #include <new>
 
 #include "oovr/core/error.h"
+#include "oovr/core/out_of_memory.h"
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {
@@ -76,7 +77,7 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
     for (size_t i = 0; i < size_t(window / m); ++i) (void)run_group(i, carried);
     for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_group(i, carried));
   } catch (const std::bad_alloc&) {
-    throw Error("out of memory simulating " + name + " on " + scene.name + " (" + std::to_string(window) + " frames)");
+    throw Error(out_of_memory_message("simulating " + name + " on " + scene.name + " (" + std::to_string(window) + " frames)"));
   }
   SchemeResult s = all.front();
   s.frame_latencies_s.clear();
