@@ -358,7 +358,8 @@ GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
   const GLuint p = m->program;
   glUseProgram(p);
   for (int i = 0; i < kMaxLayers; ++i) {
-    const std::string k = "[" + std::to_string(i) + "]";
+    // Appended, not "[" + std::to_string(i): GCC 12 warns falsely (-Wrestrict) on that.
+    const std::string k = std::string("[").append(std::to_string(i)).append("]");
     glUniform1i(glGetUniformLocation(p, ("layer_tex" + k).c_str()), i);
     m->u_layer_lm[i] = glGetUniformLocation(p, ("layer_lightmap_coords" + k).c_str());
     m->u_layer_add[i] = glGetUniformLocation(p, ("layer_add" + k).c_str());
