@@ -46,10 +46,14 @@ void trace_replay(benchmark::State& state) {
     for (uint32_t k = 0; k < w.tex_count; ++k)
       u.push_back({layout.texture_line(t.frame.trace.tex_lines[w.tex_begin + k]), Category::texture, false});
     for (int l = 0; l < layout.lines_per_tile(); ++l) {
-      if (w.depth_read_mask & (1u << l)) u.push_back({layout.frame_line(layout.depth_region(), w.tile_x, w.tile_y, l), Category::depth, false});
-      if (w.colour_read_mask & (1u << l)) u.push_back({layout.frame_line(layout.colour_region(), w.tile_x, w.tile_y, l), Category::colour, false});
-      if (w.depth_write_mask & (1u << l)) u.push_back({layout.frame_line(layout.depth_region(), w.tile_x, w.tile_y, l), Category::depth, true});
-      if (w.colour_write_mask & (1u << l)) u.push_back({layout.frame_line(layout.colour_region(), w.tile_x, w.tile_y, l), Category::colour, true});
+      if (w.depth_read_mask & (1u << l))
+        u.push_back({layout.frame_line(layout.depth_region(), w.tile_x, w.tile_y, l), Category::depth, false});
+      if (w.colour_read_mask & (1u << l))
+        u.push_back({layout.frame_line(layout.colour_region(), w.tile_x, w.tile_y, l), Category::colour, false});
+      if (w.depth_write_mask & (1u << l))
+        u.push_back({layout.frame_line(layout.depth_region(), w.tile_x, w.tile_y, l), Category::depth, true});
+      if (w.colour_write_mask & (1u << l))
+        u.push_back({layout.frame_line(layout.colour_region(), w.tile_x, w.tile_y, l), Category::colour, true});
     }
     units.push_back(std::move(u));
     owner.push_back((w.tile_x + w.tile_y) % 4);

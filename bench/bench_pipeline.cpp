@@ -35,14 +35,23 @@ void render(benchmark::State& state, const std::string& name, int width, int hei
     benchmark::DoNotOptimize(out);
   }
   state.counters["fragments"] = double(fragments);
-  state.counters["Mfrag/s"] = benchmark::Counter(double(fragments) * double(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
+  state.counters["Mfrag/s"] =
+      benchmark::Counter(double(fragments) * double(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
 }
 
-BENCHMARK_CAPTURE(render, courtyard_1280x1024_aniso1, "courtyard", 1280, 1024, 1, true)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(render, courtyard_1280x1024_aniso1_notrace, "courtyard", 1280, 1024, 1, false)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(render, courtyard_1280x1024_aniso16, "courtyard", 1280, 1024, 16, true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(render, courtyard_1280x1024_aniso1, "courtyard", 1280, 1024, 1, true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(render, courtyard_1280x1024_aniso1_notrace, "courtyard", 1280, 1024, 1, false)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(render, courtyard_1280x1024_aniso16, "courtyard", 1280, 1024, 16, true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(render, courtyard_640x480_aniso1, "courtyard", 640, 480, 1, true)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(render, courtyard_1600x1200_aniso1, "courtyard", 1600, 1200, 1, true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(render, courtyard_1600x1200_aniso1, "courtyard", 1600, 1200, 1, true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(render, crowd_1280x1024_aniso1, "crowd", 1280, 1024, 1, true)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -24,7 +24,8 @@ const Frames& frames() {
     StereoRig rig;
     rig.eye_width = 640;
     rig.eye_height = 1024;
-    for (int k = 0; k < 4; ++k) r->out.push_back(render_frame(r->scene, make_stereo_view(r->scene.camera, k, rig), PipelineSettings{}, k));
+    for (int k = 0; k < 4; ++k)
+      r->out.push_back(render_frame(r->scene, make_stereo_view(r->scene.camera, k, rig), PipelineSettings{}, k));
     for (const auto& o : r->out) r->traces.push_back(&o.trace);
     return r;
   }();

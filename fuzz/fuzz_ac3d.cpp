@@ -10,7 +10,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     oovr::Ac3dOptions options;
-    const oovr::Scene s = oovr::parse_ac3d(std::string(reinterpret_cast<const char*>(data), size), "/nonexistent/fuzz.ac", options);
+    const oovr::Scene s =
+        oovr::parse_ac3d(std::string(reinterpret_cast<const char*>(data), size), "/nonexistent/fuzz.ac", options);
     s.validate();
   } catch (const oovr::Error&) {
   }

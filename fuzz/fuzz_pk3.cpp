@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::filesystem::create_directories(d);
     return d;
   }();
-  std::ofstream(dir / "pak0.pk3", std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  std::ofstream(dir / "pak0.pk3", std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), std::streamsize(size));
   try {
     const oovr::Pk3FileSystem fs(dir.string());
     for (const std::string& path : fs.list("", "")) {

@@ -40,10 +40,11 @@ int main(int argc, char** argv) {
   // Configuration: the presets, and keys of every kind.
   if (argc == 3)
     for (const auto& e : fs::directory_iterator(fs::path(argv[2]) / "configs"))
-      if (e.path().extension() == ".toml") fs::copy_file(e.path(), dir / "config" / e.path().filename(), fs::copy_options::overwrite_existing);
+      if (e.path().extension() == ".toml")
+        fs::copy_file(e.path(), dir / "config" / e.path().filename(), fs::copy_options::overwrite_existing);
   std::ofstream(dir / "config" / "kinds.toml") << "gpms = 8\n[link]\nbandwidth = \"128GBps\"\nlatency = \"32ns\"\n"
-                                                    "[cache.l2]\nsize = \"2MB\"\nways = 16\n[oo]\ntsl_threshold = 0.5\n"
-                                                    "prealloc = false\n[gpm]\ndraw_cycles = 625.5\n";
+                                                  "[cache.l2]\nsize = \"2MB\"\nways = 16\n[oo]\ntsl_threshold = 0.5\n"
+                                                  "prealloc = false\n[gpm]\ndraw_cycles = 625.5\n";
   // A trace of a small frame: its payload and its cache entry.
   {
     const oovr::Scene scene = oovr::BuiltinScenes::find("crowd")->make();
@@ -58,11 +59,13 @@ int main(int argc, char** argv) {
   }
   // Models: the first byte picks the format (0 PLY, 1 GLB, 2 glTF).
   std::ofstream(dir / "model" / "ascii.ply", std::ios::binary)
-      << '\0' << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+      << '\0'
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   {
-    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string ply =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     ply.append(36, '\0');
     ply += char(3);
     for (int i = 0; i < 3; ++i) ply.append(std::string(1, char(i)) + std::string(3, '\0'));
@@ -82,13 +85,15 @@ int main(int argc, char** argv) {
     glb.append(8, '\0');
     std::ofstream(dir / "model" / "box.glb", std::ios::binary) << '\1' << glb;
     std::ofstream(dir / "model" / "box.gltf", std::ios::binary)
-        << '\2' << R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:application/octet-stream;base64,AAAA"}],"accessors":[{"count":1}]})";
+        << '\2'
+        << R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:application/octet-stream;base64,AAAA"}],"accessors":[{"count":1}]})";
   }
   // AC3D: a textured quad in a group, as TORCS writes them.
-  std::ofstream(dir / "ac3d" / "quad.ac") << "AC3Db\nMATERIAL \"m\" rgb 1 1 1 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 0 trans 0\n"
-                                              "OBJECT world\nkids 1\nOBJECT group\nkids 1\nOBJECT poly\nname \"quad\"\n"
-                                              "texture \"road.png\"\nnumvert 4\n0 0 0\n1 0 0\n1 0 1\n0 0 1\nnumsurf 1\n"
-                                              "SURF 0x10\nmat 0\nrefs 4\n0 0 0\n1 1 0\n2 1 1\n3 0 1\nkids 0\n";
+  std::ofstream(dir / "ac3d" / "quad.ac")
+      << "AC3Db\nMATERIAL \"m\" rgb 1 1 1 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 0 trans 0\n"
+         "OBJECT world\nkids 1\nOBJECT group\nkids 1\nOBJECT poly\nname \"quad\"\n"
+         "texture \"road.png\"\nnumvert 4\n0 0 0\n1 0 0\n1 0 1\n0 0 1\nnumsurf 1\n"
+         "SURF 0x10\nmat 0\nrefs 4\n0 0 0\n1 1 0\n2 1 1\n3 0 1\nkids 0\n";
   // TORCS: an oval in both generations of the format.
   const std::string oval = R"(<section name="s1"><attstr name="type" val="str"/><attnum name="lg" unit="m" val="100"/></section>
       <section name="t1"><attstr name="type" val="lft"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>
@@ -96,7 +101,8 @@ int main(int argc, char** argv) {
       <section name="t2"><attstr name="type" val="rgt"/><attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/></section>)";
   std::ofstream(dir / "torcs" / "v4.xml") << R"(<params name="oval"><section name="Main Track"><attnum name="width" val="10"/>
     <section name="Right Side"><attnum name="width" val="4"/></section><section name="Left Border"><attnum name="width" val="1"/></section>
-    <section name="Track Segments">)" << oval << "</section></section></params>";
+    <section name="Track Segments">)" << oval
+                                          << "</section></section></params>";
   std::ofstream(dir / "torcs" / "v3.xml") << R"(<params name="oval"><section name="Main Track"><attnum name="width" val="10"/>
     <attnum name="rside width" val="4"/><attnum name="lborder width" val="1"/><attnum name="profil steps length" val="8"/>
     <section name="segments">)" << oval << "</section></section></params>";

@@ -28,7 +28,9 @@ inline std::vector<uint8_t> make_test_bsp() {
     std::vector<uint8_t> data;
   };
   Lump lumps[17];
-  const std::string ents = "{\n\"classname\" \"worldspawn\"\n}\n{\n\"classname\" \"info_player_deathmatch\"\n\"origin\" \"16 32 24\"\n\"angle\" \"90\"\n}\n";
+  const std::string ents =
+      "{\n\"classname\" \"worldspawn\"\n}\n{\n\"classname\" \"info_player_deathmatch\"\n\"origin\" \"16 32 24\"\n\"angle\" "
+      "\"90\"\n}\n";
   lumps[0].data.assign(ents.begin(), ents.end());
   lumps[0].data.push_back(0);
   lumps[1].data.resize(72 * 1, 0);
@@ -40,7 +42,8 @@ inline std::vector<uint8_t> make_test_bsp() {
   v.push_back({64, 0, 64, 1, 1, 1, 1});
   v.push_back({0, 0, 64, 0, 1, 0, 1});
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) v.push_back({float(i * 32), 64.0f + (i == 1 ? 16.0f : 0.0f), float(j * 32), i / 2.0f, j / 2.0f, 0, 0});
+    for (int i = 0; i < 3; ++i)
+      v.push_back({float(i * 32), 64.0f + (i == 1 ? 16.0f : 0.0f), float(j * 32), i / 2.0f, j / 2.0f, 0, 0});
   for (int k = 0; k < 4; ++k) v.push_back({0, 0, 0, 0, 0, 0, 0});
   lumps[10].data.resize(v.size() * 44, 0);
   for (size_t i = 0; i < v.size(); ++i)

@@ -14,8 +14,7 @@ class TempDir {
  public:
   TempDir() {
     m_path = std::filesystem::temp_directory_path() /
-             ("oovr-test-" + std::to_string(::getpid()) + "-" +
-              ::testing::UnitTest::GetInstance()->current_test_info()->name());
+             ("oovr-test-" + std::to_string(::getpid()) + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(m_path);
   }
   ~TempDir() { std::filesystem::remove_all(m_path); }

@@ -6,10 +6,10 @@
 #include <fstream>
 
 #include "oovr/core/error.h"
-#include "temp_dir.h"
 #include "oovr/pipeline/image.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
+#include "temp_dir.h"
 
 namespace oovr {
 namespace {
@@ -49,7 +49,7 @@ TEST(Assimp, SharedTexturesStayShared) {
   ASSERT_EQ(s.textures.size(), 2u) << "two materials naming shared.png must share one texture";
   const SceneInfo i = scene_info(s);
   EXPECT_EQ(i.max_sharing, 2);
-  EXPECT_EQ(s.triangle_count(), 4u);  // the quad is triangulated
+  EXPECT_EQ(s.triangle_count(), 4u);           // the quad is triangulated
   EXPECT_EQ(s.textures[0].levels.size(), 4u);  // 8x8 with its mip chain
   EXPECT_FALSE(s.camera.frames.empty());
 }
@@ -112,10 +112,10 @@ namespace {
 
 TEST(Assimp, InvalidDebianModelsAreRefused) {
   if (!fs::exists(kModels)) GTEST_SKIP() << "assimp-testmodels is not installed (" << kModels << ")";
-  for (const char* path : {"invalid/empty.obj", "invalid/empty.ply", "invalid/malformed.obj",
-                           "glTF2/IndexOutOfRange/AllIndicesOutOfRange.gltf", "glTF2/MissingBin/BoxTextured.gltf",
-                           "glTF2/SchemaFailures/sceneWrongType.gltf",
-                           "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"}) {
+  for (const char* path :
+       {"invalid/empty.obj", "invalid/empty.ply", "invalid/malformed.obj", "glTF2/IndexOutOfRange/AllIndicesOutOfRange.gltf",
+        "glTF2/MissingBin/BoxTextured.gltf", "glTF2/SchemaFailures/sceneWrongType.gltf",
+        "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"}) {
     SCOPED_TRACE(path);
     EXPECT_THROW(load_scene((kModels / path).string()), Error);
   }

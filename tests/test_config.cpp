@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "oovr/core/config.h"
-#include "oovr/core/error.h"
-#include "test_util.h"
-#include "oovr/memory/memory_spec.h"
-#include "oovr/timing/gpm_model.h"
 #include "oovr/core/config_sections.h"
+#include "oovr/core/error.h"
+#include "oovr/memory/memory_spec.h"
 #include "oovr/memory/memory_system.h"
+#include "oovr/timing/gpm_model.h"
+#include "test_util.h"
 
 namespace oovr {
 namespace {
@@ -173,15 +173,18 @@ TEST(Config, FilesAreReadOnlyWhenTheyAreRegularAndBounded) {
   EXPECT_NE(message_of([&] { Config::from_toml_string(deep, "deep.toml"); }).find("dotted parts"), std::string::npos);
   std::string dotted;
   for (int i = 0; i < 20000; ++i) dotted += i ? ".a" : "a";
-  EXPECT_NE(message_of([&] { Config::from_toml_string(dotted + " = 1\n", "deep.toml"); }).find("dotted parts"), std::string::npos);
+  EXPECT_NE(message_of([&] { Config::from_toml_string(dotted + " = 1\n", "deep.toml"); }).find("dotted parts"),
+            std::string::npos);
   // After an empty inline table, later lines' keys are still counted (the
   // check lost track of them and toml++ overflowed its stack).
-  EXPECT_NE(message_of([&] { Config::from_toml_string("x = {}\ny = 1\n" + dotted + " = 1\n", "deep.toml"); }).find("dotted parts"),
-            std::string::npos);
+  EXPECT_NE(
+      message_of([&] { Config::from_toml_string("x = {}\ny = 1\n" + dotted + " = 1\n", "deep.toml"); }).find("dotted parts"),
+      std::string::npos);
   std::string inl = "x = ";
   for (int i = 0; i < 20000; ++i) inl += "{a = ";
-  EXPECT_NE(message_of([&] { Config::from_toml_string(inl + "1" + std::string(20000, '}') + "\n", "deep.toml"); }).find("deep.toml"),
-            std::string::npos);
+  EXPECT_NE(
+      message_of([&] { Config::from_toml_string(inl + "1" + std::string(20000, '}') + "\n", "deep.toml"); }).find("deep.toml"),
+      std::string::npos);
   // Dots in values and strings are not key parts.
   std::string many = "x = [";
   for (int i = 0; i < 100; ++i) many += "1.5, ";

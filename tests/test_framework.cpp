@@ -5,11 +5,11 @@
 
 #include <algorithm>
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/framework/distribution.h"
 #include "oovr/framework/middleware.h"
 #include "oovr/framework/oo_application.h"
-#include "oovr/core/config_sections.h"
 #include "oovr/framework/oo_spec.h"
 #include "oovr/scene/builtin.h"
 

@@ -9,8 +9,8 @@
 #include "game_data.h"
 #include "oovr/core/error.h"
 #include "oovr/scene/load.h"
-#include "oovr/scene/sources/openarena.h"
 #include "oovr/scene/scene_info.h"
+#include "oovr/scene/sources/openarena.h"
 #include "oovr/scene/sources/torcs.h"
 #include "temp_dir.h"
 
@@ -241,7 +241,8 @@ TEST(Torcs, CentreLineOfTheOlderFormat) {
     <attnum name="width" unit="m" val="10"/>
     <attnum name="rside width" val="4"/>
     <section name="segments">
-)" + std::string(kOvalSegments) + R"(    </section>
+)" + std::string(kOvalSegments) +
+                         R"(    </section>
   </section>
 </params>)";
   const std::vector<Vec3> line = torcs_centre_line_from_text(v3, "v3.xml");

@@ -117,9 +117,12 @@ TEST(Materials, ALaterPassWithDepthLessFailsOnItsOwnSurface) {
 }
 
 TEST(Materials, AlphaFunctionsKeepWhatTheyShould) {
-  for (const auto& [func, alpha, kept] : std::vector<std::tuple<AlphaFunc, uint8_t, bool>>{
-           {AlphaFunc::greater, 0, false}, {AlphaFunc::greater, 1, true}, {AlphaFunc::less, 100, true},
-           {AlphaFunc::less, 200, false}, {AlphaFunc::gequal, 128, true}, {AlphaFunc::gequal, 100, false}}) {
+  for (const auto& [func, alpha, kept] : std::vector<std::tuple<AlphaFunc, uint8_t, bool>>{{AlphaFunc::greater, 0, false},
+                                                                                           {AlphaFunc::greater, 1, true},
+                                                                                           {AlphaFunc::less, 100, true},
+                                                                                           {AlphaFunc::less, 200, false},
+                                                                                           {AlphaFunc::gequal, 128, true},
+                                                                                           {AlphaFunc::gequal, 100, false}}) {
     Scene s = quad_scene(Material::textured("a", 0));
     s.textures = {solid(200, 200, 200, alpha)};
     s.materials[0].pass().alpha_func = func;
@@ -164,8 +167,9 @@ TEST(Materials, TexModsScaleThenScrollWithTheFrameTime) {
     for (int x = 0; x < 8; ++x) px[size_t(y * 16 + x) * 4] = 0;  // left half: no red
   Scene s = quad_scene(Material::textured("scroll", 0));
   s.textures = {make_texture("stripes", "stripes", 16, 16, std::move(px), Wrap::repeat, false)};
-  for (int i = 0; i < 4; ++i) s.meshes[0].vertices[size_t(i)].uv = {s.meshes[0].vertices[size_t(i)].position.x / 16,
-                                                                      s.meshes[0].vertices[size_t(i)].position.y / 16};
+  for (int i = 0; i < 4; ++i)
+    s.meshes[0].vertices[size_t(i)].uv = {s.meshes[0].vertices[size_t(i)].position.x / 16,
+                                          s.meshes[0].vertices[size_t(i)].position.y / 16};
   s.materials[0].pass().layers[0].mods = {{TexMod::Kind::scroll, 0.5f, 0}};
   s.camera.frames.resize(61);
   const FrameOutput f0 = render_frame(s, test::ortho_view(16, 16), test::exact_settings(), 0);
@@ -180,8 +184,7 @@ TEST(Materials, FragmentCostCountsLayersAndOperations) {
   EXPECT_EQ(fragment_instructions(Pass{}), bare);
   EXPECT_EQ(fragment_instructions(Pass::textured(0)), bare + C::coordinates + C::lookup);
   // Diffuse x lightmap x 2: two lookups, one modulate, one scale.
-  EXPECT_EQ(fragment_instructions(Pass::textured(0, 1, 2.0f)),
-            bare + 2 * (C::coordinates + C::lookup) + C::combine + C::scale);
+  EXPECT_EQ(fragment_instructions(Pass::textured(0, 1, 2.0f)), bare + 2 * (C::coordinates + C::lookup) + C::combine + C::scale);
   Pass p = Pass::textured(0);
   p.alpha_func = AlphaFunc::gequal;
   p.colour = {0.5f, 1, 1, 1};
@@ -259,8 +262,8 @@ struct LitQuad {
   void add(LayerKind kind, Texture t) {
     scene.textures.push_back(std::move(t));
     const bool lm = kind == LayerKind::lightmap || kind == LayerKind::deluxe;
-    pass().layers.push_back({kind, int(scene.textures.size()) - 1, lm ? TexCoords::lightmap : TexCoords::surface,
-                             Combine::modulate, 1.0f, {}});
+    pass().layers.push_back(
+        {kind, int(scene.textures.size()) - 1, lm ? TexCoords::lightmap : TexCoords::surface, Combine::modulate, 1.0f, {}});
   }
   LitQuad() : scene(quad_scene(Material::textured("lit", -1))) {
     pass().shading = Shading::deluxe;
@@ -350,8 +353,7 @@ TEST(Materials, ALitPassCostsItsLightingAndEveryLayer) {
   q.add(LayerKind::normal, solid(128, 128, 255, 255));
   q.add(LayerKind::gloss, solid(255, 255, 255, 255));
   q.add(LayerKind::glow, solid(0, 0, 0, 255));
-  EXPECT_EQ(fragment_instructions(q.pass()),
-            base + C::surface_normal + C::specular + C::glow + 6 * (C::coordinates + C::lookup));
+  EXPECT_EQ(fragment_instructions(q.pass()), base + C::surface_normal + C::specular + C::glow + 6 * (C::coordinates + C::lookup));
 }
 
 }  // namespace

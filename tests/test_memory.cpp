@@ -208,7 +208,8 @@ TEST(Memory, ConservationOfBytes) {
     EXPECT_EQ(t.dram_read_bytes[size_t(h)][size_t(Category::texture)], delivered) << "DRAM " << h;
     for (int g = 0; g < 4; ++g) {
       if (g == h) continue;
-      EXPECT_EQ(t.link_bytes[size_t(link_id(f.mem->topology(), h, g))][size_t(Category::texture)], t.delivered[size_t(h * 4 + g)]);
+      EXPECT_EQ(t.link_bytes[size_t(link_id(f.mem->topology(), h, g))][size_t(Category::texture)],
+                t.delivered[size_t(h * 4 + g)]);
     }
   }
   EXPECT_EQ(t.dram_lines, lines);
@@ -399,8 +400,8 @@ TEST(Memory, ReadsAreCountedWhereTheyWereServed) {
   TimingEngine e;
   const MachineModel m(TimingSpec{}, f.spec, f.mem->topology(), e);
   const MemorySpec& s = f.spec;
-  EXPECT_DOUBLE_EQ(m.read_latency(cold), 64 * (s.remote.latency.value + 2 * s.link_latency.value + s.l2.latency.value +
-                                               s.dram_latency.value));
+  EXPECT_DOUBLE_EQ(m.read_latency(cold),
+                   64 * (s.remote.latency.value + 2 * s.link_latency.value + s.l2.latency.value + s.dram_latency.value));
   EXPECT_DOUBLE_EQ(m.read_latency(warm), 64 * (s.remote.latency.value + 2 * s.link_latency.value + s.l2.latency.value));
 }
 

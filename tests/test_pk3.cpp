@@ -16,7 +16,6 @@ namespace fs = std::filesystem;
 
 class Pk3Dir : public ::testing::Test {
  protected:
-
   void archive(const std::string& name, const std::vector<std::pair<std::string, std::string>>& files) {
     int err = 0;
     zip_t* z = zip_open((m_dir / name).c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);

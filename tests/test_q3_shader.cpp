@@ -165,13 +165,16 @@ TEST(Q3Shader, CollapseFollowsTheEnginesTable) {
   EXPECT_EQ(q.passes[0].layers.at(1).combine, Combine::add);
   EXPECT_FALSE(q.passes[0].blended());
   // Add then add: one additive pass.
-  q = q3_passes(std::make_unique<Q3Shader>(parse_one("{ { map a.tga\n blendFunc add } { map b.tga\n blendFunc add } }")).get(), tex);
+  q = q3_passes(std::make_unique<Q3Shader>(parse_one("{ { map a.tga\n blendFunc add } { map b.tga\n blendFunc add } }")).get(),
+                tex);
   ASSERT_EQ(q.passes.size(), 1u);
   EXPECT_EQ(q.passes[0].src, BlendFactor::one);
   EXPECT_EQ(q.passes[0].dst, BlendFactor::one);
   EXPECT_EQ(q.sort, q3_sort::blend0);
   // Different alpha functions, or an alpha blend second: two passes.
-  q = q3_passes(std::make_unique<Q3Shader>(parse_one("{ { map a.tga\n alphaFunc GE128 } { map $lightmap\n blendFunc filter } }")).get(), tex);
+  q = q3_passes(
+      std::make_unique<Q3Shader>(parse_one("{ { map a.tga\n alphaFunc GE128 } { map $lightmap\n blendFunc filter } }")).get(),
+      tex);
   EXPECT_EQ(q.passes.size(), 2u);
   q = q3_passes(std::make_unique<Q3Shader>(parse_one("{ { map a.tga } { map b.tga\n blendFunc blend } }")).get(), tex);
   EXPECT_EQ(q.passes.size(), 2u);
@@ -194,7 +197,8 @@ TEST(Q3Shader, SortKeysAsFinishShaderDecidesThem) {
 }
 
 TEST(Q3Shader, ConstantColoursAndUnsupportedModifiers) {
-  const Q3Shader sh = parse_one("{ { map a.tga\n rgbGen const ( 0.5 0.25 1 )\n alphaGen const 0.75\n tcMod rotate 30\n tcGen environment } }");
+  const Q3Shader sh =
+      parse_one("{ { map a.tga\n rgbGen const ( 0.5 0.25 1 )\n alphaGen const 0.75\n tcMod rotate 30\n tcGen environment } }");
   const Q3Stage& st = sh.stages.at(0);
   EXPECT_FLOAT_EQ(st.colour.x, 0.5f);
   EXPECT_FLOAT_EQ(st.colour.y, 0.25f);

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "oovr/core/error.h"
-#include "test_util.h"
 #include "oovr/core/files.h"
 #include "oovr/core/limits.h"
 #include "oovr/core/out_of_memory.h"
@@ -21,6 +20,7 @@
 #include "oovr/scene/load.h"
 #include "oovr/scene/texture.h"
 #include "temp_dir.h"
+#include "test_util.h"
 
 namespace oovr {
 namespace {
@@ -35,8 +35,9 @@ std::string read(const std::string& path) {
 const std::string kModels = "/usr/share/assimp/models";
 
 TEST(ModelChecks, PlyCountsMustFitTheFile) {
-  const std::string cube = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string cube =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   EXPECT_EQ(message_of([&] { precheck_model_bytes(cube, "c.ply"); }), "<no error>");
   // A 214-byte file claiming two billion vertices grew past 14 GB in assimp.
   std::string huge = cube;
@@ -51,8 +52,9 @@ TEST(ModelChecks, PlyCountsMustFitTheFile) {
   std::string long_list = cube;
   long_list.replace(long_list.rfind("3 0 1 2"), 7, "200 0 1 2");
   EXPECT_NE(message_of([&] { precheck_model_bytes(long_list, "l.ply"); }).find("truncated"), std::string::npos);
-  EXPECT_NE(message_of([&] { precheck_model_bytes("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n1\n", "q.ply"); })
-                .find("unknown PLY property type"),
+  EXPECT_NE(message_of([&] {
+              precheck_model_bytes("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n1\n", "q.ply");
+            }).find("unknown PLY property type"),
             std::string::npos);
 }
 
@@ -82,15 +84,18 @@ TEST(ModelChecks, GlbLengthsMustMatch) {
   std::string big = glb;
   const uint32_t two_gb = 1u << 31;
   std::memcpy(&big[12], &two_gb, 4);
-  EXPECT_NE(message_of([&] { precheck_model_bytes(big, "b.glb"); }).find("a GLB chunk declares 2147483648 bytes"), std::string::npos);
+  EXPECT_NE(message_of([&] { precheck_model_bytes(big, "b.glb"); }).find("a GLB chunk declares 2147483648 bytes"),
+            std::string::npos);
   EXPECT_NE(message_of([&] { precheck_model_bytes(glb.substr(0, 2048), "b.glb"); }).find("the GLB header declares"),
             std::string::npos);
   // A buffer larger than the binary chunk that holds it.
-  EXPECT_NE(message_of([] {
-              precheck_model_bytes(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":999999,"uri":"data:application/octet-stream;base64,AAAA"}]})",
-                                   "d.gltf");
-            }).find("its data URI holds 3"),
-            std::string::npos);
+  EXPECT_NE(
+      message_of([] {
+        precheck_model_bytes(
+            R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":999999,"uri":"data:application/octet-stream;base64,AAAA"}]})",
+            "d.gltf");
+      }).find("its data URI holds 3"),
+      std::string::npos);
   EXPECT_NE(message_of([] { precheck_model_bytes(R"({"accessors":[{"count":99999999999}]})", "a.gltf"); }).find("elements"),
             std::string::npos);
   EXPECT_NE(message_of([] { precheck_model_bytes("{not json", "j.gltf"); }).find("bad glTF JSON"), std::string::npos);
@@ -109,7 +114,8 @@ TEST(ModelChecks, GltfNodeTreesAreBounded) {
     return j + "]}";
   };
   EXPECT_EQ(message_of([&] { precheck_model_bytes(chain(200, false), "deep.gltf"); }), "<no error>");
-  EXPECT_NE(message_of([&] { precheck_model_bytes(chain(300, false), "deep.gltf"); }).find("$OOVR_LIMITS nesting"), std::string::npos);
+  EXPECT_NE(message_of([&] { precheck_model_bytes(chain(300, false), "deep.gltf"); }).find("$OOVR_LIMITS nesting"),
+            std::string::npos);
   EXPECT_NE(message_of([&] { precheck_model_bytes(chain(5, true), "loop.gltf"); }).find("its own descendant"), std::string::npos);
   EXPECT_NE(message_of([] { precheck_model_bytes(R"({"nodes":[{"children":[7]}]})", "bad.gltf"); }).find("does not exist"),
             std::string::npos);
@@ -143,7 +149,8 @@ TEST(Images, DeclaredSizesAreBoundedAndMustBeThere) {
   };
   tga[16] = 32;
   dims(23000, 23000);
-  EXPECT_NE(message_of([&] { decode_image(tga.data(), tga.size(), "big.tga"); }).find("$OOVR_LIMITS image_side"), std::string::npos);
+  EXPECT_NE(message_of([&] { decode_image(tga.data(), tga.size(), "big.tga"); }).find("$OOVR_LIMITS image_side"),
+            std::string::npos);
   dims(4, 4);
   std::vector<uint8_t> whole = tga;
   whole.resize(18 + 4 * 4 * 4, 200);
@@ -200,9 +207,11 @@ TEST(Files, InputsAreRegularAndBoundedAndOutputsChecked) {
   const std::string f = dir.file("f.txt", "0123456789");
   EXPECT_EQ(read_input_file(f, "input", 10), "0123456789");
   EXPECT_NE(message_of([&] { read_input_file(f, "input", 9); }).find("more than the limit"), std::string::npos);
-  EXPECT_NE(message_of([] { check_output_path("/no/such/folder/x.json", "JSON output"); }).find("does not exist"), std::string::npos);
+  EXPECT_NE(message_of([] { check_output_path("/no/such/folder/x.json", "JSON output"); }).find("does not exist"),
+            std::string::npos);
   EXPECT_NE(message_of([&] { check_output_path(dir.path().string(), "JSON output"); }).find("directory"), std::string::npos);
-  EXPECT_NE(message_of([] { write_output_file("/dev/full", "x", "JSON output"); }).find("No space left on device"), std::string::npos);
+  EXPECT_NE(message_of([] { write_output_file("/dev/full", "x", "JSON output"); }).find("No space left on device"),
+            std::string::npos);
   const std::string out = (dir.path() / "o.txt").string();
   write_output_file(out, "hello", "output");
   EXPECT_EQ(read(out), "hello");

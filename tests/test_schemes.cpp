@@ -10,8 +10,8 @@
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/builtin.h"
-#include "oovr/schemes/sort_first.h"
 #include "oovr/schemes/i_scheme.h"
+#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {
@@ -35,7 +35,8 @@ const Rendered& courtyard(unsigned threads = 0, TextureFormat format = PipelineS
     PipelineSettings p;
     p.threads = threads;
     p.texture_format = format;
-    for (int f = 0; f < 4; ++f) r->out.push_back(render_frame(r->scene, make_stereo_view(r->scene.camera, 30 + f, rig), p, 30 + f));
+    for (int f = 0; f < 4; ++f)
+      r->out.push_back(render_frame(r->scene, make_stereo_view(r->scene.camera, 30 + f, rig), p, 30 + f));
     for (const auto& o : r->out) r->traces.push_back(&o.trace);
   }
   return *r;
@@ -508,7 +509,8 @@ TEST(Composition, TheFinalFrameLivesWithItsOwners) {
       for (int tx = 0; tx < t.tiles_x; tx += layout.block_w()) {
         const int owner = std::string(scheme) == "object" ? 0 : vertical_strip_owner(tx, t.tiles_x, 4);
         for (uint32_t region : {carried->colour[0], carried->depth[0]}) {
-          EXPECT_EQ(carried->memory->home_of(layout.frame_line(region, tx, ty, 0)), owner) << scheme << " tile " << tx << "," << ty;
+          EXPECT_EQ(carried->memory->home_of(layout.frame_line(region, tx, ty, 0)), owner)
+              << scheme << " tile " << tx << "," << ty;
           ++checked;
         }
       }

@@ -6,8 +6,8 @@
 
 #include "game_data.h"
 #include "oovr/core/error.h"
-#include "oovr/scene/texture.h"
 #include "oovr/scene/sources/torcs.h"
+#include "oovr/scene/texture.h"
 
 namespace oovr {
 namespace {

@@ -47,8 +47,7 @@ TEST_P(StereoEqualsMono, ImagesAndCounts) {
       EXPECT_EQ(stereo_covered[e], mono_covered[e]) << "eye " << e << " frame " << frame;
       for (size_t o = 0; o < scene.objects.size(); ++o) {
         EXPECT_EQ(s.trace.objects[o].setup[e], m.trace.objects[o].setup[0]);
-        EXPECT_EQ(s.trace.objects[o].vertices, m.trace.objects[o].vertices)
-            << "SMP transforms each vertex once for both eyes";
+        EXPECT_EQ(s.trace.objects[o].vertices, m.trace.objects[o].vertices) << "SMP transforms each vertex once for both eyes";
       }
     }
     // Every tile record of an eye lies in tiles that overlap its viewport.

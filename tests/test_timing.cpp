@@ -59,9 +59,9 @@ TEST(Timing, QueuesRunTheirUnitsInOrderAndDependenciesWait) {
   TimingEngine e;
   const int a = e.add_resource("a", 1.0), b = e.add_resource("b", 1.0);
   const int q0 = e.add_queue("gpm0"), q1 = e.add_queue("gpm1");
-  const int u0 = e.add_unit({q0, {{a, 2}}, 0, {}});       // 0..2
-  const int u1 = e.add_unit({q0, {{a, 1}}, 0.5, {}});     // 2..3 work, 3.5 with latency
-  const int u2 = e.add_unit({q1, {{b, 1}}, 0, {u1}});     // waits for u1: 3.5..4.5
+  const int u0 = e.add_unit({q0, {{a, 2}}, 0, {}});    // 0..2
+  const int u1 = e.add_unit({q0, {{a, 1}}, 0.5, {}});  // 2..3 work, 3.5 with latency
+  const int u2 = e.add_unit({q1, {{b, 1}}, 0, {u1}});  // waits for u1: 3.5..4.5
   const auto r = e.run();
   EXPECT_DOUBLE_EQ(r.units[size_t(u0)].finish, 2);
   EXPECT_DOUBLE_EQ(r.units[size_t(u1)].start, 2);
@@ -247,8 +247,8 @@ TEST(Sharing, RandomUnitsAlwaysFitAndEachHasAFullBottleneckWhereNoOneGetsMore) {
     for (int u = 0; u < units; ++u) {
       bool bottleneck = false;
       for (const auto& [r, a] : demand[size_t(u)])
-        bottleneck = bottleneck || (used[size_t(r)] >= capacity[size_t(r)] * (1 - 1e-9) &&
-                                    a * rate[size_t(u)] >= most[size_t(r)] * (1 - 1e-9));
+        bottleneck = bottleneck ||
+                     (used[size_t(r)] >= capacity[size_t(r)] * (1 - 1e-9) && a * rate[size_t(u)] >= most[size_t(r)] * (1 - 1e-9));
       ASSERT_TRUE(bottleneck) << "trial " << trial << " unit " << u;
     }
   }

@@ -36,8 +36,7 @@ TEST(Trace, CountsMatchTheImage) {
   const FrameTrace& t = r.out.trace;
   // Pixels finally showing object o were written by one of o's passed
   // fragments, so they never outnumber them.
-  std::vector<uint64_t> shown(r.scene.objects.size(), 0), passed(r.scene.objects.size(), 0),
-      covered(r.scene.objects.size(), 0);
+  std::vector<uint64_t> shown(r.scene.objects.size(), 0), passed(r.scene.objects.size(), 0), covered(r.scene.objects.size(), 0);
   for (uint32_t id : r.out.object_id)
     if (id != kNoObject) ++shown[id];
   for (const auto& w : t.tiles) {

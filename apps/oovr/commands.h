@@ -24,7 +24,7 @@ struct SimulateArgs {
 };
 
 struct PaperArgs {
-  std::string scenes;       // comma-separated; empty: the default list
+  std::string scenes;  // comma-separated; empty: the default list
   std::string resolutions = "640x480,1280x1024,1600x1200";
   std::string sweep_resolution = "1280x1024";
   int frame = 0;
@@ -34,8 +34,8 @@ struct PaperArgs {
   std::vector<std::string> settings;
   std::string out = "out/paper";
   std::string doc = "docs/paper-comparison.md";
-  bool no_steps = false;    // skip the model's steps (the before-and-after table)
-  std::string command;  // the command line, for the document
+  bool no_steps = false;  // skip the model's steps (the before-and-after table)
+  std::string command;    // the command line, for the document
 };
 
 struct CorrelateArgs {
@@ -46,9 +46,9 @@ struct CorrelateArgs {
   std::string json;
   bool per_frame = false;
   bool no_cache = false;
-  double min_r = -2;       // fail below (-2: no check)
-  double max_spread = 0;   // fail above (0: no check)
-  std::string sweep;       // "key=v1,v2,...": correlate at each value, pick the most proportional
+  double min_r = -2;      // fail below (-2: no check)
+  double max_spread = 0;  // fail above (0: no check)
+  std::string sweep;      // "key=v1,v2,...": correlate at each value, pick the most proportional
 };
 
 // A preset (or the built-in defaults) with --set overrides.

@@ -93,8 +93,13 @@ int correlate(const CorrelateArgs& a) {
     j["pearson_r_within_scene"] = within;
     nlohmann::ordered_json points = nlohmann::ordered_json::array();
     for (const auto& p : c.points)
-      points.push_back({{"scene", p.scene}, {"resolution", p.resolution}, {"frames", p.frames}, {"gpu_us", p.gpu_us},
-                        {"oovr_us", p.oovr_us}, {"gpu_median_us", p.gpu_median_us}, {"oovr_median_us", p.oovr_median_us}});
+      points.push_back({{"scene", p.scene},
+                        {"resolution", p.resolution},
+                        {"frames", p.frames},
+                        {"gpu_us", p.gpu_us},
+                        {"oovr_us", p.oovr_us},
+                        {"gpu_median_us", p.gpu_median_us},
+                        {"oovr_median_us", p.oovr_median_us}});
     j["points"] = points;
     j["notes"] = c.notes;
     write_output_file(a.json, j.dump(2) + "\n", "JSON output");

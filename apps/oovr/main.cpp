@@ -1,27 +1,27 @@
 // oovr: the command-line tool (DESIGN.md, "Commands").
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <charconv>
-#include <cmath>
-#include <new>
-#include <system_error>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <new>
 #include <nlohmann/json.hpp>
+#include <system_error>
 
 #include "commands.h"
 #include "oovr/core/config.h"
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/out_of_memory.h"
-#include "oovr/core/config_sections.h"
-#include "oovr/schemes/i_scheme.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
+#include "oovr/schemes/i_scheme.h"
 
 namespace {
 
@@ -72,8 +72,12 @@ int cmd_scene_info(const SceneInfoArgs& a) {
     j["sharing_histogram"] = hist;
     nlohmann::ordered_json tex = nlohmann::ordered_json::array();
     for (const auto& t : i.texture_use)
-      tex.push_back({{"name", t.name}, {"width", t.width}, {"height", t.height}, {"levels", t.levels},
-                     {"bytes", t.bytes}, {"objects", t.objects}});
+      tex.push_back({{"name", t.name},
+                     {"width", t.width},
+                     {"height", t.height},
+                     {"levels", t.levels},
+                     {"bytes", t.bytes},
+                     {"objects", t.objects}});
     j["texture_list"] = tex;
     j["notes"] = scene.notes;
     fmt::print("{}\n", j.dump(2));
@@ -92,8 +96,7 @@ int cmd_scene_info(const SceneInfoArgs& a) {
   for (const auto& t : i.texture_use) {
     // Long names (archive paths) keep their end, where the file name is.
     const std::string name = t.name.size() > 28 ? "..." + t.name.substr(t.name.size() - 25) : t.name;
-    fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", name, fmt::format("{}x{}", t.width, t.height),
-               human_bytes(t.bytes), t.objects);
+    fmt::print("  {:<28} {:>11} {:>10} {:>8}\n", name, fmt::format("{}x{}", t.width, t.height), human_bytes(t.bytes), t.objects);
   }
   fmt::print("\nsharing histogram (objects per texture: textures):");
   for (const auto& [objects, textures] : i.sharing_histogram) fmt::print(" {}:{}", objects, textures);
@@ -144,8 +147,7 @@ int cmd_render(const RenderArgs& a) {
   settings.threads = a.threads;
   settings.validate();
   check_image_path(a.out);
-  StereoRig rig = a.eye_resolution.empty() ? parse_frame_resolution(a.resolution)
-                                           : parse_eye_resolution(a.eye_resolution);
+  StereoRig rig = a.eye_resolution.empty() ? parse_frame_resolution(a.resolution) : parse_eye_resolution(a.eye_resolution);
   rig.ipd_m = a.ipd_mm / 1000.0f;
   const auto t0 = std::chrono::steady_clock::now();
   const Scene scene = load_scene(a.scene);
@@ -167,17 +169,17 @@ int cmd_render(const RenderArgs& a) {
     shaded += t.shaded;
   }
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-  fmt::print("{}: frame {} of {}, {}x{} stereo ({}x{} per eye) -> {}\n", scene.name, a.frame,
-             scene.camera.frames.size(), view.frame_width, view.frame_height, rig.eye_width, rig.eye_height, a.out);
-  fmt::print("  draws {}, triangles {}, set up left {} right {}, culled (back-facing or outside the view) {}\n", scene.objects.size(),
-             scene.triangle_count(), setup[0], setup[1], culled);
-  fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", tr.total_covered(), shaded,
-             tr.total_passed(), quads);
+  fmt::print("{}: frame {} of {}, {}x{} stereo ({}x{} per eye) -> {}\n", scene.name, a.frame, scene.camera.frames.size(),
+             view.frame_width, view.frame_height, rig.eye_width, rig.eye_height, a.out);
+  fmt::print("  draws {}, triangles {}, set up left {} right {}, culled (back-facing or outside the view) {}\n",
+             scene.objects.size(), scene.triangle_count(), setup[0], setup[1], culled);
+  fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", tr.total_covered(), shaded, tr.total_passed(), quads);
   fmt::print("  trace: {} (object, eye, tile) records, {} texture line reads ({}-byte lines)\n", tr.tiles.size(),
              tr.tex_lines.size(), tr.line_bytes);
   // Texture work: layers sampled per shaded fragment and per pixel drawn
   // (the frame's pixels some draw wrote), and the texture bytes touched.
-  const uint64_t drawn = uint64_t(std::count_if(out.object_id.begin(), out.object_id.end(), [](uint32_t id) { return id != kNoObject; }));
+  const uint64_t drawn =
+      uint64_t(std::count_if(out.object_id.begin(), out.object_id.end(), [](uint32_t id) { return id != kNoObject; }));
   const double fetches = double(tr.layer_fetches());
   fmt::print("  texture: {:.2f} layers per shaded fragment, {:.2f} per pixel drawn; {} of texture lines touched\n",
              shaded ? fetches / double(shaded) : 0.0, drawn ? fetches / double(drawn) : 0.0,
@@ -205,8 +207,7 @@ void check_no_empty_values(const CLI::App& cmd) {
     const std::string& name = o->get_name();
     if (cmd.get_name() == "paper" && (name == "--out" || name == "--doc")) continue;
     for (const auto& r : o->results())
-      if (r.find_first_not_of(" \t") == std::string::npos)
-        throw Error(name + " is empty: give a value, or leave the option out");
+      if (r.find_first_not_of(" \t") == std::string::npos) throw Error(name + " is empty: give a value, or leave the option out");
   }
 }
 
@@ -244,7 +245,8 @@ int main(int argc, char** argv) {
   auto* sim_cmd = app.add_subcommand("simulate", "Replay a scene's frame through one scheme");
   add_machine_options(sim_cmd, sim);
   sim_cmd->add_option("--scheme", sim.scheme, "Scheme (oovr compare --help lists them)")->required();
-  sim_cmd->add_option("--frames", sim.frames, "Frames to measure, from --frame on (default: one per GPM)")->check(CLI::Range(1, 1000));
+  sim_cmd->add_option("--frames", sim.frames, "Frames to measure, from --frame on (default: one per GPM)")
+      ->check(CLI::Range(1, 1000));
   sim_cmd->add_option("--gpm-image", sim.gpm_image, "Write the frame coloured by the GPM that shaded each pixel");
   sim_cmd->add_option("--traffic-image", sim.traffic_image, "Write inter-GPM bytes per screen tile as a heat map");
 
@@ -252,8 +254,8 @@ int main(int argc, char** argv) {
   std::string scheme_list;
   // The paper's order first (Sections 3 and 4), then the bounds, then any
   // other registered scheme.
-  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
-                                      "single-gpm", "ideal", "two-pass"};
+  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "baseline-paged", "afr",        "sfr-v", "sfr-h",
+                                      "object",   "oo-app",       "oo-vr",          "single-gpm", "ideal", "two-pass"};
   ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
                 ordered.end());
   for (const auto& n : Schemes::names())
@@ -269,22 +271,36 @@ int main(int argc, char** argv) {
   RenderArgs render;
   cli::PaperArgs paper;
   auto* paper_cmd = app.add_subcommand("paper", "Run the paper's evaluation and rewrite docs/paper-comparison.md");
-  paper_cmd->add_option("--scenes", paper.scenes, "Comma-separated scenes (default: the built-in scenes and installed game levels)");
-  paper_cmd->add_option("--resolutions", paper.resolutions, "Comma-separated stereo frame sizes of Figure 15")->capture_default_str();
-  paper_cmd->add_option("--sweep-resolution", paper.sweep_resolution, "Frame size of the claims, sweeps and ablations")->capture_default_str();
-  paper_cmd->add_option("--frame", paper.frame, "First frame of the camera path")->capture_default_str()->check(CLI::NonNegativeNumber);
-  paper_cmd->add_option("--frames", paper.frames, "Frames per run (a multiple of the GPM count, for AFR)")->capture_default_str()->check(CLI::Range(1, 1000));
-  paper_cmd->add_option("--aniso", paper.aniso, "Maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
+  paper_cmd->add_option("--scenes", paper.scenes,
+                        "Comma-separated scenes (default: the built-in scenes and installed game levels)");
+  paper_cmd->add_option("--resolutions", paper.resolutions, "Comma-separated stereo frame sizes of Figure 15")
+      ->capture_default_str();
+  paper_cmd->add_option("--sweep-resolution", paper.sweep_resolution, "Frame size of the claims, sweeps and ablations")
+      ->capture_default_str();
+  paper_cmd->add_option("--frame", paper.frame, "First frame of the camera path")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  paper_cmd->add_option("--frames", paper.frames, "Frames per run (a multiple of the GPM count, for AFR)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  paper_cmd->add_option("--aniso", paper.aniso, "Maximum anisotropic filtering taps")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   paper_cmd->add_option("--config", paper.config, "TOML machine preset (default: the paper's Table 1)");
   paper_cmd->add_option("--set", paper.settings, "Override a configuration key (repeatable)");
-  paper_cmd->add_option("--out", paper.out, "Folder for results.json, CSV files and SVG plots (empty: none; the document's plots go to img/paper beside it)")->capture_default_str();
+  paper_cmd
+      ->add_option(
+          "--out", paper.out,
+          "Folder for results.json, CSV files and SVG plots (empty: none; the document's plots go to img/paper beside it)")
+      ->capture_default_str();
   paper_cmd->add_option("--doc", paper.doc, "The comparison document to write (empty: none)")->capture_default_str();
   paper_cmd->add_flag("--no-steps", paper.no_steps,
                       "Skip the claims under the model's earlier steps (the document's before-and-after table)");
 
   cli::CorrelateArgs corr;
   auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");
-  corr_cmd->add_option("--hardware", corr.hardware, "CSV of measured frames (oovr-reference --time; docs/data/hardware/)")->required();
+  corr_cmd->add_option("--hardware", corr.hardware, "CSV of measured frames (oovr-reference --time; docs/data/hardware/)")
+      ->required();
   corr_cmd->add_option("--scheme", corr.scheme, "Scheme simulating the GPU")->capture_default_str();
   corr_cmd->add_option("--config", corr.config, "TOML machine preset (default: the paper's Table 1)");
   corr_cmd->add_option("--set", corr.settings, "Override a configuration key (repeatable)");
@@ -292,8 +308,10 @@ int main(int argc, char** argv) {
   corr_cmd->add_flag("--per-frame", corr.per_frame, "Print every frame, not only the medians");
   corr_cmd->add_flag("--no-cache", corr.no_cache, "Render every frame even when its trace is cached");
   corr_cmd->add_option("--sweep", corr.sweep,
-                       "key=v1,v2,...: correlate at each value of a key and name the one that makes oovr most proportional to the GPU (calibration)");
-  corr_cmd->add_option("--min-r", corr.min_r, "Fail when Pearson r of the medians is below this")->check(kFinite & CLI::Range(-1.0, 1.0));
+                       "key=v1,v2,...: correlate at each value of a key and name the one that makes oovr most proportional to "
+                       "the GPU (calibration)");
+  corr_cmd->add_option("--min-r", corr.min_r, "Fail when Pearson r of the medians is below this")
+      ->check(kFinite & CLI::Range(-1.0, 1.0));
   corr_cmd->add_option("--max-spread", corr.max_spread, "Fail when the largest ratio oovr/GPU over the smallest exceeds this")
       ->check(kFinite & CLI::Range(1.0, 1e9));
 
@@ -305,9 +323,11 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--eye-resolution", render.eye_resolution, "Resolution of one eye WxH (instead of --resolution)");
   render_cmd->add_option("--out", render.out, "Output image (.png or .jpg)")->required();
   render_cmd->add_option("--aniso", render.aniso, "Maximum anisotropic filtering taps (1 = off)")
-      ->capture_default_str()->check(CLI::Range(1, 16));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   render_cmd->add_option("--ipd", render.ipd_mm, "Interpupillary distance in millimetres")
-      ->capture_default_str()->check(kFinite & CLI::Range(0.0f, 1000.0f));
+      ->capture_default_str()
+      ->check(kFinite & CLI::Range(0.0f, 1000.0f));
   render_cmd->add_option("--threads", render.threads, "Worker threads (0 = all cores)")->capture_default_str();
 
   try {
@@ -315,7 +335,9 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;
       for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
-      if (!known) throw Error(std::string("unknown command '") + argv[1] + "' (commands: scenes, scene-info, render, simulate, compare, paper, correlate, config; see --help)");
+      if (!known)
+        throw Error(std::string("unknown command '") + argv[1] +
+                    "' (commands: scenes, scene-info, render, simulate, compare, paper, correlate, config; see --help)");
     }
     app.parse(argc, argv);
     for (const CLI::App* cmd : app.get_subcommands()) {
@@ -359,8 +381,7 @@ int main(int argc, char** argv) {
     const std::string what = e.what();
     if (what.rfind("cannot write to file", 0) == 0)
       std::fprintf(stderr, "oovr: error: cannot write to standard output: %s\n", e.code().message().c_str());
-    else
-      std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    else std::fprintf(stderr, "oovr: error: %s\n", e.what());
     return 1;
   } catch (const std::bad_alloc&) {
     // Readers bound what an input may ask for (docs/reliability.md); what

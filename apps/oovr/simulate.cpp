@@ -4,22 +4,22 @@
 
 #include <algorithm>
 #include <chrono>
-#include <numeric>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numeric>
 
 #include "commands.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
-#include "oovr/memory/memory_spec.h"
-#include "oovr/pipeline/pipeline.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/experiments/paper.h"
 #include "oovr/experiments/result_json.h"
+#include "oovr/memory/memory_spec.h"
+#include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/schemes/i_scheme.h"
 
@@ -210,7 +210,8 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   const auto t1 = std::chrono::steady_clock::now();
   // Schemes are independent runs: in parallel, each into its own slot.
   std::vector<SchemeResult> results(schemes.size());
-  parallel_for(schemes.size(), 0, [&](size_t i) { results[i] = run_scheme_window(schemes[i], f.scene, *f.frames, config, window); });
+  parallel_for(schemes.size(), 0,
+               [&](size_t i) { results[i] = run_scheme_window(schemes[i], f.scene, *f.frames, config, window); });
   const auto t2 = std::chrono::steady_clock::now();
   const SchemeResult* base = nullptr;
   for (const auto& r : results)
@@ -225,7 +226,8 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   for (const auto& r : results) {
     const double lat = base ? base->frame_latency_s / r.frame_latency_s : 0;
     const double thr = base ? r.throughput_fps / base->throughput_fps : 0;
-    const double traffic = base && base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0;
+    const double traffic =
+        base && base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0;
     // Without the baseline in the list there is nothing to normalise to.
     const auto ratio = [&](double v) { return base ? fmt::format("{:.2f}x", v) : std::string("-"); };
     fmt::print("  {:<{}} {:>10.3f} {:>9} {:>9.1f} {:>10} {:>9} {:>11} {:>8.2f}\n", r.scheme, w, r.frame_latency_s * 1e3,

@@ -148,8 +148,7 @@ struct GlRenderer::Impl {
   EGLContext context = EGL_NO_CONTEXT;
   GLuint program = 0;
   GLint u_shading = -1, u_lit[6] = {-1, -1, -1, -1, -1, -1}, u_specular_power = -1, u_specular_intensity = -1, u_eye = -1;
-  GLint u_world = -1, u_clip = -1, u_layer_count = -1, u_colour = -1, u_alpha_func = -1, u_alpha_ref = -1,
-        u_coverage = -1;
+  GLint u_world = -1, u_clip = -1, u_layer_count = -1, u_colour = -1, u_alpha_func = -1, u_alpha_ref = -1, u_coverage = -1;
   GLint u_layer_lm[kMaxLayers], u_layer_add[kMaxLayers], u_layer_scale[kMaxLayers], u_layer_xf_s[kMaxLayers],
       u_layer_xf_t[kMaxLayers];
 };
@@ -210,7 +209,8 @@ struct Uploaded {
       glBindBuffer(GL_ARRAY_BUFFER, buf[3 * i]);
       glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(), GL_STATIC_DRAW);
       glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[3 * i + 1]);
-      glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)), mesh.indices.data(), GL_STATIC_DRAW);
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)), mesh.indices.data(),
+                   GL_STATIC_DRAW);
       glEnableVertexAttribArray(0);
       glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
       glEnableVertexAttribArray(1);
@@ -324,8 +324,7 @@ void begin_pass(const StereoView& view, Run pass, GLint u_coverage) {
 }  // namespace
 
 GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
-  auto get_platform_display =
-      reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (!get_platform_display) throw Unavailable("EGL has no eglGetPlatformDisplayEXT");
   if (platform == Platform::any) m->display = hardware_display(get_platform_display);
   if (m->display == EGL_NO_DISPLAY) {
@@ -338,8 +337,9 @@ GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
     if (!eglInitialize(m->display, &major, &minor)) throw Unavailable("eglInitialize failed on the surfaceless platform");
   }
   if (!eglBindAPI(EGL_OPENGL_API)) throw Unavailable("EGL cannot bind the OpenGL API");
-  const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint attribs[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   m->context = eglCreateContext(m->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
   if (m->context == EGL_NO_CONTEXT) throw Unavailable("cannot create an OpenGL 4.5 core context");
   if (!eglMakeCurrent(m->display, EGL_NO_SURFACE, EGL_NO_SURFACE, m->context))
@@ -401,8 +401,8 @@ namespace {
 // Issues every object's draw, in scene order, once per eye in `eyes` (bit
 // e: eye e) into that eye's viewport (or a 1x1 scissor at its corner);
 // `around(draw, begin)` brackets each draw (draw = object * 2 + eye).
-void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, const StereoView& view, const Uploaded& up,
-                  int eyes, bool tiny_scissor, DrawState state, const std::function<void(size_t draw, bool begin)>& around) {
+void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, const StereoView& view, const Uploaded& up, int eyes,
+                  bool tiny_scissor, DrawState state, const std::function<void(size_t draw, bool begin)>& around) {
   glEnable(GL_SCISSOR_TEST);
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
@@ -430,8 +430,8 @@ void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, cons
     glUniform4f(m.u_colour, pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w);
     glUniform1i(m.u_alpha_func, int(pass.alpha_func));
     glUniform1i(m.u_shading, pass.shading == Shading::deluxe ? 1 : 0);
-    const LayerKind lit_kinds[6] = {LayerKind::diffuse, LayerKind::normal, LayerKind::gloss,
-                                    LayerKind::glow, LayerKind::lightmap, LayerKind::deluxe};
+    const LayerKind lit_kinds[6] = {LayerKind::diffuse, LayerKind::normal,   LayerKind::gloss,
+                                    LayerKind::glow,    LayerKind::lightmap, LayerKind::deluxe};
     for (int k = 0; k < 6; ++k) glUniform1i(m.u_lit[k], pass.layer(lit_kinds[k]));
     glUniform1f(m.u_specular_power, pass.specular_power);
     glUniform1f(m.u_specular_intensity, pass.specular_intensity);
@@ -532,7 +532,8 @@ std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<in
       throw std::runtime_error("every timed view must have the same size");
     std::vector<double> full, geom, left;
     for (int rep = -1; rep < repeats; ++rep) {  // one warm-up
-      const double f = timed(frames[k], view, 3, false), g = timed(frames[k], view, 3, true), l = timed(frames[k], view, 1, false);
+      const double f = timed(frames[k], view, 3, false), g = timed(frames[k], view, 3, true),
+                   l = timed(frames[k], view, 1, false);
       if (rep < 0) continue;
       full.push_back(f);
       geom.push_back(g);

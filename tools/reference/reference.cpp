@@ -7,8 +7,8 @@
 // Exit status: 0 when the comparison passes (or nothing was compared), 1 when
 // it fails its thresholds or something goes wrong, 2 for a bad argument, and
 // 77 (reported by CTest as "skipped") when no OpenGL context can be made.
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -80,10 +80,9 @@ void accumulate(CountStats& s, uint64_t a, uint64_t b, const std::string& name, 
 
 void print_counts(const char* what, const CountStats& s, double limit) {
   const double total = s.gl ? (double(s.oovr) - double(s.gl)) / double(s.gl) * 100.0 : 0.0;
-  fmt::print("  {} fragments: oovr {} GL {} ({:+.4f}%); {} draws (object x eye), {} exact, {} over {}% and 1 fragment",
-             what, s.oovr, s.gl, total, s.draws, s.exact, s.over, limit);
-  if (s.worst > 0)
-    fmt::print("; worst '{}' {:.3f}% ({} vs {})", s.worst_name, s.worst, s.worst_oovr, s.worst_gl);
+  fmt::print("  {} fragments: oovr {} GL {} ({:+.4f}%); {} draws (object x eye), {} exact, {} over {}% and 1 fragment", what,
+             s.oovr, s.gl, total, s.draws, s.exact, s.over, limit);
+  if (s.worst > 0) fmt::print("; worst '{}' {:.3f}% ({} vs {})", s.worst_name, s.worst, s.worst_oovr, s.worst_gl);
   fmt::print("\n");
 }
 
@@ -130,7 +129,9 @@ int time_frames(const Args& a) {
   for (const auto& name : a.scenes) {
     const Scene scene = load_scene(name);
     const int path = int(scene.camera.frames.size());
-    if (a.frame >= path) throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) + " frames");
+    if (a.frame >= path)
+      throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) +
+                  " frames");
     for (const auto& res : resolutions) {
       const StereoRig rig = parse_frame_resolution(res);
       std::vector<StereoView> views;
@@ -142,7 +143,8 @@ int time_frames(const Args& a) {
       const std::vector<reference::FrameTime> t = gl->time(scene, frames, views, a.aniso, a.repeat);
       double sum = 0;
       for (size_t k = 0; k < t.size(); ++k) {
-        data.frames.push_back({name, res, frames[k], t[k].full_us, t[k].geom_us, t[k].left_us, scene.objects.size(), scene.triangle_count()});
+        data.frames.push_back(
+            {name, res, frames[k], t[k].full_us, t[k].geom_us, t[k].left_us, scene.objects.size(), scene.triangle_count()});
         sum += t[k].full_us;
       }
       fmt::print("  {} {}: {} frames, mean {:.1f} us per stereo frame\n", name, res, t.size(), sum / double(t.size()));
@@ -177,8 +179,8 @@ int compare(const Args& a, const StereoRig& rig) {
     // Keep one draw, untextured and white, so that both images are its
     // coverage mask and every differing pixel can be listed.
     if (a.isolate >= int(scene.objects.size()))
-      throw Error("--isolate " + std::to_string(a.isolate) + ": the scene has " +
-                  std::to_string(scene.objects.size()) + " objects");
+      throw Error("--isolate " + std::to_string(a.isolate) + ": the scene has " + std::to_string(scene.objects.size()) +
+                  " objects");
     Object o = scene.objects[size_t(a.isolate)];
     Material m = Material::textured("isolated", -1);
     m.two_sided = scene.materials[size_t(o.material)].two_sided;
@@ -235,8 +237,8 @@ int compare(const Args& a, const StereoRig& rig) {
   const double psnr = psnr_rgb(ours.colour, ref.colour);
   // The file name tells models of the same name apart (Wuson.ac, Wuson.ply).
   const std::string label = std::filesystem::path(a.scene).filename().string();
-  fmt::print("{} frame {} {}x{}: PSNR {:.2f} dB (threshold {:.1f})\n", label, a.frame, view.frame_width,
-             view.frame_height, psnr, a.min_psnr);
+  fmt::print("{} frame {} {}x{}: PSNR {:.2f} dB (threshold {:.1f})\n", label, a.frame, view.frame_width, view.frame_height, psnr,
+             a.min_psnr);
   fmt::print("  time: llvmpipe {:.0f} ms, oovr {:.0f} ms (image and counts; oovr without texture-line recording)\n",
              ref.render_ms, ours_ms);
   print_counts("covered", cov, a.max_draw_diff_percent);
@@ -246,8 +248,7 @@ int compare(const Args& a, const StereoRig& rig) {
   // cutoff, where the two renderers' filtering arithmetic may decide
   // differently and change depth-test outcomes of later draws by a few
   // fragments: they must match in total (docs/validation.md).
-  const double passed_total =
-      pas.gl ? std::abs(double(pas.oovr) - double(pas.gl)) / double(pas.gl) * 100.0 : 0.0;
+  const double passed_total = pas.gl ? std::abs(double(pas.oovr) - double(pas.gl)) / double(pas.gl) * 100.0 : 0.0;
   const bool ok = psnr >= a.min_psnr && cov.over == 0 && passed_total <= a.max_draw_diff_percent;
   fmt::print("{}\n", ok ? "PASS" : "FAIL");
   return ok ? 0 : 1;
@@ -272,11 +273,17 @@ int main(int argc, char** argv) {
   app.add_flag("--time", a.time, "Measure GPU frame times (GL_TIME_ELAPSED) instead of comparing");
   app.add_option("--frames", a.frames, "With --time: frames from --frame on")->capture_default_str()->check(CLI::Range(1, 10000));
   app.add_option("--resolutions", a.resolutions, "With --time: comma-separated stereo frame sizes (default: --resolution)");
-  app.add_option("--repeat", a.repeat, "With --time: timed repetitions per frame (median)")->capture_default_str()->check(CLI::Range(1, 1000));
-  app.add_option("--aniso", a.aniso, "With --time: maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
+  app.add_option("--repeat", a.repeat, "With --time: timed repetitions per frame (median)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--aniso", a.aniso, "With --time: maximum anisotropic filtering taps")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   app.add_option("--csv", a.csv, "With --time: write the frames here (default: standard output)");
-  app.add_option("--platform", a.platform, "With --time: 'gpu' (a GPU through EGL's device platform, else llvmpipe) or 'llvmpipe'")
-      ->capture_default_str()->check(CLI::IsMember({"gpu", "llvmpipe"}));
+  app.add_option("--platform", a.platform,
+                 "With --time: 'gpu' (a GPU through EGL's device platform, else llvmpipe) or 'llvmpipe'")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"gpu", "llvmpipe"}));
   app.add_option("--max-draw-diff", a.max_draw_diff_percent,
                  "Fail when a draw's covered fragments, or all passed fragments, differ by more (%)")
       ->capture_default_str();

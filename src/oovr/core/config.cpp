@@ -2,8 +2,8 @@
 
 #include <toml++/toml.h>
 
-#include <charconv>
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -17,8 +17,7 @@ std::string format_double(double d) { return format_number(d); }
 
 // A time or frequency printed in `unit` when its parser reads that back as
 // the same double, else in the base unit.
-std::string format_scaled(double v, double per_unit, const char* unit, const char* base,
-                          double (*parse)(const std::string&)) {
+std::string format_scaled(double v, double per_unit, const char* unit, const char* base, double (*parse)(const std::string&)) {
   if (const double x = v * per_unit; std::isfinite(x)) {
     const std::string scaled = format_number(x) + unit;
     try {
@@ -39,9 +38,9 @@ constexpr int kMaxKeyParts = 32;
 // comments are skipped; values' dots (1.5) are not counted.
 void check_toml_shape(const std::string& text, const std::string& name) {
   int line = 1;
-  bool in_key = true;       // at a key: line start, after '{' or ',' in an inline table, in a header
+  bool in_key = true;  // at a key: line start, after '{' or ',' in an inline table, in a header
   int parts = 1;
-  std::vector<char> open;   // '[' (array) and '{' (inline table) of values
+  std::vector<char> open;  // '[' (array) and '{' (inline table) of values
   for (size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\n') {
@@ -261,8 +260,8 @@ std::string Config::get_choice(const std::string& key, const std::string& fallba
     list += (list.empty() ? "" : ", ") + std::string(c);
   }
   const Value* v = find(key);
-  throw Error("configuration key '" + key + "' (" + (v ? v->source : "default") + ") must be one of " + list +
-              ", not '" + r + "'");
+  throw Error("configuration key '" + key + "' (" + (v ? v->source : "default") + ") must be one of " + list + ", not '" + r +
+              "'");
 }
 
 Bytes Config::get_bytes(const std::string& key, Bytes fallback) const {

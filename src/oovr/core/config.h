@@ -44,8 +44,7 @@ class Config {
   bool get_bool(const std::string& key, bool fallback) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
   // One of `choices`; anything else is an Error listing them.
-  std::string get_choice(const std::string& key, const std::string& fallback,
-                         std::initializer_list<const char*> choices) const;
+  std::string get_choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> choices) const;
   // Strings with units ("1MB"), or plain integers in the base unit.
   Bytes get_bytes(const std::string& key, Bytes fallback) const;
   BytesPerSecond get_bandwidth(const std::string& key, BytesPerSecond fallback) const;

@@ -34,7 +34,7 @@ int open_regular(const std::string& path, uint64_t max_bytes, bool follow_links,
     r.why = std::strerror(errno);
     return -1;
   }
-  struct stat st{};
+  struct stat st {};
   if (::fstat(fd, &st) != 0) {
     r.failure = FileRead::Failure::unreadable;
     r.why = std::strerror(errno);
@@ -113,8 +113,7 @@ void check_output_path(const std::string& path, const std::string& what) {
   fs::path folder = fs::path(path).parent_path();
   if (folder.empty()) folder = ".";
   if (!fs::is_directory(folder, ec))
-    throw Error("cannot write the " + what + " " + quoted(path) + ": the folder " + quoted(folder.string()) +
-                " does not exist");
+    throw Error("cannot write the " + what + " " + quoted(path) + ": the folder " + quoted(folder.string()) + " does not exist");
   if (::access(folder.c_str(), W_OK) != 0)
     throw Error("cannot write the " + what + " " + quoted(path) + ": the folder " + quoted(folder.string()) + ": " +
                 std::strerror(errno));
@@ -140,9 +139,7 @@ int write_all(int fd, std::string_view bytes) {
 }  // namespace
 
 void write_output_file(const std::string& path, std::string_view bytes, const std::string& what) {
-  const auto fail = [&](int e) {
-    throw Error("cannot write the " + what + " " + quoted(path) + ": " + std::strerror(e));
-  };
+  const auto fail = [&](int e) { throw Error("cannot write the " + what + " " + quoted(path) + ": " + std::strerror(e)); };
   if (path.empty()) throw Error("no path given for the " + what + " (it is empty)");
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);

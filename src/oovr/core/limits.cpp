@@ -17,7 +17,8 @@ InputLimits InputLimits::parse(const std::string& text) {
     const auto whole = [&](uint64_t lo, uint64_t hi) {
       const auto v = parse_whole_number(value, lo, hi);
       if (!v)
-        throw Error(what + " must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", not '" + value + "'");
+        throw Error(what + " must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", not '" +
+                    value + "'");
       return *v;
     };
     const auto bytes = [&] {

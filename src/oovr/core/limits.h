@@ -16,12 +16,12 @@
 namespace oovr {
 
 struct InputLimits {
-  int image_side = 16384;                      // texels on an image's side
-  uint64_t image_texels = uint64_t(1) << 26;   // texels in one image (256 MiB as RGBA8)
-  uint64_t file_bytes = uint64_t(2) << 30;     // bytes of one input file (a model, an archive entry)
-  uint64_t elements = uint64_t(1) << 27;       // vertices, faces, indices or records one file declares or makes
-  uint64_t scene_bytes = uint64_t(8) << 30;    // a loaded scene's geometry and textures (mip chains included)
-  int nesting = 256;                           // depth of a model's node tree (glTF)
+  int image_side = 16384;                     // texels on an image's side
+  uint64_t image_texels = uint64_t(1) << 26;  // texels in one image (256 MiB as RGBA8)
+  uint64_t file_bytes = uint64_t(2) << 30;    // bytes of one input file (a model, an archive entry)
+  uint64_t elements = uint64_t(1) << 27;      // vertices, faces, indices or records one file declares or makes
+  uint64_t scene_bytes = uint64_t(8) << 30;   // a loaded scene's geometry and textures (mip chains included)
+  int nesting = 256;                          // depth of a model's node tree (glTF)
 
   // The limits in force ($OOVR_LIMITS over the defaults), read once.
   static const InputLimits& get();

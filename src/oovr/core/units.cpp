@@ -27,14 +27,13 @@ bool split(const std::string& text, double& number, std::string& unit) {
 }
 
 // The number of `text` and the factor its unit names in `units`.
-std::pair<double, double> lookup(const std::string& text, const std::string& what,
-                                 const std::map<std::string, double>& units, const char* expected) {
+std::pair<double, double> lookup(const std::string& text, const std::string& what, const std::map<std::string, double>& units,
+                                 const char* expected) {
   double n = 0;
   std::string u;
   if (!split(text, n, u)) throw Error(what + ": '" + text + "' is not a number with a unit (e.g. " + expected + ")");
   const auto it = units.find(u);
-  if (it == units.end())
-    throw Error(what + ": unknown unit '" + u + "' in '" + text + "' (e.g. " + expected + ")");
+  if (it == units.end()) throw Error(what + ": unknown unit '" + u + "' in '" + text + "' (e.g. " + expected + ")");
   if (n < 0) throw Error(what + ": '" + text + "' must not be negative");
   return {n, it->second};
 }
@@ -43,7 +42,7 @@ std::pair<double, double> lookup(const std::string& text, const std::string& wha
 
 Bytes parse_bytes(const std::string& text, const std::string& what) {
   static const std::map<std::string, double> units = {
-      {"b", 1},          {"kb", 1024.0},      {"kib", 1024.0},      {"mb", 1048576.0},
+      {"b", 1},           {"kb", 1024.0},       {"kib", 1024.0},      {"mb", 1048576.0},
       {"mib", 1048576.0}, {"gb", 1073741824.0}, {"gib", 1073741824.0}};
   const auto [n, scale] = lookup(text, what, units, "128B, 128KB, 1MB");
   const double v = n * scale;
@@ -52,9 +51,8 @@ Bytes parse_bytes(const std::string& text, const std::string& what) {
 }
 
 BytesPerSecond parse_bandwidth(const std::string& text, const std::string& what) {
-  static const std::map<std::string, double> units = {{"bps", 1},     {"bs", 1},      {"kbps", 1e3}, {"kbs", 1e3},
-                                                      {"mbps", 1e6},  {"mbs", 1e6},   {"gbps", 1e9}, {"gbs", 1e9},
-                                                      {"tbps", 1e12}, {"tbs", 1e12}};
+  static const std::map<std::string, double> units = {{"bps", 1},   {"bs", 1},     {"kbps", 1e3}, {"kbs", 1e3},   {"mbps", 1e6},
+                                                      {"mbs", 1e6}, {"gbps", 1e9}, {"gbs", 1e9},  {"tbps", 1e12}, {"tbs", 1e12}};
   const auto [n, scale] = lookup(text, what, units, "64GBps, 64 GB/s, 1TBps");
   return {n * scale};
 }
@@ -76,9 +74,7 @@ std::string format_bytes(Bytes b) {
   // Exact, in the largest unit that divides it, so that a printed size
   // (oovr config, result files) reads back as the same number of bytes.
   const uint64_t v = b.value;
-  const auto whole = [&](uint64_t unit, const char* name) {
-    return std::to_string(v / unit) + " " + name;
-  };
+  const auto whole = [&](uint64_t unit, const char* name) { return std::to_string(v / unit) + " " + name; };
   if (v >= (1ull << 30) && v % (1ull << 30) == 0) return whole(1ull << 30, "GB");
   if (v >= (1ull << 20) && v % (1ull << 20) == 0) return whole(1ull << 20, "MB");
   if (v >= 1024 && v % 1024 == 0) return whole(1024, "KB");

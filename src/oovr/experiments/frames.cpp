@@ -25,7 +25,8 @@ uint64_t memory_budget(const WindowRequest& r) {
   const char* env = std::getenv("OOVR_TRACE_MEMORY_MB");
   if (!env || !*env) return uint64_t(4096) << 20;
   const auto mb = parse_whole_number(env, 1, 999999999);
-  if (!mb) throw Error(std::string("OOVR_TRACE_MEMORY_MB must be a whole number of megabytes from 1 to 999999999, not '") + env + "'");
+  if (!mb)
+    throw Error(std::string("OOVR_TRACE_MEMORY_MB must be a whole number of megabytes from 1 to 999999999, not '") + env + "'");
   return *mb << 20;
 }
 
@@ -71,8 +72,10 @@ fs::path stream_folder(const TraceCache& cache, uint64_t bytes, int count) {
   const fs::path dir = cache.temporary_path("window-" + std::to_string(serial++));
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec) throw Error("cannot stream the traces of " + std::to_string(count) + " frames: cannot create '" + dir.string() + "': " + ec.message());
-  struct statvfs st{};
+  if (ec)
+    throw Error("cannot stream the traces of " + std::to_string(count) + " frames: cannot create '" + dir.string() +
+                "': " + ec.message());
+  struct statvfs st {};
   if (::statvfs(dir.c_str(), &st) == 0) {
     const uint64_t free = uint64_t(st.f_bavail) * uint64_t(st.f_frsize);
     if (bytes > free) {
@@ -132,8 +135,8 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
       }
     } catch (const std::bad_alloc&) {
       throw Error(out_of_memory_message("rendering frame " + std::to_string(frame) + " of " + f.scene.name + " at " +
-                                        std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) +
-                                        ", with " + std::to_string(held >> 20) + " MB of traces held"));
+                                        std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) + ", with " +
+                                        std::to_string(held >> 20) + " MB of traces held"));
     }
     const uint64_t bytes = out.trace.objects.size() * sizeof(ObjectWork) + out.trace.tiles.size() * sizeof(TileWork) +
                            out.trace.tex_lines.size() * sizeof(TexLine);
@@ -141,9 +144,10 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
     if (k == 0 && bytes * uint64_t(r.count) > budget && r.count > 1) {
       stream = std::make_unique<StreamedFrames>(stream_folder(cache, bytes * uint64_t(r.count), r.count));
       f.streamed = true;
-      f.notes.push_back("traces of " + std::to_string(r.count) + " frames (about " + std::to_string((bytes * uint64_t(r.count)) >> 20) +
-                        " MB) streamed through " + stream->directory().string() + ", beyond the memory budget of " +
-                        std::to_string(budget >> 20) + " MB ($OOVR_TRACE_MEMORY_MB)");
+      f.notes.push_back("traces of " + std::to_string(r.count) + " frames (about " +
+                        std::to_string((bytes * uint64_t(r.count)) >> 20) + " MB) streamed through " +
+                        stream->directory().string() + ", beyond the memory budget of " + std::to_string(budget >> 20) +
+                        " MB ($OOVR_TRACE_MEMORY_MB)");
     }
     if (stream) {
       stream->add(out.trace);

@@ -83,7 +83,8 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
         if (!col.count(r)) throw fail(std::string("the header has no column '") + r + "'");
       continue;
     }
-    if (f.size() != col.size()) throw fail("has " + std::to_string(f.size()) + " fields, the header " + std::to_string(col.size()));
+    if (f.size() != col.size())
+      throw fail("has " + std::to_string(f.size()) + " fields, the header " + std::to_string(col.size()));
     HardwareFrame h;
     h.scene = f[col["scene"]];
     h.resolution = f[col["resolution"]];
@@ -92,7 +93,8 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
     const auto number_of = [&](const char* key, auto& out) {
       const std::string& s = f[col[key]];
       const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-      if (r.ec != std::errc() || r.ptr != s.data() + s.size()) throw fail(std::string("'") + key + "' is not a number: '" + s + "'");
+      if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+        throw fail(std::string("'") + key + "' is not a number: '" + s + "'");
     };
     number_of("frame", h.frame);
     number_of("full_us", h.full_us);
@@ -125,8 +127,8 @@ std::string HardwareData::csv() const {
     return std::string(buf);
   };
   for (const auto& f : frames)
-    s << f.scene << ',' << f.resolution << ',' << f.frame << ',' << us(f.full_us) << ',' << us(f.geom_us) << ','
-      << us(f.left_us) << ',' << f.draws << ',' << f.triangles << "\n";
+    s << f.scene << ',' << f.resolution << ',' << f.frame << ',' << us(f.full_us) << ',' << us(f.geom_us) << ',' << us(f.left_us)
+      << ',' << f.draws << ',' << f.triangles << "\n";
   return s.str();
 }
 
@@ -180,8 +182,7 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
       for (const auto& x : n) c.notes.push_back(p.scene + " " + p.resolution + ": " + x);
     p.gpu_median_us = median(p.gpu_us);
     p.oovr_median_us = median(p.oovr_us);
-    if (o.progress)
-      o.progress(p.scene + " " + p.resolution + ": " + std::to_string(p.frames.size()) + " frames simulated");
+    if (o.progress) o.progress(p.scene + " " + p.resolution + ": " + std::to_string(p.frames.size()) + " frames simulated");
   }
   std::vector<double> gpu, sim;
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> within;

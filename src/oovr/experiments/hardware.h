@@ -53,17 +53,17 @@ struct CorrelationPoint {
 struct Correlation {
   std::string scheme;
   std::vector<CorrelationPoint> points;
-  double r = 0;       // Pearson r of the medians, over the points
-  double spread = 0;  // largest ratio oovr / GPU over the smallest, of the medians
-  double log_sd = 0;  // standard deviation of log(oovr / GPU) over the medians: 0 when proportional
+  double r = 0;                            // Pearson r of the medians, over the points
+  double spread = 0;                       // largest ratio oovr / GPU over the smallest, of the medians
+  double log_sd = 0;                       // standard deviation of log(oovr / GPU) over the medians: 0 when proportional
   std::map<std::string, double> r_within;  // per scene: Pearson r over its frames (all resolutions)
   std::vector<std::string> notes;          // differences between the data and oovr's scenes
 };
 
 struct CorrelationOptions {
   std::string scheme = "single-gpm";
-  Config config;     // the machine (preset and --set)
-  int aniso = 16;    // as the GPU data were measured (the paper's Table 1)
+  Config config;   // the machine (preset and --set)
+  int aniso = 16;  // as the GPU data were measured (the paper's Table 1)
   bool use_cache = true;
   std::function<void(const std::string&)> progress;
 };

@@ -47,8 +47,9 @@ const SchemeResult* PaperResults::find(const std::string& scene, const std::stri
 }
 
 std::vector<std::string> paper_default_scenes() {
-  return {"courtyard",       "crowd",           "oa:oa_dm4",           "oa:ctf_inyard", "oa:am_underworks2",
-          "nexuiz:strength", "nexuiz:reslimed", "nexuiz:runningmanctf", "torcs:forza"};
+  return {"courtyard",         "crowd",           "oa:oa_dm4",       "oa:ctf_inyard",
+          "oa:am_underworks2", "nexuiz:strength", "nexuiz:reslimed", "nexuiz:runningmanctf",
+          "torcs:forza"};
 }
 
 namespace {
@@ -80,7 +81,8 @@ void run_one_pass_workloads(const PaperOptions& o, PaperResults& res) {
     parallel_for(jobs.size(), 0, [&](size_t i) {
       out[i] = run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(config, jobs[i].variant), o.frames);
     });
-    for (size_t i = 0; i < jobs.size(); ++i) res.runs.push_back({one, o.sweep_resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
+    for (size_t i = 0; i < jobs.size(); ++i)
+      res.runs.push_back({one, o.sweep_resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
     res.one_pass_scenes.push_back(name);
     if (o.progress)
       o.progress(fmt::format("{} {}: {} runs of {} frames in {:.1f} s", one, o.sweep_resolution, jobs.size(), o.frames,
@@ -155,15 +157,18 @@ PaperResults run_paper(const PaperOptions& o) {
           for (const auto& step : kSteps)
             for (const auto& [scheme, extra] : step_runs(step)) {
               const Job j{scheme, step_variant(step, extra)};
-              if (std::none_of(jobs.begin(), jobs.end(), [&](const Job& x) { return x.scheme == j.scheme && x.variant == j.variant; }))
+              if (std::none_of(jobs.begin(), jobs.end(),
+                               [&](const Job& x) { return x.scheme == j.scheme && x.variant == j.variant; }))
                 jobs.push_back(j);
             }
       }
       std::vector<SchemeResult> out(jobs.size());
       parallel_for(jobs.size(), 0, [&](size_t i) {
-        out[i] = run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(o.config, jobs[i].variant), o.frames);
+        out[i] =
+            run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(o.config, jobs[i].variant), o.frames);
       });
-      for (size_t i = 0; i < jobs.size(); ++i) res.runs.push_back({name, resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
+      for (size_t i = 0; i < jobs.size(); ++i)
+        res.runs.push_back({name, resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
       if (o.progress)
         o.progress(fmt::format("{} {}: {} runs of {} frames ({} traces cached) in {:.1f} s", name, resolution, jobs.size(),
                                o.frames, window.cached,
@@ -267,8 +272,9 @@ std::string bar_chart(const std::string& title, const std::string& y_label, cons
       const double v = values[g][k];
       if (!std::isfinite(v)) continue;
       const double x = left + gw * double(g) + gw * 0.1 + bw * double(k);
-      s += fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"{}\"><title>{} {}: {:.3f}</title></rect>\n",
-                       x, y(v), bw * 0.95, top + ph - y(v), kColours[k % 11], xml(groups[g]), xml(series[k]), v);
+      s += fmt::format(
+          "<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"{}\"><title>{} {}: {:.3f}</title></rect>\n",
+          x, y(v), bw * 0.95, top + ph - y(v), kColours[k % 11], xml(groups[g]), xml(series[k]), v);
     }
     s += fmt::format("<text x=\"{:.1f}\" y=\"{}\" text-anchor=\"end\" transform=\"rotate(-30 {:.1f} {})\">{}</text>\n",
                      left + gw * (double(g) + 0.5), top + ph + 16, left + gw * (double(g) + 0.5), top + ph + 16, xml(groups[g]));
@@ -339,9 +345,9 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
   for (const auto& x : r.runs) {
     if (!x.variant.empty()) continue;
     const SchemeResult* base = r.find(x.scene, x.resolution, "baseline");
-    fig15 += fmt::format("{},{},{},{:.6f},{:.2f},{:.4f},{:.4f}\n", x.scene, x.resolution, x.scheme, x.result.frame_latency_s * 1e3,
-                         x.result.throughput_fps, base->frame_latency_s / x.result.frame_latency_s,
-                         x.result.throughput_fps / base->throughput_fps);
+    fig15 += fmt::format("{},{},{},{:.6f},{:.2f},{:.4f},{:.4f}\n", x.scene, x.resolution, x.scheme,
+                         x.result.frame_latency_s * 1e3, x.result.throughput_fps,
+                         base->frame_latency_s / x.result.frame_latency_s, x.result.throughput_fps / base->throughput_fps);
     fig16 += fmt::format("{},{},{},{},{:.4f}", x.scene, x.resolution, x.scheme, x.result.total_inter_gpm_bytes(),
                          F.traffic(x.scene, x.resolution, x.scheme));
     for (int c = 0; c < kCategories; ++c) fig16 += fmt::format(",{}", x.result.inter_gpm_bytes[size_t(c)]);
@@ -360,8 +366,10 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
   std::string abl = "scene,scheme,variant,speedup_vs_baseline\n";
   for (const auto& s : r.scenes)
     for (const auto& [label, key] : kMechanisms) {
-      abl += fmt::format("{},oo-vr,{}={},{:.4f}\n", s, key, off_value(key), F.speedup(s, o.sweep_resolution, "oo-vr", key + "=" + off_value(key)));
-      abl += fmt::format("{},oo-app,{}={},{:.4f}\n", s, key, on_value(key), F.speedup(s, o.sweep_resolution, "oo-app", key + "=" + on_value(key)));
+      abl += fmt::format("{},oo-vr,{}={},{:.4f}\n", s, key, off_value(key),
+                         F.speedup(s, o.sweep_resolution, "oo-vr", key + "=" + off_value(key)));
+      abl += fmt::format("{},oo-app,{}={},{:.4f}\n", s, key, on_value(key),
+                         F.speedup(s, o.sweep_resolution, "oo-app", key + "=" + on_value(key)));
     }
   write_file(d / "ablations.csv", abl);
 
@@ -410,16 +418,16 @@ void write_paper_plots(const PaperResults& r, const PaperOptions& o, const std::
     gv.emplace_back();
     for (int n : kGpms) gv.back().push_back(F.mean([&](const std::string& s) { return F.gpms(s, sc, n); }));
   }
-  write_file(d / "fig17-links.svg", line_chart("Speed-up over the baseline at 64 GB/s (geomean of scenes)", "link bandwidth (GB/s)",
-                                               "speed-up", xs, xn, kSweepSchemes, lv, true));
+  write_file(d / "fig17-links.svg", line_chart("Speed-up over the baseline at 64 GB/s (geomean of scenes)",
+                                               "link bandwidth (GB/s)", "speed-up", xs, xn, kSweepSchemes, lv, true));
   std::vector<double> gx;
   std::vector<std::string> gn;
   for (int n : kGpms) {
     gx.push_back(n);
     gn.push_back(std::to_string(n));
   }
-  write_file(d / "fig18-gpms.svg", line_chart("Speed-up over one GPM (geomean of scenes)", "GPMs", "speed-up", gx, gn,
-                                              kSweepSchemes, gv, true));
+  write_file(d / "fig18-gpms.svg",
+             line_chart("Speed-up over one GPM (geomean of scenes)", "GPMs", "speed-up", gx, gn, kSweepSchemes, gv, true));
 }
 
 }  // namespace oovr

@@ -31,7 +31,7 @@ struct PaperOptions {
   // Also run the game levels as one-pass workloads (paper_figures.h), for
   // the document's workload section.
   bool workloads = true;
-  Config config;  // the machine: preset and --set overrides
+  Config config;        // the machine: preset and --set overrides
   std::string command;  // as run, for the document
   std::function<void(const std::string&)> progress;
 };
@@ -52,7 +52,7 @@ struct PaperSceneStats {
 };
 
 struct PaperResults {
-  std::vector<std::string> scenes;   // measured, in order
+  std::vector<std::string> scenes;  // measured, in order
   // Scenes also measured as one-pass workloads (their runs are under
   // one_pass_scene(name), at the sweep resolution only).
   std::vector<std::string> one_pass_scenes;

@@ -14,12 +14,13 @@ namespace oovr::paper {
 
 // Every scheme of Figure 15, the page-aware baseline, the bounds and the SMP
 // comparison.
-inline const std::vector<std::string> kSchemes = {"baseline", "baseline-1tb", "baseline-paged", "afr",        "sfr-v", "sfr-h",
-                                                  "object",   "oo-app",       "oo-vr",          "single-gpm", "ideal", "two-pass"};
+inline const std::vector<std::string> kSchemes = {"baseline", "baseline-1tb", "baseline-paged", "afr",
+                                                  "sfr-v",    "sfr-h",        "object",         "oo-app",
+                                                  "oo-vr",    "single-gpm",   "ideal",          "two-pass"};
 // Figure 17 and 18: the baseline, object-level SFR and OO-VR.
 inline const std::vector<std::string> kSweepSchemes = {"baseline", "object", "oo-vr"};
-inline const std::vector<std::pair<std::string, double>> kLinks = {
-    {"32GBps", 32}, {"64GBps", 64}, {"128GBps", 128}, {"256GBps", 256}, {"512GBps", 512}, {"1TBps", 1000}};
+inline const std::vector<std::pair<std::string, double>> kLinks = {{"32GBps", 32},   {"64GBps", 64},   {"128GBps", 128},
+                                                                   {"256GBps", 256}, {"512GBps", 512}, {"1TBps", 1000}};
 inline const std::vector<int> kGpms = {1, 2, 4, 8, 16};
 // Ablations: each mechanism taken out of OO-VR, and added to OO_APP.
 inline const std::vector<std::pair<std::string, std::string>> kMechanisms = {
@@ -30,7 +31,6 @@ inline std::string on_value(const std::string& key) { return key == "oo.composit
 
 inline std::string link_variant(const std::string& bw) { return bw == "64GBps" ? "" : "link.bandwidth=" + bw; }
 inline std::string gpm_variant(int n) { return n == 4 ? "" : "gpms=" + std::to_string(n); }
-
 
 // The model's steps from ca88d23 to now (issue 9; the document's "Before
 // and after" table): each switches on one change on top of the ones before,
@@ -54,18 +54,33 @@ inline const std::vector<ModelStep> kSteps = {
      "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0;memory.copies.capacity=0"},
     {"bounded copies", "pre-allocated copies share `memory.copies.capacity` per GPM, the least recently used out", "baseline",
      "timing.sharing=equal;gpm.requests_in_flight=0;gpm.draw_cycles=0"},
-    {"fair sharing", "shared resources are shared work-conservingly (max-min)", "baseline", "gpm.requests_in_flight=0;gpm.draw_cycles=0"},
-    {"reads in flight", "every read holds one of `gpm.requests_in_flight` request slots per SM for its latency", "baseline", "gpm.draw_cycles=0"},
-    {"per-draw front end", "every GPM receiving a draw spends `gpm.draw_cycles` on it, up to `gpm.draws_ahead` draws ahead of its pipeline (oovr now)",
+    {"fair sharing", "shared resources are shared work-conservingly (max-min)", "baseline",
+     "gpm.requests_in_flight=0;gpm.draw_cycles=0"},
+    {"reads in flight", "every read holds one of `gpm.requests_in_flight` request slots per SM for its latency", "baseline",
+     "gpm.draw_cycles=0"},
+    {"per-draw front end",
+     "every GPM receiving a draw spends `gpm.draw_cycles` on it, up to `gpm.draws_ahead` draws ahead of its pipeline (oovr now)",
      "baseline", ""},
 };
 // What each step runs at the sweep resolution (scheme, extra overrides).
 inline std::vector<std::pair<std::string, std::string>> step_runs(const ModelStep& step) {
   const std::string& b = step.baseline;
-  return {{b, ""},        {b, "link.bandwidth=1TBps"}, {b, "link.bandwidth=32GBps"}, {b, "gpms=8"},
-          {"afr", ""},     {"sfr-v", ""},               {"sfr-h", ""},              {"object", ""},
-          {"object", "gpms=8"}, {"oo-app", ""},         {"oo-vr", ""},              {"oo-vr", "link.bandwidth=1TBps"},
-          {"oo-vr", "link.bandwidth=32GBps"}, {"oo-vr", "gpms=8"}, {"single-gpm", ""}, {"two-pass", ""}};
+  return {{b, ""},
+          {b, "link.bandwidth=1TBps"},
+          {b, "link.bandwidth=32GBps"},
+          {b, "gpms=8"},
+          {"afr", ""},
+          {"sfr-v", ""},
+          {"sfr-h", ""},
+          {"object", ""},
+          {"object", "gpms=8"},
+          {"oo-app", ""},
+          {"oo-vr", ""},
+          {"oo-vr", "link.bandwidth=1TBps"},
+          {"oo-vr", "link.bandwidth=32GBps"},
+          {"oo-vr", "gpms=8"},
+          {"single-gpm", ""},
+          {"two-pass", ""}};
 }
 // The one-pass workloads (issue 10's comparison): a game level drawn as
 // oovr drew it before real materials, one opaque pass of its first image
@@ -87,10 +102,21 @@ inline std::string step_variant(const ModelStep& step, const std::string& extra)
 }
 // The claims' means at ca88d23 (docs/paper-comparison.md as generated
 // there, column "mean", 1280x1024), in the steps table's forms.
-inline const std::vector<std::pair<std::string, std::string>> kClaimsAtCa88d23 = {
-    {"P1", "-12%"},          {"P2", "1.54x"},          {"P3", "+159%"}, {"P4", "V +16%, H -18%"}, {"P5", "V +6%, H -85%"},
-    {"P6", "-39%"},          {"P7", "-15%"},           {"P8", "4.70"},  {"P9", "-36%"},           {"P10", "1.24x, +92%"},
-    {"P11", "+11%"},         {"P12", "0.80x; +221%"},  {"P13", "+43% (+53%)"}, {"P14", "4.12x, 1.77x, 5.47x"}, {"P15", "0%"}};
+inline const std::vector<std::pair<std::string, std::string>> kClaimsAtCa88d23 = {{"P1", "-12%"},
+                                                                                  {"P2", "1.54x"},
+                                                                                  {"P3", "+159%"},
+                                                                                  {"P4", "V +16%, H -18%"},
+                                                                                  {"P5", "V +6%, H -85%"},
+                                                                                  {"P6", "-39%"},
+                                                                                  {"P7", "-15%"},
+                                                                                  {"P8", "4.70"},
+                                                                                  {"P9", "-36%"},
+                                                                                  {"P10", "1.24x, +92%"},
+                                                                                  {"P11", "+11%"},
+                                                                                  {"P12", "0.80x; +221%"},
+                                                                                  {"P13", "+43% (+53%)"},
+                                                                                  {"P14", "4.12x, 1.77x, 5.47x"},
+                                                                                  {"P15", "0%"}};
 
 inline double geomean(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");
@@ -98,7 +124,6 @@ inline double geomean(const std::vector<double>& v) {
   for (double x : v) s += std::log(x);
   return std::exp(s / double(v.size()));
 }
-
 
 // The figures' numbers, shared by the CSV, SVG and document writers.
 struct Figures {
@@ -110,7 +135,8 @@ struct Figures {
     const SchemeResult* b = r.find(scene, res, against, against_variant);
     return a && b ? b->frame_latency_s / a->frame_latency_s : std::nan("");
   }
-  double traffic(const std::string& scene, const std::string& res, const std::string& scheme, const std::string& against = "baseline") const {
+  double traffic(const std::string& scene, const std::string& res, const std::string& scheme,
+                 const std::string& against = "baseline") const {
     const SchemeResult* a = r.find(scene, res, scheme);
     const SchemeResult* b = r.find(scene, res, against);
     return a && b && b->total_inter_gpm_bytes() ? double(a->total_inter_gpm_bytes()) / double(b->total_inter_gpm_bytes())
@@ -134,6 +160,5 @@ struct Figures {
   }
   double mean(const std::function<double(const std::string&)>& f) const { return geomean(across(f)); }
 };
-
 
 }  // namespace oovr::paper

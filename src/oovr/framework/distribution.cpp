@@ -87,8 +87,6 @@ int DistributionEngine::earliest_free() const {
   return best;
 }
 
-EngineStorage engine_storage(int gpms, int batch_queue) {
-  return {gpms * 2 * 64, batch_queue * 16, gpms * 3 * 32};
-}
+EngineStorage engine_storage(int gpms, int batch_queue) { return {gpms * 2 * 64, batch_queue * 16, gpms * 3 * 32}; }
 
 }  // namespace oovr

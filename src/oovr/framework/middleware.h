@@ -31,12 +31,12 @@ struct Batch {
   std::vector<uint32_t> objects;  // object ids, in the programmer's order
   uint64_t triangles = 0;
   uint64_t vertices = 0;
-  TextureSet textures;            // the union of its objects' textures
+  TextureSet textures;  // the union of its objects' textures
 };
 
 struct MiddlewareSettings {
-  double tsl_threshold = 0.5;     // Section 5.1
-  uint64_t triangle_cap = 4096;   // Section 5.1
+  double tsl_threshold = 0.5;    // Section 5.1
+  uint64_t triangle_cap = 4096;  // Section 5.1
 };
 
 std::vector<Batch> make_batches(const OOApplication& app, const MiddlewareSettings& s);

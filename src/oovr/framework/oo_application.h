@@ -16,11 +16,11 @@
 namespace oovr {
 
 struct OOObject {
-  uint32_t draw = 0;             // the draw call (scene object) it renders
-  Viewport viewport[2];          // viewportL, viewportR
-  std::vector<uint32_t> after;   // objects (ids) it must follow; all smaller than its own
-  uint64_t triangles = 0;        // triangles of its mesh (known to the application)
-  uint64_t vertices = 0;         // vertices of its mesh
+  uint32_t draw = 0;            // the draw call (scene object) it renders
+  Viewport viewport[2];         // viewportL, viewportR
+  std::vector<uint32_t> after;  // objects (ids) it must follow; all smaller than its own
+  uint64_t triangles = 0;       // triangles of its mesh (known to the application)
+  uint64_t vertices = 0;        // vertices of its mesh
   // The textures it samples, with their sizes in bytes (every mip level).
   std::vector<std::pair<uint32_t, uint64_t>> textures;
 };

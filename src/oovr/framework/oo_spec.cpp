@@ -11,9 +11,7 @@ OOSpec OOSpec::parameters(const Config& c) {
   OOSpec s;
   const OOSpec d;
   s.tsl_threshold = c.get_double("oo.tsl_threshold", d.tsl_threshold, 0, 1);
-  const auto positive = [&](const char* key, int def, int max) {
-    return int(c.get_int(key, def, 1, max));
-  };
+  const auto positive = [&](const char* key, int def, int max) { return int(c.get_int(key, def, 1, max)); };
   s.batch_triangles = positive("oo.batch_triangles", d.batch_triangles, 1 << 30);
   s.warmup_batches = positive("oo.warmup_batches", d.warmup_batches, 1 << 20);
   s.batch_queue = positive("oo.batch_queue", d.batch_queue, 1 << 20);
@@ -26,9 +24,8 @@ OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
   s.predictor = c.get_bool("oo.predictor", m.predictor);
   s.prealloc = c.get_bool("oo.prealloc", m.prealloc);
   s.split = c.get_bool("oo.split", m.split);
-  s.distributed_composition =
-      c.get_choice("oo.composition", m.distributed_composition ? "distributed" : "root", {"root", "distributed"}) ==
-      "distributed";
+  s.distributed_composition = c.get_choice("oo.composition", m.distributed_composition ? "distributed" : "root",
+                                           {"root", "distributed"}) == "distributed";
   return s;
 }
 

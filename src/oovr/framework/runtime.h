@@ -58,8 +58,8 @@ class RuntimeExecutor {
   // Renders `records` of `object` on `gpm` after its geometry unit
   // `geo_unit` (done on `geo_gpm`) and the copies `prealloc` and
   // `thief_copy` (-1: none). Returns its unit.
-  virtual int chunk(int gpm, uint32_t object, std::span<const TileWork* const> records, int geo_unit, int geo_gpm,
-                    int prealloc, int thief_copy) = 0;
+  virtual int chunk(int gpm, uint32_t object, std::span<const TileWork* const> records, int geo_unit, int geo_gpm, int prealloc,
+                    int thief_copy) = 0;
 };
 
 class OORuntime {
@@ -109,7 +109,7 @@ class OORuntime {
     std::deque<Item*> todo;   // its items of that batch not started
     int running = -1;         // unit of the item it runs
     Item* item = nullptr;
-    int last_copy = -1;       // its pre-allocation unit's last copy (copies run in batch order)
+    int last_copy = -1;  // its pre-allocation unit's last copy (copies run in batch order)
   };
 
   void start_engine(const Rates& rates);

@@ -37,8 +37,8 @@ SceneLayout::SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& 
     int bw = 0, bh = 0;
     texture_line_shape(scene.textures[t], frame.texture_format, frame.line_bytes, bw, bh);
     const TextureLayout l = texture_layout(scene.textures[t], bw, bh);
-    m_texture.push_back(map.add("texture" + std::to_string(t) + " " + scene.textures[t].name, Category::texture,
-                                l.lines * map.line_bytes()));
+    m_texture.push_back(
+        map.add("texture" + std::to_string(t) + " " + scene.textures[t].name, Category::texture, l.lines * map.line_bytes()));
   }
   const uint64_t tile_bytes = uint64_t(kTileSize) * kTileSize * 4;
   m_lines_per_tile = int(tile_bytes / map.line_bytes());

@@ -72,7 +72,8 @@ class SceneLayout {
   }
   // Address of line `line` (0 .. lines_per_tile-1) of a tile of a framebuffer.
   uint64_t frame_line(uint32_t region, int tile_x, int tile_y, int line) const {
-    return m_map->region(region).base + (tile_slot(tile_x, tile_y) * uint64_t(m_lines_per_tile) + uint64_t(line)) * m_map->line_bytes();
+    return m_map->region(region).base +
+           (tile_slot(tile_x, tile_y) * uint64_t(m_lines_per_tile) + uint64_t(line)) * m_map->line_bytes();
   }
   int lines_per_tile() const { return m_lines_per_tile; }
   // Which page-sized block of tiles a tile belongs to, and how big blocks are.

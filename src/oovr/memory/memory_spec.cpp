@@ -35,10 +35,10 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
     throw Error("configuration key '" + prefix + ".replacement' must be one of " + names(ReplacementPolicies::names()) +
                 ", not '" + s.replacement + "'");
   const uint64_t lines = s.size.value / line.value;
-  if (s.size.value % line.value != 0 || lines == 0 || lines % uint64_t(s.ways) != 0 ||
-      !power_of_two(lines / uint64_t(s.ways)))
-    throw Error("configuration key '" + prefix + ".size' (" + format_bytes(s.size) + ") must hold a power-of-two number of sets of " +
-                std::to_string(s.ways) + " ways of " + format_bytes(line) + " lines");
+  if (s.size.value % line.value != 0 || lines == 0 || lines % uint64_t(s.ways) != 0 || !power_of_two(lines / uint64_t(s.ways)))
+    throw Error("configuration key '" + prefix + ".size' (" + format_bytes(s.size) +
+                ") must hold a power-of-two number of sets of " + std::to_string(s.ways) + " ways of " + format_bytes(line) +
+                " lines");
   return s;
 }
 
@@ -54,8 +54,7 @@ MemorySpec MemorySpec::from_config(const Config& c) {
     throw Error("configuration key 'memory.line' must be a power of two from 32 B to 1 KB, not " + format_bytes(s.line));
   s.page = c.get_bytes("memory.page", d.page);
   if (!power_of_two(s.page.value) || s.page.value < s.line.value || s.page.value > (1ull << 30))
-    throw Error("configuration key 'memory.page' must be a power of two from the line size to 1 GB, not " +
-                format_bytes(s.page));
+    throw Error("configuration key 'memory.page' must be a power of two from the line size to 1 GB, not " + format_bytes(s.page));
   s.placement = c.get_string("memory.placement", d.placement);
   if (!PlacementPolicies::find(s.placement))
     throw Error("configuration key 'memory.placement' must be one of " + names(PlacementPolicies::names()) + ", not '" +
@@ -70,8 +69,7 @@ MemorySpec MemorySpec::from_config(const Config& c) {
   s.link_latency = c.get_time("link.latency", d.link_latency);
   s.topology = c.get_string("link.topology", d.topology);
   if (!Topologies::find(s.topology))
-    throw Error("configuration key 'link.topology' must be one of " + names(Topologies::names()) + ", not '" +
-                s.topology + "'");
+    throw Error("configuration key 'link.topology' must be one of " + names(Topologies::names()) + ", not '" + s.topology + "'");
   // Wide physical bounds, so that no time computed from them overflows.
   for (const auto& [key, b] : {std::pair{"dram.bandwidth", s.dram_bandwidth}, std::pair{"link.bandwidth", s.link_bandwidth}})
     if (!(b.value >= 1e6 && b.value <= 1e16))
@@ -80,8 +78,8 @@ MemorySpec MemorySpec::from_config(const Config& c) {
     if (!(t.value >= 0 && t.value <= 1e-3)) throw Error(std::string("configuration key '") + key + "' must be from 0 to 1 ms");
   s.copy_capacity = c.get_bytes("memory.copies.capacity", d.copy_capacity);
   if (s.copy_capacity.value != 0 && s.copy_capacity.value < s.page.value)
-    throw Error("configuration key 'memory.copies.capacity' must be 0 (no limit) or at least a page (" +
-                format_bytes(s.page) + "), not " + format_bytes(s.copy_capacity));
+    throw Error("configuration key 'memory.copies.capacity' must be 0 (no limit) or at least a page (" + format_bytes(s.page) +
+                "), not " + format_bytes(s.copy_capacity));
   s.copy_eviction = c.get_choice("memory.copies.eviction", d.copy_eviction, {"lru", "fifo"});
   return s;
 }

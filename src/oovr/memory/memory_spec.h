@@ -32,12 +32,12 @@ struct MemorySpec {
   CacheSpec l1{{128 << 10}, 4, "lru", {82e-9}};      // per SM (Table 1: 128 KB)
   CacheSpec l2{{1 << 20}, 16, "lru", {200e-9}};      // per GPM (Table 1: 4 MB total, 16-way)
   CacheSpec remote{{1 << 20}, 16, "lru", {200e-9}};  // per GPM, lines homed elsewhere (MCM-GPU's L1.5)
-  std::string remote_invalidate = "frame";   // draw, frame or never
-  BytesPerSecond dram_bandwidth{1e12};       // per GPM (Table 1: 1 TB/s)
-  Seconds dram_latency{100e-9};              // beyond the L2 (assumed; Accel-Sim's dram_latency: 100 cycles)
-  BytesPerSecond link_bandwidth{64e9};       // per direction per GPM pair (Table 1: 64 GB/s)
-  Seconds link_latency{32e-9};               // one way, per hop (assumed)
-  std::string topology = "fully-connected";  // fully-connected, ring or switch
+  std::string remote_invalidate = "frame";           // draw, frame or never
+  BytesPerSecond dram_bandwidth{1e12};               // per GPM (Table 1: 1 TB/s)
+  Seconds dram_latency{100e-9};                      // beyond the L2 (assumed; Accel-Sim's dram_latency: 100 cycles)
+  BytesPerSecond link_bandwidth{64e9};               // per direction per GPM pair (Table 1: 64 GB/s)
+  Seconds link_latency{32e-9};                       // one way, per hop (assumed)
+  std::string topology = "fully-connected";          // fully-connected, ring or switch
   // Copies made ahead of use (pre-allocation, Section 5.2) live in DRAM the
   // homes leave unused: at most this many bytes per GPM (0: no limit), the
   // least recently used (or the oldest, "fifo") dropped to make room.

@@ -49,13 +49,13 @@ struct UnitTraffic {
   // Where each read was served, for its latency (writes are posted: they
   // cost bandwidth, not latency): L1 hits, remote-cache hits and home-L2
   // hits above are reads; these are the rest.
-  uint64_t l2_read_hits = 0;       // local reads served by the requester's L2
-  uint64_t local_dram_reads = 0;   // local reads served by its DRAM
-  uint64_t remote_dram_reads = 0;  // remote reads served by the holder's DRAM
-  uint64_t remote_hops = 0;        // link hops of remote reads, summed over the reads
+  uint64_t l2_read_hits = 0;                                // local reads served by the requester's L2
+  uint64_t local_dram_reads = 0;                            // local reads served by its DRAM
+  uint64_t remote_dram_reads = 0;                           // remote reads served by the holder's DRAM
+  uint64_t remote_hops = 0;                                 // link hops of remote reads, summed over the reads
   std::vector<uint64_t> dram_read_bytes, dram_write_bytes;  // per GPM
   std::vector<uint64_t> link_bytes;                         // per link
-  PerCategory inter_gpm_bytes{};  // bytes moved between GPMs, once per transfer however many hops
+  PerCategory inter_gpm_bytes{};                            // bytes moved between GPMs, once per transfer however many hops
 
   void reset(int gpms, int links);
   // Adds another unit's (or record's) costs; both shaped for one machine.

@@ -25,9 +25,7 @@ namespace oovr {
 // level n follow those of level n-1; within a level, a line holds a
 // block_w x block_h block of texels and blocks are in row-major order.
 using TexLine = uint64_t;
-constexpr TexLine make_tex_line(uint32_t texture, uint32_t line) {
-  return (uint64_t(texture) << 32) | line;
-}
+constexpr TexLine make_tex_line(uint32_t texture, uint32_t line) { return (uint64_t(texture) << 32) | line; }
 constexpr uint32_t tex_line_texture(TexLine l) { return uint32_t(l >> 32); }
 constexpr uint32_t tex_line_index(TexLine l) { return uint32_t(l); }
 
@@ -41,10 +39,10 @@ struct TileWork {
   // trace must have one byte form (trace_cache.cpp asserts there is no
   // hidden padding).
   uint16_t reserved0 = 0;
-  uint32_t triangles = 0;           // triangles binned to this tile (after clip and cull)
-  uint32_t vertices = 0;            // distinct mesh vertices of those triangles
-  uint32_t quads = 0;    // 2x2 quads shaded (at least one fragment shaded)
-  uint32_t covered = 0;  // fragments inside the triangles and the eye's viewport
+  uint32_t triangles = 0;  // triangles binned to this tile (after clip and cull)
+  uint32_t vertices = 0;   // distinct mesh vertices of those triangles
+  uint32_t quads = 0;      // 2x2 quads shaded (at least one fragment shaded)
+  uint32_t covered = 0;    // fragments inside the triangles and the eye's viewport
   // Fragments shaded: with an early depth test (passes without alpha test)
   // only those that passed it; otherwise every covered fragment.
   uint32_t shaded = 0;
@@ -72,13 +70,13 @@ struct TileWork {
 // Geometry work of one object (SMP: vertices are transformed once and
 // projected into both eyes).
 struct ObjectWork {
-  uint32_t vertices = 0;          // vertices transformed
-  uint32_t triangles = 0;         // triangles assembled
-  uint32_t setup[2] = {0, 0};     // triangles set up per eye (after clip and cull)
-  uint32_t culled[2] = {0, 0};    // triangles dropped per eye: back-facing, empty, or outside the view
-  uint32_t clipped[2] = {0, 0};   // triangles that needed clipping per eye
-  uint64_t vertex_bytes = 0;      // bytes of the vertex buffer
-  uint64_t index_bytes = 0;       // bytes of the index buffer
+  uint32_t vertices = 0;         // vertices transformed
+  uint32_t triangles = 0;        // triangles assembled
+  uint32_t setup[2] = {0, 0};    // triangles set up per eye (after clip and cull)
+  uint32_t culled[2] = {0, 0};   // triangles dropped per eye: back-facing, empty, or outside the view
+  uint32_t clipped[2] = {0, 0};  // triangles that needed clipping per eye
+  uint64_t vertex_bytes = 0;     // bytes of the vertex buffer
+  uint64_t index_bytes = 0;      // bytes of the index buffer
   // Scalar instructions a fragment lane runs for this draw's pass
   // (pipeline/shader_cost.h).
   uint32_t fragment_instructions = 0;

@@ -56,7 +56,8 @@ void write_image(const Image& img, const std::string& path) {
       o[2] = p[2];
     }
   std::string bytes;
-  if (img.width <= 0 || img.height <= 0 || !stbi_write_jpg_to_func(append_bytes, &bytes, img.width, img.height, 3, rgb.data(), 90))
+  if (img.width <= 0 || img.height <= 0 ||
+      !stbi_write_jpg_to_func(append_bytes, &bytes, img.width, img.height, 3, rgb.data(), 90))
     throw Error("cannot encode JPEG '" + path + "'");
   write_output_file(path, bytes, "image");
 }
@@ -66,15 +67,13 @@ Image read_png(const std::string& path) {
   stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
   if (!data) throw Error("cannot read image '" + path + "'");
   Image img(w, h);
-  for (int y = 0; y < h; ++y)
-    std::memcpy(img.pixel(0, h - 1 - y), data + size_t(y) * w * 4, size_t(w) * 4);
+  for (int y = 0; y < h; ++y) std::memcpy(img.pixel(0, h - 1 - y), data + size_t(y) * w * 4, size_t(w) * 4);
   stbi_image_free(data);
   return img;
 }
 
 double psnr_rgb(const Image& a, const Image& b) {
-  if (a.width != b.width || a.height != b.height)
-    throw Error("cannot compare images of different sizes");
+  if (a.width != b.width || a.height != b.height) throw Error("cannot compare images of different sizes");
   double sum = 0;
   const size_t n = size_t(a.width) * a.height;
   for (size_t i = 0; i < n; ++i)

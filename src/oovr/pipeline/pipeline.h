@@ -50,14 +50,13 @@ constexpr int kTileSize = 16;
 constexpr uint32_t kNoObject = 0xffffffffu;
 
 struct FrameOutput {
-  Image colour;  // frame_width x frame_height, bottom row first; cleared to opaque black
-  std::vector<uint32_t> object_id; // per pixel: object that last wrote it, or kNoObject
+  Image colour;                     // frame_width x frame_height, bottom row first; cleared to opaque black
+  std::vector<uint32_t> object_id;  // per pixel: object that last wrote it, or kNoObject
   FrameTrace trace;
 };
 
 // Renders frame `frame` of the scene's camera path through `view`.
-FrameOutput render_frame(const Scene& scene, const StereoView& view,
-                         const PipelineSettings& settings, int frame = 0);
+FrameOutput render_frame(const Scene& scene, const StereoView& view, const PipelineSettings& settings, int frame = 0);
 
 // Texel block that one cache line of RGBA8 data holds (e.g. 128 B -> 8x4).
 void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h);

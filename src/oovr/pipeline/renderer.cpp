@@ -21,8 +21,7 @@ void PipelineSettings::validate() const {
   if (max_anisotropy < 1 || max_anisotropy > 16)
     throw Error("max_anisotropy must be from 1 to 16, not " + std::to_string(max_anisotropy));
   if (line_bytes < 32 || line_bytes > 1024 || (line_bytes & (line_bytes - 1)) != 0)
-    throw Error("line_bytes must be a power of two from 32 to 1024, not " +
-                std::to_string(line_bytes));
+    throw Error("line_bytes must be a power of two from 32 to 1024, not " + std::to_string(line_bytes));
 }
 
 void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h) {
@@ -66,7 +65,7 @@ constexpr int kLitVaryings = 12;
 struct ClipVertex {
   Vec4 pos;
   float u, v, lu, lv;
-  bool generated;  // made by the clipper (its window position is computed without FMA)
+  bool generated;           // made by the clipper (its window position is computed without FMA)
   float lit[kLitVaryings];  // only for per-pixel lit passes
 };
 
@@ -89,15 +88,15 @@ struct SetupTri {
   // Depth plane z(px, py) = fma(dzdy, py, fma(dzdx, px, z0)) at pixel centres.
   float dzdx, dzdy, z0;
   float iw[3], uw[3], vw[3], luw[3], lvw[3];
-  uint32_t vid[3];  // mesh vertices of the source triangle
+  uint32_t vid[3];        // mesh vertices of the source triangle
   uint32_t lit = kNoLit;  // index of its LitTri, for per-pixel lit passes
   static constexpr uint32_t kNoLit = ~0u;
 };
 
 ClipVertex lerp_vertex(const ClipVertex& p, const ClipVertex& q, float t) {
   ClipVertex r;
-  r.pos = {p.pos.x + (q.pos.x - p.pos.x) * t, p.pos.y + (q.pos.y - p.pos.y) * t,
-           p.pos.z + (q.pos.z - p.pos.z) * t, p.pos.w + (q.pos.w - p.pos.w) * t};
+  r.pos = {p.pos.x + (q.pos.x - p.pos.x) * t, p.pos.y + (q.pos.y - p.pos.y) * t, p.pos.z + (q.pos.z - p.pos.z) * t,
+           p.pos.w + (q.pos.w - p.pos.w) * t};
   r.u = p.u + (q.u - p.u) * t;
   r.v = p.v + (q.v - p.v) * t;
   r.lu = p.lu + (q.lu - p.lu) * t;
@@ -181,8 +180,8 @@ class GeometryStage {
             // taken into it (EyeVector), per vertex.
             const TangentFrame& f = m_frames[vid[k]];
             const Vec3 eye = m_view.eye_position[e] - m_world[vid[k]];
-            const float vals[kLitVaryings] = {f.s.x, f.s.y, f.s.z, f.t.x, f.t.y, f.t.z, f.n.x, f.n.y, f.n.z,
-                                              dot(eye, f.s), dot(eye, f.t), dot(eye, f.n)};
+            const float vals[kLitVaryings] = {f.s.x, f.s.y, f.s.z, f.t.x,         f.t.y,         f.t.z,
+                                              f.n.x, f.n.y, f.n.z, dot(eye, f.s), dot(eye, f.t), dot(eye, f.n)};
             std::copy(vals, vals + kLitVaryings, v[k].lit);
           }
         }
@@ -201,8 +200,8 @@ class GeometryStage {
   }
 
  private:
-  int clip_and_setup(uint32_t o, int e, const Material& mat, const ClipVertex (&tri)[3],
-                     const uint32_t (&vid)[3], uint32_t planes, std::vector<SetupTri>& out) {
+  int clip_and_setup(uint32_t o, int e, const Material& mat, const ClipVertex (&tri)[3], const uint32_t (&vid)[3],
+                     uint32_t planes, std::vector<SetupTri>& out) {
     // Sutherland-Hodgman in homogeneous clip space; attributes are linear
     // there, so plain interpolation is exact.
     std::array<ClipVertex, 12> a, b;
@@ -231,15 +230,14 @@ class GeometryStage {
       std::swap(a, b);
     }
     int produced = 0;
-    for (int i = 1; i + 1 < n; ++i)
-      produced += setup(o, e, mat, a[0], a[size_t(i)], a[size_t(i + 1)], vid, out) ? 1 : 0;
+    for (int i = 1; i + 1 < n; ++i) produced += setup(o, e, mat, a[0], a[size_t(i)], a[size_t(i + 1)], vid, out) ? 1 : 0;
     return produced;
   }
 
   // Projects, snaps and sets up one triangle; false when it is culled
   // (back-facing, empty, or outside the eye's viewport).
-  bool setup(uint32_t o, int e, const Material& mat, ClipVertex v0, ClipVertex v1, ClipVertex v2,
-             const uint32_t (&vid_in)[3], std::vector<SetupTri>& out) {
+  bool setup(uint32_t o, int e, const Material& mat, ClipVertex v0, ClipVertex v1, ClipVertex v2, const uint32_t (&vid_in)[3],
+             std::vector<SetupTri>& out) {
     const Viewport& vp = m_view.viewport[e];
     // Viewport transform as OpenGL specifies it (GL 4.5 Section 13.6.1):
     // x_w = x_d * (w / 2) + (x + w / 2), z_w = z_d / 2 + 1 / 2.
@@ -467,11 +465,18 @@ float blend_factor(BlendFactor f, const detail::Rgba& s, const detail::Rgba& d, 
 class TileRasterizer {
  public:
   TileRasterizer(const std::vector<SetupTri>& tris, const std::vector<LitTri>& lit, const std::vector<PreparedPass>& passes,
-                 const PipelineSettings& settings, int block_w, int block_h, int frame_w,
-                 uint8_t* colour, float* depth, uint32_t* ids)
-      : m_tris(tris), m_lit(lit), m_passes(passes), m_settings(settings),
-        m_block_w(block_w), m_block_h(block_h), m_frame_w(frame_w), m_colour(colour),
-        m_depth(depth), m_ids(ids) {}
+                 const PipelineSettings& settings, int block_w, int block_h, int frame_w, uint8_t* colour, float* depth,
+                 uint32_t* ids)
+      : m_tris(tris),
+        m_lit(lit),
+        m_passes(passes),
+        m_settings(settings),
+        m_block_w(block_w),
+        m_block_h(block_h),
+        m_frame_w(frame_w),
+        m_colour(colour),
+        m_depth(depth),
+        m_ids(ids) {}
 
   struct Output {
     std::vector<TileWork> work;
@@ -734,8 +739,7 @@ class TileRasterizer {
 
 }  // namespace
 
-FrameOutput render_frame(const Scene& scene, const StereoView& view,
-                         const PipelineSettings& settings, int frame) {
+FrameOutput render_frame(const Scene& scene, const StereoView& view, const PipelineSettings& settings, int frame) {
   settings.validate();
   FrameOutput result;
   FrameTrace& trace = result.trace;
@@ -843,8 +847,8 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view,
   std::vector<TileRasterizer::Output> outputs(bins.size());
   parallel_for(bins.size(), threads, [&](size_t i) {
     if (bins[i].empty()) return;
-    TileRasterizer r(tris, lit, passes, settings, trace.block_w, trace.block_h, view.frame_width,
-                     result.colour.rgba.data(), depth.data(), result.object_id.data());
+    TileRasterizer r(tris, lit, passes, settings, trace.block_w, trace.block_h, view.frame_width, result.colour.rgba.data(),
+                     depth.data(), result.object_id.data());
     r.run(int(i % size_t(tiles_x)), int(i / size_t(tiles_x)), bins[i], outputs[i]);
   });
 
@@ -869,8 +873,7 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view,
     TileWork w = outputs[r.tile].work[r.index];
     const auto& src = outputs[r.tile].lines;
     const uint64_t begin = trace.tex_lines.size();
-    trace.tex_lines.insert(trace.tex_lines.end(), src.begin() + long(w.tex_begin),
-                           src.begin() + long(w.tex_begin + w.tex_count));
+    trace.tex_lines.insert(trace.tex_lines.end(), src.begin() + long(w.tex_begin), src.begin() + long(w.tex_begin + w.tex_count));
     w.tex_begin = begin;
     trace.tiles.push_back(w);
   }

@@ -141,8 +141,7 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
 }
 
 inline Rgba mix(const Rgba& x, const Rgba& y, float f) {
-  return {x.r + (y.r - x.r) * f, x.g + (y.g - x.g) * f, x.b + (y.b - x.b) * f,
-          x.a + (y.a - x.a) * f};
+  return {x.r + (y.r - x.r) * f, x.g + (y.g - x.g) * f, x.b + (y.b - x.b) * f, x.a + (y.a - x.a) * f};
 }
 
 // Isotropic sample at level-of-detail `lambda` (GL 4.5 Section 8.14.2):
@@ -170,8 +169,8 @@ struct Derivs {
 // Samples with the quad's derivatives. With max_aniso > 1, takes up to
 // max_aniso isotropic probes along the major axis of the pixel footprint
 // (EXT_texture_filter_anisotropic's reference formulation).
-inline Rgba sample(const SamplerTexture& t, float u, float v, const Derivs& d, int max_aniso,
-                   QuadLines* lines, uint32_t& samples) {
+inline Rgba sample(const SamplerTexture& t, float u, float v, const Derivs& d, int max_aniso, QuadLines* lines,
+                   uint32_t& samples) {
   const float w0 = float(t.levels[0].width), h0 = float(t.levels[0].height);
   const float px = std::sqrt((d.dudx * w0) * (d.dudx * w0) + (d.dvdx * h0) * (d.dvdx * h0));
   const float py = std::sqrt((d.dudy * w0) * (d.dudy * w0) + (d.dvdy * h0) * (d.dvdy * h0));

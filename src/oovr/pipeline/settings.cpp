@@ -22,8 +22,8 @@ TextureFormat parse_texture_format(const std::string& name) {
 
 PipelineSettings PipelineSettings::from_config(const Config& c) {
   PipelineSettings s;
-  s.texture_format = parse_texture_format(c.get_choice("pipeline.texture_format", texture_format_name(s.texture_format),
-                                                       {"rgba8", "bc1", "bc3", "bc"}));
+  s.texture_format = parse_texture_format(
+      c.get_choice("pipeline.texture_format", texture_format_name(s.texture_format), {"rgba8", "bc1", "bc3", "bc"}));
   return s;
 }
 

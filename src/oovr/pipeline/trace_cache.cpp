@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -203,7 +203,8 @@ TraceCache::TraceCache(std::string directory) : m_dir(std::move(directory)) {
   if (const char* m = std::getenv("OOVR_CACHE_MAX_MB"); m && *m) {
     // Digits only: strtoull alone would take " -5" as 2^64 - 5.
     const auto mb = parse_whole_number(m, 1, uint64_t(1) << 30);
-    if (!mb) throw Error(std::string("OOVR_CACHE_MAX_MB must be a whole number of megabytes from 1 to 1073741824, not '") + m + "'");
+    if (!mb)
+      throw Error(std::string("OOVR_CACHE_MAX_MB must be a whole number of megabytes from 1 to 1073741824, not '") + m + "'");
     m_max_bytes = *mb << 20;
   }
   if (!m_dir.empty()) return;
@@ -275,9 +276,7 @@ std::optional<FrameTrace> deserialize_trace(std::string_view bytes) {
   if (!(r.get_vector(t.objects) && r.get_vector(t.tiles) && r.get_vector(t.tex_lines) && r.done())) return std::nullopt;
   // Tile records in the renderer's order, (object, eye, tile_y, tile_x),
   // each once, each naming a tile of the frame and a range of its lines.
-  const auto order = [](const TileWork& w) {
-    return std::array<uint64_t, 4>{w.object, w.eye, w.tile_y, w.tile_x};
-  };
+  const auto order = [](const TileWork& w) { return std::array<uint64_t, 4>{w.object, w.eye, w.tile_y, w.tile_x}; };
   for (size_t i = 0; i < t.tiles.size(); ++i) {
     const TileWork& w = t.tiles[i];
     if (w.object >= t.objects.size() || w.eye >= kEyes || w.tile_x >= t.tiles_x || w.tile_y >= t.tiles_y ||
@@ -345,8 +344,7 @@ std::string trace_mismatch(const FrameTrace& t, const Scene& scene, int frame, c
   }
   for (const TexLine l : t.tex_lines) {
     const uint32_t tex = tex_line_texture(l);
-    if (tex >= lines.size() || tex_line_index(l) >= lines[tex])
-      return "a texture line outside the scene's textures";
+    if (tex >= lines.size() || tex_line_index(l) >= lines[tex]) return "a texture line outside the scene's textures";
   }
   return {};
 }
@@ -391,8 +389,7 @@ TraceLookup TraceCache::load(const std::string& key, const Scene& scene, int fra
   FileRead file = read_regular_file(path.string(), m_max_bytes, false);
   if (file.failure == FileRead::Failure::too_large)
     out.rejected = "larger than the cache (" + std::to_string(file.size) + " bytes)";
-  else if (file.failure != FileRead::Failure::none && file.failure != FileRead::Failure::missing)
-    out.rejected = file.why;
+  else if (file.failure != FileRead::Failure::none && file.failure != FileRead::Failure::missing) out.rejected = file.why;
   if (file.failure == FileRead::Failure::none) {
     out.trace = decode_entry(file.bytes, key, &out.rejected);
     if (out.trace) {

@@ -79,7 +79,8 @@ bool Pass::reads_colour() const { return dst != BlendFactor::zero || uses_dst(sr
 Pass Pass::textured(int diffuse, int lightmap, float lightmap_scale) {
   Pass p;
   if (diffuse >= 0) p.layers.push_back({LayerKind::diffuse, diffuse, TexCoords::surface, Combine::modulate, 1.0f, {}});
-  if (lightmap >= 0) p.layers.push_back({LayerKind::lightmap, lightmap, TexCoords::lightmap, Combine::modulate, lightmap_scale, {}});
+  if (lightmap >= 0)
+    p.layers.push_back({LayerKind::lightmap, lightmap, TexCoords::lightmap, Combine::modulate, lightmap_scale, {}});
   return p;
 }
 

@@ -64,8 +64,16 @@ struct TextureLayer {
 
 // Fixed-function blending (dst = src x src_factor + dst x dst_factor).
 enum class BlendFactor : uint8_t {
-  zero, one, src_colour, one_minus_src_colour, src_alpha, one_minus_src_alpha,
-  dst_colour, one_minus_dst_colour, dst_alpha, one_minus_dst_alpha
+  zero,
+  one,
+  src_colour,
+  one_minus_src_colour,
+  src_alpha,
+  one_minus_src_alpha,
+  dst_colour,
+  one_minus_dst_colour,
+  dst_alpha,
+  one_minus_dst_alpha
 };
 const char* blend_factor_name(BlendFactor f);
 

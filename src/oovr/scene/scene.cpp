@@ -56,8 +56,7 @@ void Scene::validate() const {
   const auto where = [&](const std::string& what) { return "scene '" + name + "': " + what; };
   for (size_t i = 0; i < textures.size(); ++i) {
     const Texture& t = textures[i];
-    if (t.levels.empty() || t.width() <= 0 || t.height() <= 0)
-      throw Error(where("texture '" + t.name + "' has no image"));
+    if (t.levels.empty() || t.width() <= 0 || t.height() <= 0) throw Error(where("texture '" + t.name + "' has no image"));
     for (const auto& l : t.levels)
       if (l.rgba.size() != size_t(l.width) * l.height * 4)
         throw Error(where("texture '" + t.name + "' has a level of the wrong size"));
@@ -78,8 +77,7 @@ void Scene::validate() const {
     if (mesh.indices.size() % 3 != 0)
       throw Error(where("mesh '" + mesh.name + "' has an index count that is not a multiple of 3"));
     for (uint32_t i : mesh.indices)
-      if (i >= mesh.vertices.size())
-        throw Error(where("mesh '" + mesh.name + "' has an index past its vertices"));
+      if (i >= mesh.vertices.size()) throw Error(where("mesh '" + mesh.name + "' has an index past its vertices"));
     if (!mesh.frames.empty() && mesh.frames.size() != mesh.vertices.size())
       throw Error(where("mesh '" + mesh.name + "' has tangent frames for some vertices only"));
     // Positions far enough out to overflow a float once transformed (a

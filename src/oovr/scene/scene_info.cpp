@@ -16,8 +16,7 @@ SceneInfo scene_info(const Scene& s) {
   i.textures = s.textures.size();
   i.texture_bytes = s.texture_bytes();
   i.camera_frames = s.camera.frames.size();
-  for (const auto& t : s.textures)
-    i.texture_use.push_back({t.name, t.width(), t.height(), int(t.levels.size()), t.bytes(), 0});
+  for (const auto& t : s.textures) i.texture_use.push_back({t.name, t.width(), t.height(), int(t.levels.size()), t.bytes(), 0});
   for (const auto& o : s.objects) {
     i.texture_layers += s.pass_of(o).layers.size();
     i.lit_draws += s.pass_of(o).shading == Shading::deluxe;

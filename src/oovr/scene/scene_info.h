@@ -22,8 +22,8 @@ struct SceneInfo {
   uint64_t draws = 0, triangles = 0, vertices = 0, meshes = 0, materials = 0;
   uint64_t textures = 0, texture_bytes = 0;
   uint64_t camera_frames = 0;
-  uint64_t texture_layers = 0;  // layers sampled, summed over the draws (passes)
-  uint64_t lit_draws = 0;       // draws lit per pixel (Shading::deluxe)
+  uint64_t texture_layers = 0;          // layers sampled, summed over the draws (passes)
+  uint64_t lit_draws = 0;               // draws lit per pixel (Shading::deluxe)
   std::vector<TextureUse> texture_use;  // in texture order
   // objects-per-texture -> number of textures shared by that many objects
   std::map<int, int> sharing_histogram;

@@ -8,15 +8,13 @@ namespace oovr {
 
 StereoView make_stereo_view(const CameraPath& path, int frame, const StereoRig& rig) {
   if (frame < 0 || frame >= int(path.frames.size()))
-    throw Error("frame " + std::to_string(frame) + " is out of range: the camera path has " +
-                std::to_string(path.frames.size()) + " frames (0 to " +
-                std::to_string(int(path.frames.size()) - 1) + ")");
+    throw Error("frame " + std::to_string(frame) + " is out of range: the camera path has " + std::to_string(path.frames.size()) +
+                " frames (0 to " + std::to_string(int(path.frames.size()) - 1) + ")");
   const CameraPose& pose = path.frames[size_t(frame)];
   const Vec3 forward = normalize(pose.target - pose.position);
   const Vec3 right = normalize(cross(forward, pose.up));
   const Mat4 clip_from_eye =
-      perspective(radians(path.fov_y_degrees), float(rig.eye_width) / float(rig.eye_height),
-                  path.z_near, path.z_far);
+      perspective(radians(path.fov_y_degrees), float(rig.eye_width) / float(rig.eye_height), path.z_near, path.z_far);
   StereoView v;
   v.frame_width = rig.frame_width();
   v.frame_height = rig.frame_height();
@@ -46,9 +44,7 @@ StereoRig parse_frame_resolution(const std::string& text) {
   int w = 0, h = 0;
   if (!parse_wh(text, w, h) || w < 2 || h < 1 || w > kMaxSide || h > kMaxSide)
     throw Error("bad resolution '" + text + "': expected WxH with W from 2 to 16384 and H from 1 to 16384 (e.g. 1280x1024)");
-  if (w % 2 != 0)
-    throw Error("bad resolution '" + text +
-                "': the width covers both eyes side by side and must be even");
+  if (w % 2 != 0) throw Error("bad resolution '" + text + "': the width covers both eyes side by side and must be even");
   StereoRig rig;
   rig.eye_width = w / 2;
   rig.eye_height = h;

@@ -45,12 +45,11 @@ static MipLevel downsample(const MipLevel& src) {
 void build_mip_chain(Texture& t) {
   if (t.levels.empty()) return;
   t.levels.resize(1);
-  while (t.levels.back().width > 1 || t.levels.back().height > 1)
-    t.levels.push_back(downsample(t.levels.back()));
+  while (t.levels.back().width > 1 || t.levels.back().height > 1) t.levels.push_back(downsample(t.levels.back()));
 }
 
-Texture make_texture(std::string name, std::string source, int width, int height,
-                     std::vector<uint8_t> rgba, Wrap wrap, bool mipmapped) {
+Texture make_texture(std::string name, std::string source, int width, int height, std::vector<uint8_t> rgba, Wrap wrap,
+                     bool mipmapped) {
   Texture t;
   t.name = std::move(name);
   t.source = std::move(source);
@@ -105,7 +104,8 @@ MipLevel decode_image(const uint8_t* bytes, size_t size, const std::string& name
   // The size the header declares, checked before anything is allocated.
   if (stbi_info_from_memory(bytes, int(size), &w, &h, &n)) {
     const InputLimits& lim = InputLimits::get();
-    if (w <= 0 || h <= 0) throw Error("cannot decode image '" + name + "': it declares " + std::to_string(w) + "x" + std::to_string(h) + " texels");
+    if (w <= 0 || h <= 0)
+      throw Error("cannot decode image '" + name + "': it declares " + std::to_string(w) + "x" + std::to_string(h) + " texels");
     check_limit(uint64_t(std::max(w, h)), uint64_t(lim.image_side), "image_side", "image '" + name + "'", "texels on a side");
     check_limit(uint64_t(w) * uint64_t(h), lim.image_texels, "image_texels", "image '" + name + "'", "texels");
     if (lower_extension(name) == ".tga") check_tga_data(bytes, size, name, w, h);

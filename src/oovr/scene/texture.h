@@ -44,8 +44,8 @@ struct Texture {
 void build_mip_chain(Texture& t);
 
 // Makes a texture from RGBA8 pixels and builds its mip chain when mipmapped.
-Texture make_texture(std::string name, std::string source, int width, int height,
-                     std::vector<uint8_t> rgba, Wrap wrap = Wrap::repeat, bool mipmapped = true);
+Texture make_texture(std::string name, std::string source, int width, int height, std::vector<uint8_t> rgba,
+                     Wrap wrap = Wrap::repeat, bool mipmapped = true);
 
 // Decodes an image file (PNG, JPEG, TGA, BMP via stb_image; SGI .rgb/.rgba/
 // .sgi/.bw by oovr's decoder) into RGBA8. Throws Error naming the file when it

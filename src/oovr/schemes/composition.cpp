@@ -26,7 +26,8 @@ Composer::Composer(FrameSim& sim, CompositionSpec spec, std::function<int(int, i
   const SceneLayout& layout = sim.layout();
   for (int ty = 0; ty < f.tiles_y; ++ty)
     for (int tx = 0; tx < f.tiles_x; ++tx)
-      for (uint32_t region : {sim.colour(0), sim.depth(0)}) sim.memory().place(layout.frame_line(region, tx, ty, 0), m_owner(tx, ty));
+      for (uint32_t region : {sim.colour(0), sim.depth(0)})
+        sim.memory().place(layout.frame_line(region, tx, ty, 0), m_owner(tx, ty));
 }
 
 void Composer::target(FrameSim::TileJob& job) const {

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
-#include "oovr/core/config_sections.h"
 
 namespace oovr {
 
@@ -40,8 +40,9 @@ void FrameSim::check(const Config& config) {
   // MemorySystem::pin (the memory tests do); no scheme names homes, so it
   // would fail at the first page touched.
   if (memory.placement == "pinned")
-    throw Error("configuration key 'memory.placement': 'pinned' homes only regions a program pins to GPMs (MemorySystem::pin) "
-                "and no scheme does; use first-touch, interleaved, preallocated or replicated");
+    throw Error(
+        "configuration key 'memory.placement': 'pinned' homes only regions a program pins to GPMs (MemorySystem::pin) "
+        "and no scheme does; use first-touch, interleaved, preallocated or replicated");
 }
 
 FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
@@ -154,7 +155,8 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   const Region& vb = m_map->region(m_layout->vertex_region(o.mesh));
   const Region& ib = m_map->region(m_layout->index_region(o.mesh));
   for (uint64_t a = 0; a < mesh.vertex_bytes(); a += line) m_scratch.push_back({vb.base + a, Category::vertex, false});
-  for (uint64_t a = 0; a < mesh.indices.size() * sizeof(uint32_t); a += line) m_scratch.push_back({ib.base + a, Category::index, false});
+  for (uint64_t a = 0; a < mesh.indices.size() * sizeof(uint32_t); a += line)
+    m_scratch.push_back({ib.base + a, Category::index, false});
   UnitTraffic t = empty_traffic();
   m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
   WorkCounts w;
@@ -194,8 +196,8 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
   w.passed += r.passed;
 }
 
-int FrameSim::tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame,
-                    std::vector<int> after, int from, uint64_t incoming) {
+int FrameSim::tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame, std::vector<int> after,
+                    int from, uint64_t incoming) {
   TileJob job{gpm, {records.begin(), records.end()}, fb, std::move(after), from, incoming};
   return tiles_together({std::move(job)}, frame).front();
 }
@@ -300,7 +302,8 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
   }
   // This frame's traffic: the totals since it began.
   const TrafficTotals& t = m_memory->totals();
-  for (int c = 0; c < kCategories; ++c) s.inter_gpm_bytes[size_t(c)] = t.inter_gpm_bytes[size_t(c)] - m_before.inter_gpm_bytes[size_t(c)];
+  for (int c = 0; c < kCategories; ++c)
+    s.inter_gpm_bytes[size_t(c)] = t.inter_gpm_bytes[size_t(c)] - m_before.inter_gpm_bytes[size_t(c)];
   s.local_dram_bytes = 0;
   for (int g = 0; g < gpms(); ++g)
     for (int c = 0; c < kCategories; ++c)

@@ -76,8 +76,8 @@ class FrameSim {
   // Rasterisation, shading, texturing and ROP work of `records` on `gpm`,
   // writing framebuffer pair `fb`; `incoming` bytes of set-up triangles
   // arrive from GPM `from` first (when from != gpm).
-  int tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame,
-            std::vector<int> after = {}, int from = -1, uint64_t incoming = 0);
+  int tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame, std::vector<int> after = {},
+            int from = -1, uint64_t incoming = 0);
   // Several GPMs' tile work on one draw, which runs at the same time: the
   // memory accesses are replayed record by record in turn across the jobs
   // (the GPM starting each round rotates), so that first touch and the
@@ -122,8 +122,7 @@ class FrameSim {
   // numbers. `frames_in_flight` frames complete in the makespan.
   // `on_finish(unit)` is called as units end and may add units (a runtime
   // scheduler); engine() then answers questions about progress.
-  SchemeResult finish(const std::string& scheme, int frames_in_flight = 1,
-                      const std::function<void(int unit)>& on_finish = {});
+  SchemeResult finish(const std::string& scheme, int frames_in_flight = 1, const std::function<void(int unit)>& on_finish = {});
   const TimingEngine& engine() const { return m_engine; }
 
  private:

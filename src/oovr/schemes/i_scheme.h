@@ -42,18 +42,18 @@ struct SchemeResult {
   std::string scheme;
   int gpms = 0;
   double frequency_hz = 0;
-  double frame_latency_s = 0;   // first command to last pixel composed, one frame (mean of frame_latencies_s)
+  double frame_latency_s = 0;             // first command to last pixel composed, one frame (mean of frame_latencies_s)
   std::vector<double> frame_latencies_s;  // each frame's latency (several for frames in flight)
-  double throughput_fps = 0;    // frames per second over the frames in flight
+  double throughput_fps = 0;              // frames per second over the frames in flight
   int frames_in_flight = 1;
   std::vector<double> gpm_busy_s;
   PerCategory inter_gpm_bytes{};
   uint64_t local_dram_bytes = 0;  // bytes read and written by every DRAM
   uint64_t footprint_bytes = 0;   // memory resident in all GPMs' DRAMs
   // Counts summed over every GPM (and, from run_scheme_window, every frame):
-  uint64_t covered_fragments = 0; // fragments rasterised by all units (duplicates included)
-  uint64_t vertices = 0;          // vertex shader invocations (duplicates included)
-  uint64_t draws = 0;             // draws received by GPM front ends
+  uint64_t covered_fragments = 0;  // fragments rasterised by all units (duplicates included)
+  uint64_t vertices = 0;           // vertex shader invocations (duplicates included)
+  uint64_t draws = 0;              // draws received by GPM front ends
   uint64_t units = 0;
   // Per screen tile of frames[0]: bytes moved between GPMs for its work.
   std::vector<uint64_t> tile_inter_gpm_bytes;
@@ -136,8 +136,8 @@ class FramesInMemory final : public FrameSequence {
 // (frames[0]). `runs`, when given, receives every run's own result. Throws
 // Error when `window` is not a multiple of m or frames are missing.
 // Only the frames of the group being run are held at a time.
-SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames,
-                               const Config& config, int window, std::vector<SchemeResult>* runs = nullptr);
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames, const Config& config,
+                               int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                                const Config& config, int window, std::vector<SchemeResult>* runs = nullptr);
 

@@ -49,8 +49,8 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
   return run_scheme_window(name, scene, FramesInMemory(frames), config, window, runs);
 }
 
-SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames,
-                               const Config& config, int window, std::vector<SchemeResult>* runs) {
+SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames, const Config& config,
+                               int window, std::vector<SchemeResult>* runs) {
   const int m = scheme_frames_needed(name, config);
   if (window < 1 || window % m != 0)
     throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +

@@ -28,7 +28,8 @@ void sort_first(FrameSim& sim, const TileOwner& owner, Geometry geometry) {
       const int geo = sim.geometry(geo_gpm, o, 1, uint64_t(ow.setup[0]) + ow.setup[1]);
       for (int g = 0; g < n; ++g)
         if (!mine[size_t(g)].empty())
-          jobs.push_back({g, mine[size_t(g)], 0, {geo}, geo_gpm, triangles_of[size_t(g)] * uint64_t(sim.timing().triangle_bytes)});
+          jobs.push_back(
+              {g, mine[size_t(g)], 0, {geo}, geo_gpm, triangles_of[size_t(g)] * uint64_t(sim.timing().triangle_bytes)});
     } else {
       for (int g = 0; g < n; ++g) {
         if (mine[size_t(g)].empty()) continue;
@@ -71,7 +72,7 @@ TileOwner eye_groups_by_tile(int n, const FrameTrace& frame) {
 
 TileOwner eye_groups_by_page(int n, const FrameTrace& frame, const SceneLayout& layout) {
   return [n, width = frame.frame_width, tile = frame.tile_size, bw = layout.block_w(), bh = layout.block_h()](int tx, int ty,
-                                                                                                               int eye) {
+                                                                                                              int eye) {
     const EyeGroup g = eye_group(n, eye, width, tile);
     // Blocks as the pages lie (from the frame's left edge), counted from the
     // eye's first one.

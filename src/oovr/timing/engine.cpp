@@ -9,8 +9,7 @@
 namespace oovr {
 
 int TimingEngine::add_resource(std::string name, double capacity) {
-  if (!(capacity > 0) || !std::isfinite(capacity))
-    throw Error("timing: resource '" + name + "' needs a positive capacity");
+  if (!(capacity > 0) || !std::isfinite(capacity)) throw Error("timing: resource '" + name + "' needs a positive capacity");
   m_resource_names.push_back(std::move(name));
   m_capacity.push_back(capacity);
   return int(m_capacity.size()) - 1;
@@ -169,9 +168,8 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
       }
     }
     // Latency phases that end now (in id order for determinism).
-    std::sort(m_in_latency.begin(), m_in_latency.end(), [](const auto& a, const auto& b) {
-      return a.first < b.first || (a.first == b.first && a.second < b.second);
-    });
+    std::sort(m_in_latency.begin(), m_in_latency.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first || (a.first == b.first && a.second < b.second); });
     while (!m_in_latency.empty() && m_in_latency.front().first <= m_now) {
       const int i = m_in_latency.front().second;
       m_in_latency.erase(m_in_latency.begin());

@@ -35,10 +35,10 @@ namespace oovr {
 class TimingEngine {
  public:
   struct Unit {
-    int queue = -1;                             // -1: runs as soon as its dependencies allow
-    Demand demand;                               // (resource, amount) pairs
-    double latency = 0;                          // seconds added after the work
-    std::vector<int> after;                      // units that must finish first
+    int queue = -1;          // -1: runs as soon as its dependencies allow
+    Demand demand;           // (resource, amount) pairs
+    double latency = 0;      // seconds added after the work
+    std::vector<int> after;  // units that must finish first
   };
   struct UnitTime {
     double start = 0, work_done = 0, finish = 0;  // seconds

@@ -7,9 +7,7 @@ namespace oovr {
 
 TimingSpec TimingSpec::from_config(const Config& c) {
   TimingSpec d, s;
-  const auto positive = [&](const char* key, int def) {
-    return int(c.get_int(key, def, 1, 1000000));
-  };
+  const auto positive = [&](const char* key, int def) { return int(c.get_int(key, def, 1, 1000000)); };
   s.frequency = c.get_frequency("frequency", d.frequency);
   if (!(s.frequency.value >= 1e6 && s.frequency.value <= 1e11))
     throw Error("configuration key 'frequency' must be from 1 MHz to 100 GHz");
@@ -40,8 +38,7 @@ const ConfigSections::Add reg("timing", {"the GPMs' resources, shaders, front en
 
 }  // namespace
 
-MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, const Topology& topology,
-                           TimingEngine& engine)
+MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, const Topology& topology, TimingEngine& engine)
     : m_timing(timing), m_memory(memory) {
   engine.set_sharing(timing.sharing);
   const double f = timing.frequency.value;

@@ -16,18 +16,18 @@
 namespace oovr {
 
 struct TimingSpec {
-  Hertz frequency{1e9};               // Table 1: 1 GHz
-  int lanes_per_sm = 64;              // Table 1: 64 shader cores per SM
-  int texture_units_per_sm = 4;       // Table 1: 4 texture units per SM
-  int rops = 8;                       // Table 1: 8 ROPs per GPM
-  int rop_pixels_per_clock = 4;       // Section 3: each ROP outputs 4 pixels per cycle
+  Hertz frequency{1e9};                 // Table 1: 1 GHz
+  int lanes_per_sm = 64;                // Table 1: 64 shader cores per SM
+  int texture_units_per_sm = 4;         // Table 1: 4 texture units per SM
+  int rops = 8;                         // Table 1: 8 ROPs per GPM
+  int rop_pixels_per_clock = 4;         // Section 3: each ROP outputs 4 pixels per cycle
   int raster_fragments_per_clock = 32;  // per GPM (assumed: two raster engines of 16)
   int setup_triangles_per_clock = 2;    // per GPM (assumed: one per raster engine)
-  int vertex_instructions = 32;       // per vertex (assumed)
+  int vertex_instructions = 32;         // per vertex (assumed)
   // Per fragment lane; 0 = each draw's own, from what its pass samples and
   // computes (pipeline/shader_cost.h). A positive value overrides them all.
   int fragment_instructions = 0;
-  int triangle_bytes = 96;            // a set-up triangle sent to another GPM (3 x 32 B, assumed)
+  int triangle_bytes = 96;  // a set-up triangle sent to another GPM (3 x 32 B, assumed)
   // Reads a GPM keeps outstanding, per SM (Little's law: at most this many
   // per latency); 0 for no limit. Accel-Sim's TITAN X (Pascal) texture
   // cache has 128 miss entries.
@@ -60,9 +60,9 @@ struct WorkCounts {
   // Fragment lane instructions of those quads (4 lanes a quad, each the
   // instructions of its draw's pass).
   uint64_t fragment_instructions = 0;
-  uint64_t samples = 0;    // bilinear texture lookups
-  uint64_t passed = 0;     // fragments written by the ROPs
-  uint64_t composed = 0;   // pixels merged by composition on the ROPs
+  uint64_t samples = 0;   // bilinear texture lookups
+  uint64_t passed = 0;    // fragments written by the ROPs
+  uint64_t composed = 0;  // pixels merged by composition on the ROPs
 };
 
 // The machine's resources in a TimingEngine: per GPM shader lanes, texture

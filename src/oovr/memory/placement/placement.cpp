@@ -3,8 +3,6 @@
 
 namespace oovr {
 
-void PlacementPolicy::pin(uint32_t, int) {
-  throw Error("only the pinned placement policy takes pin()");
-}
+void PlacementPolicy::pin(uint32_t, int) { throw Error("only the pinned placement policy takes pin()"); }
 
 }  // namespace oovr

@@ -16,8 +16,8 @@ namespace {
 
 using namespace procedural;
 
-constexpr float kHalf = 20.0f;        // walls at +-20 m
-constexpr float kColonnade = 14.0f;   // pillar ring radius
+constexpr float kHalf = 20.0f;       // walls at +-20 m
+constexpr float kColonnade = 14.0f;  // pillar ring radius
 constexpr int kPillars = 16;
 constexpr float kPillarRadius = 0.5f;
 
@@ -25,26 +25,29 @@ constexpr float kPillarRadius = 0.5f;
 // values around 0.5, applied with an overbright scale of 2 as Quake 3 does.
 Texture ground_lightmap(int size) {
   const float sx = 0.6f, sz = 0.8f;  // sun direction on the ground
-  return texture_from("courtyard-lightmap", size, [=](float u, float v, uint8_t* p) {
-    const float x = (u - 0.5f) * 2 * kHalf, z = (0.5f - v) * 2 * kHalf;
-    float light = 0.52f;
-    for (int i = 0; i < kPillars; ++i) {
-      const float a = 2 * kPi * float(i) / kPillars;
-      const float px = kColonnade * std::sin(a), pz = kColonnade * std::cos(a);
-      const float t = std::clamp((x - px) * sx + (z - pz) * sz, 0.0f, 7.0f);
-      const float d = std::hypot(x - (px + sx * t), z - (pz + sz * t));
-      if (d < kPillarRadius * 1.1f) light = std::min(light, 0.3f);
-    }
-    const float wall = kHalf - std::max(std::abs(x), std::abs(z));
-    light *= 1.0f - 0.35f * std::exp(-wall * 1.5f);
-    const float centre = std::hypot(x, z);
-    if (centre < 3.6f && centre > 3.0f) light *= 0.75f;  // fountain rim contact shadow
-    const uint8_t k = uint8_t(std::clamp(light, 0.0f, 1.0f) * 255.0f + 0.5f);
-    p[0] = k;
-    p[1] = uint8_t(k * 0.97f);
-    p[2] = uint8_t(k * 0.9f);
-    p[3] = 255;
-  }, Wrap::clamp_to_edge, /*mipmapped=*/false);
+  return texture_from(
+      "courtyard-lightmap", size,
+      [=](float u, float v, uint8_t* p) {
+        const float x = (u - 0.5f) * 2 * kHalf, z = (0.5f - v) * 2 * kHalf;
+        float light = 0.52f;
+        for (int i = 0; i < kPillars; ++i) {
+          const float a = 2 * kPi * float(i) / kPillars;
+          const float px = kColonnade * std::sin(a), pz = kColonnade * std::cos(a);
+          const float t = std::clamp((x - px) * sx + (z - pz) * sz, 0.0f, 7.0f);
+          const float d = std::hypot(x - (px + sx * t), z - (pz + sz * t));
+          if (d < kPillarRadius * 1.1f) light = std::min(light, 0.3f);
+        }
+        const float wall = kHalf - std::max(std::abs(x), std::abs(z));
+        light *= 1.0f - 0.35f * std::exp(-wall * 1.5f);
+        const float centre = std::hypot(x, z);
+        if (centre < 3.6f && centre > 3.0f) light *= 0.75f;  // fountain rim contact shadow
+        const uint8_t k = uint8_t(std::clamp(light, 0.0f, 1.0f) * 255.0f + 0.5f);
+        p[0] = k;
+        p[1] = uint8_t(k * 0.97f);
+        p[2] = uint8_t(k * 0.9f);
+        p[3] = 255;
+      },
+      Wrap::clamp_to_edge, /*mipmapped=*/false);
 }
 
 Mesh disc(float r, int seg, float y, float uv_repeat) {
@@ -154,12 +157,12 @@ Scene make_courtyard() {
   for (int i = 0; i < 4; ++i) {
     const float x = (i & 1) ? 16.5f : -16.5f, z = (i & 2) ? 16.5f : -16.5f;
     b.object("tree-trunk-" + std::to_string(i), trunk_mesh, mat_bark, translate({x, 0, z}));
-    b.object("tree-crown-" + std::to_string(i), b.mesh(crossed_quads(5.0f, 5.0f, 6, 77 + uint64_t(i))),
-             mat_leaves, translate({x, 2.5f, z}));
+    b.object("tree-crown-" + std::to_string(i), b.mesh(crossed_quads(5.0f, 5.0f, 6, 77 + uint64_t(i))), mat_leaves,
+             translate({x, 2.5f, z}));
   }
 
   // Banners: each has its own texture (sharing level 1).
-  const uint8_t colours[8][3] = {{180, 30, 30}, {30, 60, 160}, {30, 130, 50}, {150, 120, 20},
+  const uint8_t colours[8][3] = {{180, 30, 30},  {30, 60, 160},  {30, 130, 50}, {150, 120, 20},
                                  {110, 40, 140}, {20, 120, 130}, {160, 80, 20}, {60, 60, 60}};
   const int banner_mesh = b.mesh(wall(2.0f, 3.0f, 1, 2, 1, 1));
   for (int i = 0; i < 8; ++i) {

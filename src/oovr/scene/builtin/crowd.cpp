@@ -20,8 +20,9 @@ Scene make_crowd() {
   const uint8_t shirts[4][3] = {{200, 40, 40}, {40, 90, 200}, {230, 200, 60}, {60, 160, 80}};
   int person_mat[4];
   for (int i = 0; i < 4; ++i) {
-    person_mat[i] = b.material(Material::textured(
-        "person-" + std::to_string(i), b.texture(fabric_person(256, 20 + uint64_t(i), shirts[i][0], shirts[i][1], shirts[i][2]))));
+    person_mat[i] =
+        b.material(Material::textured("person-" + std::to_string(i),
+                                      b.texture(fabric_person(256, 20 + uint64_t(i), shirts[i][0], shirts[i][1], shirts[i][2]))));
   }
   const int mat_grass = b.material(Material::textured("grass", t_grass));
   const int mat_lamp = b.material(Material::textured("lamp", t_metal));
@@ -74,8 +75,7 @@ Scene make_crowd() {
   return b.take();
 }
 
-const BuiltinScenes::Add reg("crowd", {"many small objects: 320 people sharing 4 textures, lamp posts",
-                                       make_crowd});
+const BuiltinScenes::Add reg("crowd", {"many small objects: 320 people sharing 4 textures, lamp posts", make_crowd});
 
 }  // namespace
 }  // namespace oovr

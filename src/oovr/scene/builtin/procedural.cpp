@@ -57,12 +57,12 @@ Mesh box(Vec3 h, float k) {
   const struct {
     Vec3 o, e1, e2;
   } faces[6] = {
-      {{-h.x, -h.y, h.z}, {2 * h.x, 0, 0}, {0, 2 * h.y, 0}},    // +Z
-      {{h.x, -h.y, -h.z}, {-2 * h.x, 0, 0}, {0, 2 * h.y, 0}},   // -Z
-      {{h.x, -h.y, h.z}, {0, 0, -2 * h.z}, {0, 2 * h.y, 0}},    // +X
-      {{-h.x, -h.y, -h.z}, {0, 0, 2 * h.z}, {0, 2 * h.y, 0}},   // -X
-      {{-h.x, h.y, h.z}, {2 * h.x, 0, 0}, {0, 0, -2 * h.z}},    // +Y
-      {{-h.x, -h.y, -h.z}, {2 * h.x, 0, 0}, {0, 0, 2 * h.z}},   // -Y
+      {{-h.x, -h.y, h.z}, {2 * h.x, 0, 0}, {0, 2 * h.y, 0}},   // +Z
+      {{h.x, -h.y, -h.z}, {-2 * h.x, 0, 0}, {0, 2 * h.y, 0}},  // -Z
+      {{h.x, -h.y, h.z}, {0, 0, -2 * h.z}, {0, 2 * h.y, 0}},   // +X
+      {{-h.x, -h.y, -h.z}, {0, 0, 2 * h.z}, {0, 2 * h.y, 0}},  // -X
+      {{-h.x, h.y, h.z}, {2 * h.x, 0, 0}, {0, 0, -2 * h.z}},   // +Y
+      {{-h.x, -h.y, -h.z}, {2 * h.x, 0, 0}, {0, 0, 2 * h.z}},  // -Y
   };
   for (const auto& f : faces) {
     const uint32_t base = uint32_t(m.vertices.size());
@@ -146,10 +146,13 @@ Mesh torus(float R, float r, int seg, int sides, float ru, float rv) {
 Mesh dome(float r, int seg, int rings) {
   // Seen from inside; the rim sits 0.1 r below the horizon so that no gap
   // shows between the ground's edge and the sky.
-  return patch("dome", seg, rings, 2, 1, [=](float fu, float fv) {
-    const float a = 2 * kPi * fu, elev = 0.5f * kPi * fv;
-    return Vec3{r * std::cos(elev) * std::sin(a), r * std::sin(elev) - 0.1f * r, r * std::cos(elev) * std::cos(a)};
-  }, /*inward=*/true);
+  return patch(
+      "dome", seg, rings, 2, 1,
+      [=](float fu, float fv) {
+        const float a = 2 * kPi * fu, elev = 0.5f * kPi * fv;
+        return Vec3{r * std::cos(elev) * std::sin(a), r * std::sin(elev) - 0.1f * r, r * std::cos(elev) * std::cos(a)};
+      },
+      /*inward=*/true);
 }
 
 Mesh crossed_quads(float w, float h, int count, uint64_t seed) {
@@ -318,15 +321,18 @@ Texture bark(int size, uint64_t seed) {
 }
 
 Texture leaves(int size, uint64_t seed) {
-  return texture_from("leaves", size, [seed](float u, float v, uint8_t* p) {
-    // Blobs of leaves with holes between them: alpha is 0 or 1 before
-    // filtering, so the alpha test cuts clean silhouettes.
-    const float n = fbm(u, v, 8, 4, seed);
-    const float crown = 1.0f - std::hypot(u - 0.5f, (v - 0.55f) * 1.2f) * 2.0f;
-    const bool leaf = n + crown * 0.6f > 0.62f;
-    const float shade = 0.5f + 0.5f * noise(u, v, 32, seed + 4);
-    put(p, 0.12f * shade + 0.05f, 0.35f + 0.3f * shade, 0.08f, leaf ? 1.0f : 0.0f);
-  }, Wrap::clamp_to_edge);
+  return texture_from(
+      "leaves", size,
+      [seed](float u, float v, uint8_t* p) {
+        // Blobs of leaves with holes between them: alpha is 0 or 1 before
+        // filtering, so the alpha test cuts clean silhouettes.
+        const float n = fbm(u, v, 8, 4, seed);
+        const float crown = 1.0f - std::hypot(u - 0.5f, (v - 0.55f) * 1.2f) * 2.0f;
+        const bool leaf = n + crown * 0.6f > 0.62f;
+        const float shade = 0.5f + 0.5f * noise(u, v, 32, seed + 4);
+        put(p, 0.12f * shade + 0.05f, 0.35f + 0.3f * shade, 0.08f, leaf ? 1.0f : 0.0f);
+      },
+      Wrap::clamp_to_edge);
 }
 
 Texture water(int size, uint64_t seed) {

@@ -18,13 +18,11 @@ Mesh wall(float width, float height, int cells_x, int cells_y, float uv_repeat_x
 // Box centred on the origin; uv repeats `uv_per_metre` times per metre.
 Mesh box(Vec3 half, float uv_per_metre);
 // Cylinder along +Y from y=0 to `height`; open ends unless `caps`.
-Mesh cylinder(float radius, float height, int segments, int rings, float uv_repeat_u,
-              float uv_repeat_v, bool caps);
+Mesh cylinder(float radius, float height, int segments, int rings, float uv_repeat_u, float uv_repeat_v, bool caps);
 // Sphere centred on the origin.
 Mesh sphere(float radius, int segments, int rings, float uv_repeat_u = 1, float uv_repeat_v = 1);
 // Torus in the XZ plane.
-Mesh torus(float major, float minor, int segments, int sides, float uv_repeat_u = 1,
-           float uv_repeat_v = 1);
+Mesh torus(float major, float minor, int segments, int sides, float uv_repeat_u = 1, float uv_repeat_v = 1);
 // Upper hemisphere seen from inside (inward-facing), for a sky dome; uv.y
 // runs from the horizon (0) to the zenith (1).
 Mesh dome(float radius, int segments, int rings);
@@ -35,8 +33,7 @@ void append(Mesh& a, const Mesh& b, const Mat4& transform);
 
 // --- textures (RGBA8, full mip chains) ---
 using TexelFn = std::function<void(float u, float v, uint8_t* rgba)>;
-Texture texture_from(const std::string& name, int size, const TexelFn& fn,
-                     Wrap wrap = Wrap::repeat, bool mipmapped = true);
+Texture texture_from(const std::string& name, int size, const TexelFn& fn, Wrap wrap = Wrap::repeat, bool mipmapped = true);
 // Tileable value noise in [0, 1], `period` cells per unit square.
 float noise(float u, float v, int period, uint64_t seed);
 // Sum of octaves of tileable noise.
@@ -52,7 +49,7 @@ Texture grass(int size, uint64_t seed);
 Texture bark(int size, uint64_t seed);
 Texture leaves(int size, uint64_t seed);  // alpha-tested foliage
 Texture water(int size, uint64_t seed);
-Texture sky(int size, uint64_t seed);  // horizon-to-zenith gradient with clouds
+Texture sky(int size, uint64_t seed);                                     // horizon-to-zenith gradient with clouds
 Texture cloth(int size, uint64_t seed, uint8_t r, uint8_t g, uint8_t b);  // banner / clothing
 Texture fabric_person(int size, uint64_t seed, uint8_t r, uint8_t g, uint8_t b);
 

@@ -21,8 +21,7 @@ constexpr int kMaxDepth = 256;
 
 class Ac3dParser {
  public:
-  Ac3dParser(const std::string& text, const std::string& name, const Ac3dOptions& options)
-      : m_name(name), m_options(options) {
+  Ac3dParser(const std::string& text, const std::string& name, const Ac3dOptions& options) : m_name(name), m_options(options) {
     std::istringstream in(text);
     std::string line;
     while (std::getline(in, line)) {
@@ -84,8 +83,7 @@ class Ac3dParser {
     const std::string& s = t[k];
     float v = 0;
     const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v))
-      throw fail("'" + s + "' is not a number", line);
+    if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v)) throw fail("'" + s + "' is not a number", line);
     return v;
   }
 
@@ -238,7 +236,9 @@ class Ac3dParser {
       two_sided = two_sided || s.two_sided;
       const uint32_t base = uint32_t(mesh.vertices.size());
       for (const auto& [idx, uv] : s.refs) {
-        if (idx >= verts.size()) throw fail("object '" + name + "' refers to vertex " + std::to_string(idx) + " of " + std::to_string(verts.size()), line);
+        if (idx >= verts.size())
+          throw fail("object '" + name + "' refers to vertex " + std::to_string(idx) + " of " + std::to_string(verts.size()),
+                     line);
         Vertex v;
         v.position = transform_point3(world, verts[idx]);
         v.uv = {uv.x * rep_u + off_u, uv.y * rep_v + off_v};
@@ -298,7 +298,8 @@ class Ac3dParser {
       MipLevel base = load_image_file(found);
       bool alpha = false;
       for (size_t i = 3; i < base.rgba.size() && !alpha; i += 4) alpha = base.rgba[i] < 255;
-      m_scene.textures.push_back(make_texture(file, fs::weakly_canonical(found, ec).string(), base.width, base.height, std::move(base.rgba)));
+      m_scene.textures.push_back(
+          make_texture(file, fs::weakly_canonical(found, ec).string(), base.width, base.height, std::move(base.rgba)));
       id = int(m_scene.textures.size()) - 1;
       m_has_alpha.resize(size_t(id) + 1, false);
       m_has_alpha[size_t(id)] = alpha;

@@ -38,8 +38,7 @@ BspMap parse_bsp(const uint8_t* data, size_t size, const std::string& name) {
   const size_t header = 8 + kLumps * 8;
   if (size < header) throw fail("file is " + std::to_string(size) + " bytes, shorter than the header");
   if (std::memcmp(data, "IBSP", 4) != 0) throw fail("not an IBSP file (bad magic)");
-  if (const int32_t v = i32(data + 4); v != 46)
-    throw fail("version " + std::to_string(v) + " is not Quake 3's 46");
+  if (const int32_t v = i32(data + 4); v != 46) throw fail("version " + std::to_string(v) + " is not Quake 3's 46");
   LumpView lumps[kLumps];
   for (int l = 0; l < kLumps; ++l) {
     const int64_t off = i32(data + 8 + l * 8), len = i32(data + 12 + l * 8);
@@ -121,11 +120,10 @@ BspMap parse_bsp(const uint8_t* data, size_t size, const std::string& name) {
     if (f.type == kBspPatch) {
       if (f.patch_w < 3 || f.patch_h < 3 || f.patch_w % 2 == 0 || f.patch_h % 2 == 0 ||
           int64_t(f.patch_w) * f.patch_h != f.vertex_count)
-        throw fail(face + " is a patch with a bad control grid " + std::to_string(f.patch_w) + "x" +
-                   std::to_string(f.patch_h) + " for " + std::to_string(f.vertex_count) + " vertices");
+        throw fail(face + " is a patch with a bad control grid " + std::to_string(f.patch_w) + "x" + std::to_string(f.patch_h) +
+                   " for " + std::to_string(f.vertex_count) + " vertices");
     } else {
-      if (f.first_meshvert < 0 || f.meshvert_count < 0 ||
-          uint64_t(f.first_meshvert) + uint64_t(f.meshvert_count) > n_meshverts)
+      if (f.first_meshvert < 0 || f.meshvert_count < 0 || uint64_t(f.first_meshvert) + uint64_t(f.meshvert_count) > n_meshverts)
         throw fail(face + " has indices outside the meshvert lump");
       if (f.meshvert_count % 3 != 0) throw fail(face + " has an index count that is not a multiple of 3");
       for (int k = 0; k < f.meshvert_count; ++k) {
@@ -148,7 +146,8 @@ std::vector<BspEntity> parse_bsp_entities(const std::string& text, const std::st
     while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
   };
   auto quoted = [&]() -> std::string {
-    if (i >= text.size() || text[i] != '"') throw Error("bad BSP file '" + name + "': entity lump expects a quoted string at byte " + std::to_string(i));
+    if (i >= text.size() || text[i] != '"')
+      throw Error("bad BSP file '" + name + "': entity lump expects a quoted string at byte " + std::to_string(i));
     const size_t end = text.find('"', i + 1);
     if (end == std::string::npos) throw Error("bad BSP file '" + name + "': unterminated string in the entity lump");
     std::string s = text.substr(i + 1, end - i - 1);

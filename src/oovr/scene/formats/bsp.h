@@ -38,7 +38,7 @@ struct BspFace {
   int type = 0;
   int first_vertex = 0, vertex_count = 0;
   int first_meshvert = 0, meshvert_count = 0;
-  int lightmap = -1;  // negative for none; may lie past the lump (external lightmaps), the loader checks it
+  int lightmap = -1;             // negative for none; may lie past the lump (external lightmaps), the loader checks it
   int patch_w = 0, patch_h = 0;  // control grid of a patch (odd, >= 3)
   Vec3 normal;
 };

@@ -1,6 +1,7 @@
 #include "oovr/scene/formats/model_checks.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -8,7 +9,6 @@
 #include <sstream>
 #include <string_view>
 #include <vector>
-#include <cctype>
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
@@ -20,9 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-[[noreturn]] void bad(const std::string& name, const std::string& why) {
-  throw Error("cannot load '" + name + "': " + why);
-}
+[[noreturn]] void bad(const std::string& name, const std::string& why) { throw Error("cannot load '" + name + "': " + why); }
 
 int ply_type_size(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -92,9 +90,7 @@ void check_ply(const std::string& bytes, const std::string& name) {
   }
   const bool ascii = format == "ascii", little = format == "binary_little_endian";
   if (!ascii && !little && format != "binary_big_endian") bad(name, "unknown PLY format '" + format + "'");
-  const auto truncated = [&](const std::string& what) {
-    bad(name, "the PLY file ends inside its " + what + " (truncated?)");
-  };
+  const auto truncated = [&](const std::string& what) { bad(name, "the PLY file ends inside its " + what + " (truncated?)"); };
   size_t at = newline + 1;
   // ASCII: the next whitespace-separated token.
   const auto token = [&](const std::string& what) {
@@ -197,7 +193,8 @@ void check_gltf_json(const std::string& text, const std::string& name, uint64_t 
       const auto c = node.is_object() ? node.find("children") : node.end();
       if (!node.is_object() || c == node.end() || !c->is_array()) continue;
       for (const auto& k : *c) {
-        if (!k.is_number_unsigned() || k.get<uint64_t>() >= n) bad(name, "glTF node " + std::to_string(i) + " names a child that does not exist");
+        if (!k.is_number_unsigned() || k.get<uint64_t>() >= n)
+          bad(name, "glTF node " + std::to_string(i) + " names a child that does not exist");
         children[i].push_back(size_t(k.get<uint64_t>()));
       }
     }
@@ -258,7 +255,7 @@ void check_glb(const std::string& b, const std::string& name) {
     if (len > b.size() - at - 8)
       bad(name, "a GLB chunk declares " + std::to_string(len) + " bytes, " + std::to_string(b.size() - at - 8) + " remain");
     if (type == 0x4E4F534Au && json.empty()) json = b.substr(at + 8, size_t(len));  // "JSON"
-    else if (type == 0x004E4942u && bin == 0) bin = len;                           // "BIN\0"
+    else if (type == 0x004E4942u && bin == 0) bin = len;                            // "BIN\0"
     at += 8 + size_t(len);
   }
   if (json.empty()) bad(name, "the GLB file has no JSON chunk");
@@ -279,7 +276,8 @@ void precheck_model_file(const std::string& path) {
   const std::string ext = lower_extension(path);
   // Either way only a regular file within the bound gets to assimp; the
   // formats with declared sizes are read and checked.
-  if (ext == ".ply" || ext == ".glb" || ext == ".gltf") precheck_model_bytes(read_input_file(path, "model", lim.file_bytes), path);
+  if (ext == ".ply" || ext == ".glb" || ext == ".gltf")
+    precheck_model_bytes(read_input_file(path, "model", lim.file_bytes), path);
   else check_input_file(path, "model", lim.file_bytes);
 }
 

@@ -74,9 +74,7 @@ Pk3FileSystem::Pk3FileSystem(const std::string& directory) : m(std::make_unique<
 
 Pk3FileSystem::~Pk3FileSystem() = default;
 
-bool Pk3FileSystem::exists(const std::string& path) const {
-  return m->entries.count(normalize_game_path(path)) != 0;
-}
+bool Pk3FileSystem::exists(const std::string& path) const { return m->entries.count(normalize_game_path(path)) != 0; }
 
 std::string Pk3FileSystem::archive_of(const std::string& path) const {
   const auto it = m->entries.find(normalize_game_path(path));

@@ -63,12 +63,16 @@ float number(const std::vector<std::string>& a, size_t i, float fallback) {
 }
 
 bool blend_factor(const std::string& name, BlendFactor& f) {
-  static const std::pair<const char*, BlendFactor> names[] = {
-      {"gl_zero", BlendFactor::zero}, {"gl_one", BlendFactor::one},
-      {"gl_src_color", BlendFactor::src_colour}, {"gl_one_minus_src_color", BlendFactor::one_minus_src_colour},
-      {"gl_src_alpha", BlendFactor::src_alpha}, {"gl_one_minus_src_alpha", BlendFactor::one_minus_src_alpha},
-      {"gl_dst_color", BlendFactor::dst_colour}, {"gl_one_minus_dst_color", BlendFactor::one_minus_dst_colour},
-      {"gl_dst_alpha", BlendFactor::dst_alpha}, {"gl_one_minus_dst_alpha", BlendFactor::one_minus_dst_alpha}};
+  static const std::pair<const char*, BlendFactor> names[] = {{"gl_zero", BlendFactor::zero},
+                                                              {"gl_one", BlendFactor::one},
+                                                              {"gl_src_color", BlendFactor::src_colour},
+                                                              {"gl_one_minus_src_color", BlendFactor::one_minus_src_colour},
+                                                              {"gl_src_alpha", BlendFactor::src_alpha},
+                                                              {"gl_one_minus_src_alpha", BlendFactor::one_minus_src_alpha},
+                                                              {"gl_dst_color", BlendFactor::dst_colour},
+                                                              {"gl_one_minus_dst_color", BlendFactor::one_minus_dst_colour},
+                                                              {"gl_dst_alpha", BlendFactor::dst_alpha},
+                                                              {"gl_one_minus_dst_alpha", BlendFactor::one_minus_dst_alpha}};
   for (const auto& [n, v] : names)
     if (name == n) {
       f = v;
@@ -167,9 +171,7 @@ void parse_stage_key(const std::string& key, const std::vector<std::string>& a, 
 void parse_q3_shader_script(const std::string& text, const std::string& file, Q3ShaderSet& set) {
   const std::vector<Token> t = tokenize(text);
   size_t i = 0;
-  auto note = [&](const std::string& what, int line) {
-    set.notes.push_back(file + ":" + std::to_string(line) + ": " + what);
-  };
+  auto note = [&](const std::string& what, int line) { set.notes.push_back(file + ":" + std::to_string(line) + ": " + what); };
   // The tokens after position k that stand on the same line as token k.
   auto args = [&](size_t k) {
     std::vector<std::string> a;
@@ -229,10 +231,15 @@ void parse_q3_shader_script(const std::string& text, const std::string& file, Q3
           sh.sky_box = a[0] == "-" ? "" : a[0];
         } else if (key == "sort" && !a.empty()) {
           const std::string v = lower(a[0]);
-          const std::pair<const char*, float> sorts[] = {
-              {"portal", q3_sort::portal},       {"sky", q3_sort::environment},   {"opaque", q3_sort::opaque},
-              {"decal", q3_sort::decal},         {"seethrough", q3_sort::see_through}, {"banner", q3_sort::banner},
-              {"additive", 10},                  {"nearest", q3_sort::nearest},   {"underwater", q3_sort::underwater}};
+          const std::pair<const char*, float> sorts[] = {{"portal", q3_sort::portal},
+                                                         {"sky", q3_sort::environment},
+                                                         {"opaque", q3_sort::opaque},
+                                                         {"decal", q3_sort::decal},
+                                                         {"seethrough", q3_sort::see_through},
+                                                         {"banner", q3_sort::banner},
+                                                         {"additive", 10},
+                                                         {"nearest", q3_sort::nearest},
+                                                         {"underwater", q3_sort::underwater}};
           sh.sort = number(a, 0, 0.0f);
           for (const auto& [n, s] : sorts)
             if (v == n) sh.sort = s;
@@ -252,7 +259,8 @@ void parse_q3_shader_script(const std::string& text, const std::string& file, Q3
       break;
     }
     if (sh.stages.size() > 8) {  // MAX_SHADER_STAGES
-      note("shader '" + sh.name + "' has " + std::to_string(sh.stages.size()) + " stages; the engine draws the first 8", name.line);
+      note("shader '" + sh.name + "' has " + std::to_string(sh.stages.size()) + " stages; the engine draws the first 8",
+           name.line);
       sh.stages.resize(8);
     }
     set.shaders[sh.name] = sh;
@@ -356,7 +364,8 @@ Q3Passes q3_passes(const Q3Shader* shader, Q3TextureLookup& textures) {
   // see-through grate, without them a blend), else opaque.
   if (shader && shader->sky) out.sort = q3_sort::environment;
   else if (shader && shader->sort > 0) out.sort = shader->sort;
-  else if (!stages.empty() && stages.front().blended()) out.sort = stages.front().depth_write ? q3_sort::see_through : q3_sort::blend0;
+  else if (!stages.empty() && stages.front().blended())
+    out.sort = stages.front().depth_write ? q3_sort::see_through : q3_sort::blend0;
   size_t first = 0;
   Combine combine;
   BlendFactor src, dst;

@@ -28,8 +28,8 @@ struct Q3Stage {
   // colour when rgbGen const / alphaGen const.
   std::string rgb_gen = "identity", alpha_gen = "identity";
   Vec4 colour{1, 1, 1, 1};
-  bool tc_lightmap = false;  // tcGen lightmap (or the $lightmap stage)
-  std::vector<TexMod> mods;  // tcMod scale and scroll, in order
+  bool tc_lightmap = false;              // tcGen lightmap (or the $lightmap stage)
+  std::vector<TexMod> mods;              // tcMod scale and scroll, in order
   std::vector<std::string> unsupported;  // other tcMod / tcGen kinds seen (drawn without them)
 
   bool blended() const { return !(src == BlendFactor::one && dst == BlendFactor::zero); }
@@ -38,12 +38,12 @@ struct Q3Stage {
 struct Q3Shader {
   std::string name;  // lower case
   std::vector<Q3Stage> stages;
-  bool two_sided = false;  // cull none / disable / twosided
-  bool nodraw = false;     // surfaceparm nodraw
-  bool sky = false;        // surfaceparm sky
-  bool fog = false;        // fogparms: a fog volume, not an opaque surface
-  float sort = 0;          // explicit sort key; 0 = decided from the stages
-  std::string sky_box;     // skyParms far box base name ("" or "-" for none)
+  bool two_sided = false;    // cull none / disable / twosided
+  bool nodraw = false;       // surfaceparm nodraw
+  bool sky = false;          // surfaceparm sky
+  bool fog = false;          // fogparms: a fog volume, not an opaque surface
+  float sort = 0;            // explicit sort key; 0 = decided from the stages
+  std::string sky_box;       // skyParms far box base name ("" or "-" for none)
   std::string editor_image;  // qer_editorImage
 };
 
@@ -59,8 +59,8 @@ void parse_q3_shader_script(const std::string& text, const std::string& file, Q3
 
 // Quake 3's sort keys (tr_local.h's shaderSort_t).
 namespace q3_sort {
-constexpr float portal = 1, environment = 2, opaque = 3, decal = 4, see_through = 5, banner = 6, underwater = 8,
-                blend0 = 9, nearest = 16;
+constexpr float portal = 1, environment = 2, opaque = 3, decal = 4, see_through = 5, banner = 6, underwater = 8, blend0 = 9,
+                nearest = 16;
 }
 
 // A stage turned into a pass layer needs its texture; the loader supplies

@@ -17,7 +17,7 @@ const SceneSources::Add reg("built-in", {"built-in", "a built-in scene", false, 
                                          [](const std::string&, const std::string& name, const SceneOptions&) {
                                            return BuiltinScenes::find(name)->make();
                                          },
-                                     nullptr});
+                                         nullptr});
 
 }  // namespace
 }  // namespace oovr

@@ -29,8 +29,7 @@ namespace {
 Mat4 to_mat4(const aiMatrix4x4& a) {
   // aiMatrix4x4 is row-major (a.a1..a.a4 is the first row).
   Mat4 m;
-  const float r[4][4] = {{a.a1, a.a2, a.a3, a.a4}, {a.b1, a.b2, a.b3, a.b4},
-                         {a.c1, a.c2, a.c3, a.c4}, {a.d1, a.d2, a.d3, a.d4}};
+  const float r[4][4] = {{a.a1, a.a2, a.a3, a.a4}, {a.b1, a.b2, a.b3, a.b4}, {a.c1, a.c2, a.c3, a.c4}, {a.d1, a.d2, a.d3, a.d4}};
   for (int row = 0; row < 4; ++row)
     for (int col = 0; col < 4; ++col) m.at(row, col) = r[row][col];
   return m;
@@ -44,16 +43,14 @@ class AssimpLoader {
     const std::string ext = lower_extension(m_path);
     static const char* kSupported[] = {".obj", ".gltf", ".glb", ".ply", ".ac", ".acc", ".ac3d"};
     if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
-      throw Error("cannot load '" + m_path +
-                  "': unsupported file type (supported: .obj .gltf .glb .ply .ac .acc .ac3d)");
+      throw Error("cannot load '" + m_path + "': unsupported file type (supported: .obj .gltf .glb .ply .ac .acc .ac3d)");
     if (!fs::exists(m_path)) throw Error("cannot load '" + m_path + "': no such file");
     precheck_model_file(m_path);  // what assimp would trust: declared counts and lengths
     Assimp::Importer importer;
     // Points and lines are removed; only triangles are drawn.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const aiScene* s = importer.ReadFile(
-        m_path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
-                    aiProcess_ValidateDataStructure);
+    const aiScene* s = importer.ReadFile(m_path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                                                     aiProcess_ValidateDataStructure);
     if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !s->mRootNode)
       throw Error("cannot load '" + m_path + "': " + importer.GetErrorString());
     m_ai = s;
@@ -69,7 +66,6 @@ class AssimpLoader {
   }
 
  private:
-
   void visit(const aiNode* node, const Mat4& parent) {
     const Mat4 world = parent * to_mat4(node->mTransformation);
     for (unsigned i = 0; i < node->mNumMeshes; ++i) {
@@ -119,8 +115,8 @@ class AssimpLoader {
     if (am->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
     aiColor4D colour;
     if (am->Get(AI_MATKEY_BASE_COLOR, colour) == AI_SUCCESS || am->Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS)
-      pass.colour = {std::clamp(colour.r, 0.0f, 1.0f), std::clamp(colour.g, 0.0f, 1.0f),
-                  std::clamp(colour.b, 0.0f, 1.0f), std::clamp(colour.a, 0.0f, 1.0f)};
+      pass.colour = {std::clamp(colour.r, 0.0f, 1.0f), std::clamp(colour.g, 0.0f, 1.0f), std::clamp(colour.b, 0.0f, 1.0f),
+                     std::clamp(colour.a, 0.0f, 1.0f)};
     int two_sided = 0;
     if (am->Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.two_sided = two_sided != 0;
     aiString alpha_mode;

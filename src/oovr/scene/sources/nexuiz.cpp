@@ -17,12 +17,12 @@ std::vector<std::string> list_nexuiz_maps() { return list_q3_maps(nexuiz_game())
 
 namespace {
 
-const SceneSources::Add reg("nexuiz", {"nexuiz", "nexuiz:MAP", true, 0, [] { return q3_listings(nexuiz_game(), "nexuiz"); },
-                                       nullptr,
-                                       [](const std::string& spec, const std::string& map, const SceneOptions& options) {
-                                         return load_q3_level(nexuiz_game(), map, parse_q3_level_options(spec, options));
-                                       },
-                                   nexuiz_directory});
+const SceneSources::Add reg("nexuiz",
+                            {"nexuiz", "nexuiz:MAP", true, 0, [] { return q3_listings(nexuiz_game(), "nexuiz"); }, nullptr,
+                             [](const std::string& spec, const std::string& map, const SceneOptions& options) {
+                               return load_q3_level(nexuiz_game(), map, parse_q3_level_options(spec, options));
+                             },
+                             nexuiz_directory});
 
 }  // namespace
 }  // namespace oovr

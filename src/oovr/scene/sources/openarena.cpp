@@ -17,12 +17,12 @@ std::vector<std::string> list_openarena_maps() { return list_q3_maps(openarena_g
 
 namespace {
 
-const SceneSources::Add reg("oa", {"openarena", "oa:MAP", true, 0, [] { return q3_listings(openarena_game(), "openarena"); },
-                                   nullptr,
-                                   [](const std::string& spec, const std::string& map, const SceneOptions& options) {
-                                     return load_q3_level(openarena_game(), map, parse_q3_level_options(spec, options));
-                                   },
-                                   openarena_directory});
+const SceneSources::Add reg("oa",
+                            {"openarena", "oa:MAP", true, 0, [] { return q3_listings(openarena_game(), "openarena"); }, nullptr,
+                             [](const std::string& spec, const std::string& map, const SceneOptions& options) {
+                               return load_q3_level(openarena_game(), map, parse_q3_level_options(spec, options));
+                             },
+                             openarena_directory});
 
 }  // namespace
 }  // namespace oovr

@@ -211,14 +211,18 @@ class MapBuilder {
     if (billboards) m_scene.notes.push_back(std::to_string(billboards) + " billboard (flare) surfaces skipped");
     if (nodraw) m_scene.notes.push_back(std::to_string(nodraw) + " nodraw surfaces skipped");
     if (fog) m_scene.notes.push_back(std::to_string(fog) + " fog-volume surfaces skipped");
-    if (stageless) m_scene.notes.push_back(std::to_string(stageless) + " surfaces of shaders without stages skipped (the engine draws nothing)");
+    if (stageless)
+      m_scene.notes.push_back(std::to_string(stageless) +
+                              " surfaces of shaders without stages skipped (the engine draws nothing)");
     if (patches)
-      m_scene.notes.push_back(std::to_string(patches) + " Bezier patches tessellated at level " + std::to_string(m_opt.tessellation));
+      m_scene.notes.push_back(std::to_string(patches) + " Bezier patches tessellated at level " +
+                              std::to_string(m_opt.tessellation));
     if (!m_missing.empty()) {
       std::string names;
       for (size_t k = 0; k < m_missing.size() && k < 8; ++k) names += (k ? ", " : "") + m_missing[k];
       if (m_missing.size() > 8) names += ", ...";
-      m_scene.notes.push_back(std::to_string(m_missing.size()) + " shaders have no image in the archives and show the 'missing' texture: " + names);
+      m_scene.notes.push_back(std::to_string(m_missing.size()) +
+                              " shaders have no image in the archives and show the 'missing' texture: " + names);
     }
     m_scene.notes.push_back(std::to_string(groups.size()) + " surface groups drawn in " + std::to_string(m_scene.objects.size()) +
                             " passes (" + std::to_string(m_collapsed) + " with two stages in one multitexture pass, " +
@@ -361,8 +365,8 @@ class MapBuilder {
       }
     }
     const int size = img.width;
-    m_scene.textures.push_back(make_texture("lightmap " + std::to_string(index), m_scene.name + "#lm" + std::to_string(index), size,
-                                            size, std::move(img.rgba), Wrap::clamp_to_edge, /*mipmapped=*/false));
+    m_scene.textures.push_back(make_texture("lightmap " + std::to_string(index), m_scene.name + "#lm" + std::to_string(index),
+                                            size, size, std::move(img.rgba), Wrap::clamp_to_edge, /*mipmapped=*/false));
     m_scene.textures.back().compress = false;  // engines upload lightmaps uncompressed
     return m_lightmaps[index] = int(m_scene.textures.size()) - 1;
   }
@@ -381,8 +385,9 @@ class MapBuilder {
       img.rgba[p + 2] = uint8_t(255 - g);
     }
     const int size = img.width;
-    m_scene.textures.push_back(make_texture("deluxe " + std::to_string(index + 1), m_scene.name + "#dm" + std::to_string(index + 1),
-                                            size, size, std::move(img.rgba), Wrap::clamp_to_edge, /*mipmapped=*/false));
+    m_scene.textures.push_back(make_texture("deluxe " + std::to_string(index + 1),
+                                            m_scene.name + "#dm" + std::to_string(index + 1), size, size, std::move(img.rgba),
+                                            Wrap::clamp_to_edge, /*mipmapped=*/false));
     m_scene.textures.back().compress = false;
     return m_deluxes[index] = int(m_scene.textures.size()) - 1;
   }
@@ -400,7 +405,8 @@ class MapBuilder {
     const BspMap& bsp;
     std::string shader_name;
     int lm;
-    Lookup(MapBuilder& b_, const BspMap& bsp_, std::string name, int lm_) : b(b_), bsp(bsp_), shader_name(std::move(name)), lm(lm_) {}
+    Lookup(MapBuilder& b_, const BspMap& bsp_, std::string name, int lm_)
+        : b(b_), bsp(bsp_), shader_name(std::move(name)), lm(lm_) {}
     int image(const Q3Stage& st) override {
       // A stage's image; for the implicit shader (no script), the shader
       // name itself.
@@ -552,7 +558,8 @@ class MapBuilder {
       m_scene.notes.push_back(std::to_string(m_dp_skipped_stages) +
                               " image stages after a shader's first are not drawn (DarkPlaces draws a shader's primary layer)");
     if (m_missing_lightmaps)
-      m_scene.notes.push_back(std::to_string(m_missing_lightmaps) + " surfaces name a lightmap the map does not have and are drawn without one");
+      m_scene.notes.push_back(std::to_string(m_missing_lightmaps) +
+                              " surfaces name a lightmap the map does not have and are drawn without one");
   }
 
   void make_camera(const BspMap& bsp) {

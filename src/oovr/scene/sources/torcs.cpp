@@ -142,7 +142,7 @@ std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std
   double xmin = 0, ymin = 0;
   std::vector<std::pair<double, double>> centre{{x, y}};
   // Records a centre line point and the outer edges of both sides there.
-  auto visit = [&](double px, double py, double heading, const double (&outer)[2]) {
+  auto visit = [&](double px, double py, double heading, const double(&outer)[2]) {
     const double nx = -std::sin(heading), ny = std::cos(heading);  // towards the left
     for (int k = 0; k < 2; ++k) {
       const double d = (k == 1 ? 1.0 : -1.0) * (half + outer[k]);
@@ -210,7 +210,8 @@ std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std
       const double metres = std::ceil(type == "str" ? step_length : step_arc * radius);
       if (!(metres < kMaxTrackMetres - double(centre.size())))
         throw Error("track description '" + xml_path + "' describes a centre line over " +
-                    std::to_string(int(kMaxTrackMetres / 1000)) + " km long (segment '" + seg.attribute("name").as_string() + "')");
+                    std::to_string(int(kMaxTrackMetres / 1000)) + " km long (segment '" + seg.attribute("name").as_string() +
+                    "')");
       const int n = std::max(1, int(metres));
       for (int i = 1; i <= n; ++i) {
         const double f = double(i) / n;
@@ -314,7 +315,7 @@ const SceneSources::Add reg("torcs", {"torcs", "torcs:TRACK", true, 0, list_trac
                                           unknown_scene_option(options.begin()->first, spec, "TORCS tracks take none");
                                         return load_torcs_track(track);
                                       },
-                                   torcs_directory});
+                                      torcs_directory});
 
 }  // namespace
 }  // namespace oovr

@@ -20,7 +20,8 @@ class Ideal final : public Scheme {
     const auto scale = [&](const char* key, int64_t value) { c.set(key, std::to_string(value * n)); };
     scale("gpm.sms", c.get_int("gpm.sms", d.sms_per_gpm, 1, 1024));
     scale("gpm.rops", c.get_int("gpm.rops", t.rops, 1, 1000000));
-    scale("gpm.raster_fragments_per_clock", c.get_int("gpm.raster_fragments_per_clock", t.raster_fragments_per_clock, 1, 1000000));
+    scale("gpm.raster_fragments_per_clock",
+          c.get_int("gpm.raster_fragments_per_clock", t.raster_fragments_per_clock, 1, 1000000));
     scale("gpm.setup_triangles_per_clock", c.get_int("gpm.setup_triangles_per_clock", t.setup_triangles_per_clock, 1, 1000000));
     // N times the L2 as N times the ways: the same sets, always valid.
     const Bytes l2 = c.get_bytes("cache.l2.size", d.l2.size);
@@ -33,7 +34,8 @@ class Ideal final : public Scheme {
   }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
-    sort_first(sim, [](int, int, int) { return 0; }, Geometry::shared);
+    sort_first(
+        sim, [](int, int, int) { return 0; }, Geometry::shared);
     return sim.finish("ideal");
   }
 };

@@ -46,7 +46,10 @@ constexpr const char* kRatesKey = "oo.rates";
 class Machine final : public RuntimeExecutor {
  public:
   Machine(FrameSim& sim, Composer& composer)
-      : m_sim(sim), m_composer(composer), m_f(sim.frame()), m_last_object(size_t(sim.gpms()), -1),
+      : m_sim(sim),
+        m_composer(composer),
+        m_f(sim.frame()),
+        m_last_object(size_t(sim.gpms()), -1),
         m_command(size_t(sim.gpms()), std::vector<int>(sim.scene().objects.size(), -1)) {}
 
   double now() const override { return m_sim.engine().now(); }
@@ -183,7 +186,8 @@ class OO final : public Scheme {
                         std::to_string(st.counter_bits) + ", batch ids " + std::to_string(st.batch_id_bits) + ", registers " +
                         std::to_string(st.register_bits) + "; the paper: 960)");
     }
-    if (runtime.moved_chunks()) r.notes.push_back(std::to_string(runtime.moved_chunks()) + " chunks of fragment work moved to idle GPMs");
+    if (runtime.moved_chunks())
+      r.notes.push_back(std::to_string(runtime.moved_chunks()) + " chunks of fragment work moved to idle GPMs");
   }
 
   std::string m_name;

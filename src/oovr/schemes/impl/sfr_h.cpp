@@ -18,7 +18,8 @@ class SfrH final : public Scheme {
     FrameSim sim(in);
     const int n = sim.gpms();
     const int height = (sim.frame().tiles_y + n - 1) / n;
-    sort_first(sim, [&](int, int ty, int) { return std::min(n - 1, ty / height); }, Geometry::duplicated_smp);
+    sort_first(
+        sim, [&](int, int ty, int) { return std::min(n - 1, ty / height); }, Geometry::duplicated_smp);
     return sim.finish("sfr-h");
   }
 };

@@ -18,7 +18,8 @@ class SfrV final : public Scheme {
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
     const int n = sim.gpms(), tiles_x = sim.frame().tiles_x;
-    sort_first(sim, [&](int tx, int, int) { return vertical_strip_owner(tx, tiles_x, n); }, Geometry::duplicated_per_eye);
+    sort_first(
+        sim, [&](int tx, int, int) { return vertical_strip_owner(tx, tiles_x, n); }, Geometry::duplicated_per_eye);
     return sim.finish("sfr-v");
   }
 };

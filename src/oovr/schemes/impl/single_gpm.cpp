@@ -13,7 +13,8 @@ class SingleGpm final : public Scheme {
   void configure(Config& c) const override { c.set("gpms", "1"); }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
-    sort_first(sim, [](int, int, int) { return 0; }, Geometry::shared);
+    sort_first(
+        sim, [](int, int, int) { return 0; }, Geometry::shared);
     return sim.finish("single-gpm");
   }
 };

@@ -12,9 +12,8 @@ class Preallocated final : public PlacementPolicy {
   int assign(uint64_t, uint32_t, int requester) override { return requester; }
 };
 
-const PlacementPolicies::Add reg("preallocated",
-                                 {"copies made ahead of use by preallocate(); first touch otherwise",
-                                  [](int) { return std::make_unique<Preallocated>(); }});
+const PlacementPolicies::Add reg("preallocated", {"copies made ahead of use by preallocate(); first touch otherwise",
+                                                  [](int) { return std::make_unique<Preallocated>(); }});
 
 }  // namespace
 }  // namespace oovr

@@ -12,8 +12,8 @@ class Replicated final : public PlacementPolicy {
   bool replicate_all() const override { return true; }
 };
 
-const PlacementPolicies::Add reg("replicated", {"every GPM holds a copy of every page",
-                                                [](int) { return std::make_unique<Replicated>(); }});
+const PlacementPolicies::Add reg("replicated",
+                                 {"every GPM holds a copy of every page", [](int) { return std::make_unique<Replicated>(); }});
 
 }  // namespace
 }  // namespace oovr

@@ -20,8 +20,8 @@ class Ring final : public Topology {
   }
 };
 
-const Topologies::Add reg("ring", {"each GPM linked to its two neighbours",
-                                   [](int gpms) { return std::make_unique<Ring>(gpms); }});
+const Topologies::Add reg("ring",
+                          {"each GPM linked to its two neighbours", [](int gpms) { return std::make_unique<Ring>(gpms); }});
 
 }  // namespace
 }  // namespace oovr

@@ -14,8 +14,8 @@ class Switch final : public Topology {
   }
 };
 
-const Topologies::Add reg("switch", {"every GPM linked to a central switch",
-                                     [](int gpms) { return std::make_unique<Switch>(gpms); }});
+const Topologies::Add reg("switch",
+                          {"every GPM linked to a central switch", [](int gpms) { return std::make_unique<Switch>(gpms); }});
 
 }  // namespace
 }  // namespace oovr
