@@ -136,6 +136,7 @@ TEST(TraceCache, KeysFollowEverythingThatDecidesATrace) {
   EXPECT_NE(k, cache.key(f, 1, v1, p));
   EXPECT_NE(k, cache.key(f, 0, v0, q));
   EXPECT_NE(k, cache.key(f + 1, 0, v0, p));
+  EXPECT_NE(k, cache.key(f, 0, v0, p, kPipelineVersion + 1)) << "a renderer change (version.h)";
   EXPECT_FALSE(cache.load(k, s, 0, v0, p).trace.has_value());
   EXPECT_EQ(cache.load(k, s, 0, v0, p).rejected, "") << "no entry is not a rejected entry";
   const FrameOutput out = render_frame(s, v0, p);

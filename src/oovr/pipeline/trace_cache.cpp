@@ -117,28 +117,6 @@ class Reader {
   size_t m_at = 0;
 };
 
-// A hash of the running executable: any rebuild (a fixed rasteriser, a new
-// trace field) invalidates every cached trace, so a cache can never replay
-// the output of older code. Hashed 8 bytes at a time, once per process.
-uint64_t build_fingerprint() {
-  static const uint64_t value = [] {
-    std::ifstream in("/proc/self/exe", std::ios::binary);
-    if (!in) return uint64_t(0);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    uint64_t h = 1469598103934665603ull ^ bytes.size();
-    size_t i = 0;
-    for (; i + 8 <= bytes.size(); i += 8) {
-      uint64_t w;
-      std::memcpy(&w, bytes.data() + i, 8);
-      h = (h ^ w) * 1099511628211ull;
-      h ^= h >> 29;
-    }
-    for (; i < bytes.size(); ++i) h = (h ^ uint8_t(bytes[i])) * 1099511628211ull;
-    return h;
-  }();
-  return value;
-}
-
 }  // namespace
 
 uint64_t scene_fingerprint(const Scene& s) {
@@ -214,10 +192,11 @@ TraceCache::TraceCache(std::string directory) : m_dir(std::move(directory)) {
   else m_dir = (fs::temp_directory_path() / "oovr-traces").string();
 }
 
-std::string TraceCache::key(uint64_t fingerprint, int frame, const StereoView& view, const PipelineSettings& s) const {
+std::string TraceCache::key(uint64_t fingerprint, int frame, const StereoView& view, const PipelineSettings& s,
+                            uint32_t pipeline_version) {
   Hasher h;
   h.pod(kFormat);
-  h.pod(build_fingerprint());
+  h.pod(pipeline_version);
   h.pod(fingerprint);
   h.pod(frame);
   h.pod(view.eyes);

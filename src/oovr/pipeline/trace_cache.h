@@ -1,8 +1,9 @@
 // A disk cache of FrameTraces (render once, replay per scheme): a trace is
 // stored under a key made from everything that decides it: the scene's
 // content (a hash of its geometry, textures, objects and camera), the frame,
-// the stereo view, and the pipeline settings. The key includes a hash of the
-// executable, so a rebuilt oovr never replays traces made by older code.
+// the stereo view, the pipeline settings and the renderer's version
+// (version.h). Not the executable: a rebuild after editing a scheme or the
+// timing model keeps every cached trace; a renderer change bumps the version.
 //
 // A stale or corrupt entry is a miss, never a wrong answer and never a
 // crash: an entry is read only from a regular file no larger than the cache,
@@ -20,6 +21,7 @@
 
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/pipeline/version.h"
 #include "oovr/scene/scene.h"
 #include "oovr/scene/stereo.h"
 
@@ -47,7 +49,9 @@ class TraceCache {
   uint64_t max_bytes() const { return m_max_bytes; }
   void set_max_bytes(uint64_t b) { m_max_bytes = b; }
 
-  std::string key(uint64_t scene_fingerprint, int frame, const StereoView& view, const PipelineSettings& s) const;
+  // The key of a trace; `pipeline_version` is kPipelineVersion but for tests.
+  static std::string key(uint64_t scene_fingerprint, int frame, const StereoView& view, const PipelineSettings& s,
+                         uint32_t pipeline_version = kPipelineVersion);
   // The trace stored under `key`, if it verifies as a trace of `frame` of
   // `scene` seen through `view` with `settings` (trace_mismatch).
   TraceLookup load(const std::string& key, const Scene& scene, int frame, const StereoView& view,

@@ -1,0 +1,21 @@
+// The renderer's version, part of every trace-cache key (trace_cache.h).
+//
+// A FrameTrace is decided by the scene's content, the frame, the stereo view,
+// the pipeline settings and the code that renders it. The first four are in
+// the key as values; the code is this number. Bump it in the commit that
+// changes what the renderer writes for some input (rasterisation, shading
+// cost, texture addressing, the trace's fields), so that no cache replays
+// the old output; leave it alone for changes elsewhere (a scheme, the timing
+// model, the CLI), so that their rebuilds keep every cached trace.
+//
+// tests/test_pipeline_version.cpp holds the traces of a few reference frames
+// by hash: a renderer change that forgets the bump fails it, naming the frame.
+#pragma once
+
+#include <cstdint>
+
+namespace oovr {
+
+inline constexpr uint32_t kPipelineVersion = 1;
+
+}  // namespace oovr

@@ -1,0 +1,85 @@
+// The renderer's version (src/oovr/pipeline/version.h) against what the
+// renderer writes: the traces of a few reference frames are held here by
+// hash, beside the hash of their scene's content. A renderer change that
+// changes a trace must bump kPipelineVersion, or a trace cache would replay
+// the old output under the new code (the cache key holds the version, not
+// the executable); this test fails until it does, naming the frame.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "game_data.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/pipeline/trace_cache.h"
+#include "oovr/pipeline/version.h"
+#include "oovr/scene/load.h"
+#include "oovr/scene/stereo.h"
+
+namespace oovr {
+namespace {
+
+uint64_t fnv1a(std::string_view bytes) {
+  uint64_t h = 1469598103934665603ull;
+  for (const char c : bytes) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  return h;
+}
+
+struct Reference {
+  const char* scene;
+  int frame;
+  const char* eye_resolution;
+  uint64_t scene_hash;  // scene_fingerprint of the loaded scene
+  uint64_t trace_hash;  // FNV-1a of serialize_trace of the rendered frame
+};
+
+// Recorded with kPipelineVersion 1. When a frame's scene hash still matches
+// and its trace hash does not, the renderer changed: bump kPipelineVersion and
+// record the new trace hashes (with the version they belong to). When the
+// scene hash changed too, a loader or a scene changed instead: record both.
+constexpr uint32_t kRecordedVersion = 1;
+constexpr Reference kReferences[] = {
+    {"crowd", 0, "96x64", 8825377480391382473u, 16997077439721387403u},
+    {"courtyard", 5, "96x64", 13209774018795840922u, 11421391068056993798u},
+    {"oa:oa_dm4", 0, "96x64", 4997083778515744369u, 2787289683188192321u},
+    {"nexuiz:strength", 0, "96x64", 12022897656697453944u, 10426362947222672922u},
+    {"torcs:forza", 0, "96x64", 8709396679541752112u, 6131576962161297412u},
+};
+
+bool installed(const std::string& scene) {
+  if (scene.rfind("oa:", 0) == 0) return test::have_openarena();
+  if (scene.rfind("nexuiz:", 0) == 0) return test::have_nexuiz();
+  if (scene.rfind("torcs:", 0) == 0) return test::have_torcs();
+  return true;
+}
+
+TEST(PipelineVersion, ReferenceTracesAreThoseOfThisVersion) {
+  int checked = 0;
+  for (const Reference& r : kReferences) {
+    if (!installed(r.scene)) continue;
+    const Scene scene = load_scene(r.scene);
+    const StereoView view = make_stereo_view(scene.camera, r.frame, parse_eye_resolution(r.eye_resolution));
+    const FrameTrace trace = render_frame(scene, view, PipelineSettings{}, r.frame).trace;
+    const uint64_t scene_hash = scene_fingerprint(scene), trace_hash = fnv1a(serialize_trace(trace));
+    const std::string got = std::to_string(scene_hash) + "u, " + std::to_string(trace_hash) + "u";
+    if (scene_hash != r.scene_hash) {
+      ADD_FAILURE() << r.scene << " frame " << r.frame << ": the scene's content changed (a loader or the scene); record "
+                    << got;
+    } else if (trace_hash != r.trace_hash) {
+      ADD_FAILURE() << r.scene << " frame " << r.frame << ": the renderer's output changed; "
+                    << (kPipelineVersion == kRecordedVersion
+                            ? "bump kPipelineVersion in src/oovr/pipeline/version.h, then record "
+                            : "record, with kRecordedVersion = kPipelineVersion, ")
+                    << got;
+    }
+    ++checked;
+  }
+  EXPECT_EQ(kRecordedVersion, kPipelineVersion) << "the recorded traces are of another version: record them anew";
+  if (checked < int(std::size(kReferences)))
+    std::printf("[   NOTE   ] %d of %zu reference frames checked; the game levels' need scripts/install-deps.sh --game-data\n",
+                checked, std::size(kReferences));
+}
+
+}  // namespace
+}  // namespace oovr
