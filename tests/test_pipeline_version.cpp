@@ -64,8 +64,7 @@ TEST(PipelineVersion, ReferenceTracesAreThoseOfThisVersion) {
     const uint64_t scene_hash = scene_fingerprint(scene), trace_hash = fnv1a(serialize_trace(trace));
     const std::string got = std::to_string(scene_hash) + "u, " + std::to_string(trace_hash) + "u";
     if (scene_hash != r.scene_hash) {
-      ADD_FAILURE() << r.scene << " frame " << r.frame << ": the scene's content changed (a loader or the scene); record "
-                    << got;
+      ADD_FAILURE() << r.scene << " frame " << r.frame << ": the scene's content changed (a loader or the scene); record " << got;
     } else if (trace_hash != r.trace_hash) {
       ADD_FAILURE() << r.scene << " frame " << r.frame << ": the renderer's output changed; "
                     << (kPipelineVersion == kRecordedVersion

@@ -18,6 +18,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/out_of_memory.h"
+#include "oovr/core/version.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -42,6 +43,17 @@ int cmd_scenes() {
   for (const auto& s : scenes) fmt::print("{:<{}}  {:<9}  {}\n", s.name, w, s.kind, s.description);
   fmt::print("\nAny OBJ, glTF (.gltf/.glb), PLY or AC3D (.ac) file path is also a scene.\n");
   fmt::print("OpenArena maps take options: oa:MAP?group=shader-lightmap|face&tess=1..16\n");
+  return 0;
+}
+
+// Every registered scheme (one file each in src/oovr/schemes/impl/), with
+// what it models.
+int cmd_schemes() {
+  const auto names = Schemes::names();
+  size_t w = 4;
+  for (const auto& n : names) w = std::max(w, n.size());
+  fmt::print("{:<{}}  {}\n", "name", w, "description");
+  for (const auto& n : names) fmt::print("{:<{}}  {}\n", n, w, Schemes::find(n)->description);
   return 0;
 }
 
@@ -218,7 +230,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
 
+  app.set_version_flag("--version", fmt::format("oovr {} (commit {})", version(), git_commit()));
+
   app.add_subcommand("scenes", "List built-in and installed scenes");
+  app.add_subcommand("schemes", "List the registered schemes with what each models");
 
   SceneInfoArgs info;
   auto* info_cmd = app.add_subcommand("scene-info", "Draws, triangles, textures and texture sharing of a scene");
@@ -335,9 +350,11 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;
       for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == argv[1];
-      if (!known)
-        throw Error(std::string("unknown command '") + argv[1] +
-                    "' (commands: scenes, scene-info, render, simulate, compare, paper, correlate, config; see --help)");
+      if (!known) {
+        std::string commands;
+        for (const auto* sub : app.get_subcommands({})) commands += (commands.empty() ? "" : ", ") + sub->get_name();
+        throw Error(std::string("unknown command '") + argv[1] + "' (commands: " + commands + "; see --help)");
+      }
     }
     app.parse(argc, argv);
     for (const CLI::App* cmd : app.get_subcommands()) {
@@ -348,6 +365,7 @@ int main(int argc, char** argv) {
     }
     const auto run = [&]() -> int {
       if (app.got_subcommand("scenes")) return cmd_scenes();
+      if (app.got_subcommand("schemes")) return cmd_schemes();
       if (app.got_subcommand(info_cmd)) return cmd_scene_info(info);
       if (app.got_subcommand(config_cmd)) return cmd_config(config);
       if (app.got_subcommand(sim_cmd)) return cli::simulate(sim);
