@@ -194,6 +194,47 @@ TEST(Config, FilesAreReadOnlyWhenTheyAreRegularAndBounded) {
             std::string::npos);
 }
 
+// `oovr config --all` and every result describe each key: value, default,
+// where the value came from, what the key takes, and the value in base units.
+TEST(Config, EveryKeyReadIsDescribed) {
+  Config c;
+  c.set("gpms=8");
+  c.set("cache.l1.size=256KB");
+  check_config(c);
+  const auto& e = c.entries();
+  ASSERT_EQ(e.size(), c.resolved().size());
+  const Config::Entry& gpms = e.at("gpms");
+  EXPECT_EQ(gpms.value, "8");
+  EXPECT_EQ(gpms.fallback, "4");
+  EXPECT_EQ(gpms.source, "--set");
+  EXPECT_EQ(gpms.kind, "a whole number from 1 to 32");
+  EXPECT_EQ(gpms.base, 8.0);
+  const Config::Entry& l1 = e.at("cache.l1.size");
+  EXPECT_EQ(l1.value, "256 KB");
+  EXPECT_EQ(l1.fallback, "128 KB");
+  EXPECT_EQ(l1.unit, "B");
+  EXPECT_EQ(l1.base, 262144.0);
+  const Config::Entry& link = e.at("link.bandwidth");
+  EXPECT_EQ(link.source, "default");
+  EXPECT_EQ(link.unit, "B/s");
+  EXPECT_EQ(link.base, 64e9);
+  EXPECT_EQ(e.at("link.latency").unit, "s");
+  EXPECT_EQ(e.at("frequency").unit, "Hz");
+  EXPECT_EQ(e.at("memory.placement").kind.rfind("one of first-touch, ", 0), 0u) << e.at("memory.placement").kind;
+  EXPECT_FALSE(e.at("memory.placement").base.has_value());
+  for (const auto& [key, entry] : e) {
+    EXPECT_FALSE(entry.value.empty()) << key;
+    EXPECT_FALSE(entry.kind.empty()) << key;
+    EXPECT_EQ(entry.value, c.resolved().at(key)) << key;
+    EXPECT_EQ(entry.base.has_value(),
+              !entry.unit.empty() || entry.kind.rfind("a whole", 0) == 0 || entry.kind.rfind("a number", 0) == 0)
+        << key;
+  }
+  const Config file = Config::from_toml_string("gpms = 2\n", "preset.toml");
+  check_config(file);
+  EXPECT_EQ(file.entries().at("gpms").source, "preset.toml:1");
+}
+
 TEST(Config, EveryPresetLoads) {
   const std::filesystem::path dir = std::filesystem::path(OOVR_SOURCE_DIR) / "configs";
   int presets = 0;

@@ -123,11 +123,27 @@ int cmd_scene_info(const SceneInfoArgs& a) {
 struct ConfigArgs {
   std::string file;
   std::vector<std::string> settings;
+  bool all = false;
 };
 
 int cmd_config(const ConfigArgs& a) {
   const Config c = cli::machine_config(a.file, a.settings);
   check_config(c);
+  if (a.all) {
+    // Every key any component reads, with its default, where its value came
+    // from and what it takes (units included).
+    size_t w[4] = {3, 5, 7, 6};
+    for (const auto& [k, e] : c.entries()) {
+      w[0] = std::max(w[0], k.size());
+      w[1] = std::max(w[1], e.value.size());
+      w[2] = std::max(w[2], e.fallback.size());
+      w[3] = std::max(w[3], e.source.size());
+    }
+    fmt::print("{:<{}}  {:<{}}  {:<{}}  {:<{}}  {}\n", "key", w[0], "value", w[1], "default", w[2], "source", w[3], "takes");
+    for (const auto& [k, e] : c.entries())
+      fmt::print("{:<{}}  {:<{}}  {:<{}}  {:<{}}  {}\n", k, w[0], e.value, w[1], e.fallback, w[2], e.source, w[3], e.kind);
+    return 0;
+  }
   // Printed as TOML (dotted keys), so that the output is itself a preset.
   fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
   for (const auto& [k, v] : c.resolved()) {
@@ -244,6 +260,7 @@ int main(int argc, char** argv) {
   auto* config_cmd = app.add_subcommand("config", "Print the machine configuration in force (preset + overrides)");
   config_cmd->add_option("--config", config.file, "TOML preset (default: the paper's Table 1)");
   config_cmd->add_option("--set", config.settings, "Override a key, e.g. --set link.bandwidth=128GBps (repeatable)");
+  config_cmd->add_flag("--all", config.all, "List every key with its value, default, source and what it takes");
 
   cli::SimulateArgs sim;
   auto add_machine_options = [](CLI::App* cmd, cli::SimulateArgs& a) {

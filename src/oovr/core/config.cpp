@@ -197,7 +197,11 @@ const Config::Value* Config::find(const std::string& key) const {
   return &it->second;
 }
 
-void Config::record(const std::string& key, const std::string& value) const { m_resolved[key] = value; }
+void Config::record(const std::string& key, const Value* v, Entry e) const {
+  e.source = v ? v->source : "default";
+  m_resolved[key] = e.value;
+  m_entries[key] = std::move(e);
+}
 
 void Config::type_error(const std::string& key, const Value& v, const char* expected) const {
   throw Error("configuration key '" + key + "' (" + v.source + ") must be " + expected + ", not '" + v.text + "'");
@@ -212,7 +216,9 @@ int64_t Config::get_int(const std::string& key, int64_t fallback, int64_t lo, in
     if (v->i < lo || v->i > hi) type_error(key, *v, range.c_str());
     r = v->i;
   }
-  record(key, std::to_string(r));
+  record(key, v,
+         {std::to_string(r), std::to_string(fallback), "",
+          "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi), "", double(r)});
   return r;
 }
 
@@ -225,7 +231,9 @@ double Config::get_double(const std::string& key, double fallback, double lo, do
     if (!(v->d >= lo && v->d <= hi)) type_error(key, *v, range.c_str());
     r = v->d;
   }
-  record(key, format_double(r));
+  record(
+      key, v,
+      {format_double(r), format_double(fallback), "", "a number from " + format_double(lo) + " to " + format_double(hi), "", r});
   return r;
 }
 
@@ -236,7 +244,7 @@ bool Config::get_bool(const std::string& key, bool fallback) const {
     if (v->kind != Kind::boolean) type_error(key, *v, "true or false");
     r = v->b;
   }
-  record(key, r ? "true" : "false");
+  record(key, v, {r ? "true" : "false", fallback ? "true" : "false", "", "true or false", "", std::nullopt});
   return r;
 }
 
@@ -247,18 +255,23 @@ std::string Config::get_string(const std::string& key, const std::string& fallba
     if (v->kind != Kind::string) type_error(key, *v, "a string");
     r = v->text;
   }
-  record(key, r);
+  record(key, v, {r, fallback, "", "a string", "", std::nullopt});
   return r;
 }
 
 std::string Config::get_choice(const std::string& key, const std::string& fallback,
                                std::initializer_list<const char*> choices) const {
+  return get_choice(key, fallback, std::vector<std::string>(choices.begin(), choices.end()));
+}
+
+std::string Config::get_choice(const std::string& key, const std::string& fallback,
+                               const std::vector<std::string>& choices) const {
   const std::string r = get_string(key, fallback);
   std::string list;
-  for (const char* c : choices) {
+  for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+  m_entries[key].kind = "one of " + list;
+  for (const std::string& c : choices)
     if (r == c) return r;
-    list += (list.empty() ? "" : ", ") + std::string(c);
-  }
   const Value* v = find(key);
   throw Error("configuration key '" + key + "' (" + (v ? v->source : "default") + ") must be one of " + list + ", not '" + r +
               "'");
@@ -272,7 +285,7 @@ Bytes Config::get_bytes(const std::string& key, Bytes fallback) const {
     else if (v->kind == Kind::string) r = parse_bytes(v->text, "configuration key '" + key + "' (" + v->source + ")");
     else type_error(key, *v, "a size such as 128KB");
   }
-  record(key, format_bytes(r));
+  record(key, v, {format_bytes(r), format_bytes(fallback), "", "a size (128KB, 2MiB)", "B", double(r.value)});
   return r;
 }
 
@@ -283,7 +296,7 @@ BytesPerSecond Config::get_bandwidth(const std::string& key, BytesPerSecond fall
     if (v->kind != Kind::string) type_error(key, *v, "a bandwidth such as 64GBps");
     r = parse_bandwidth(v->text, "configuration key '" + key + "' (" + v->source + ")");
   }
-  record(key, format_bandwidth(r));
+  record(key, v, {format_bandwidth(r), format_bandwidth(fallback), "", "a bandwidth (64GBps)", "B/s", r.value});
   return r;
 }
 
@@ -294,7 +307,10 @@ Seconds Config::get_time(const std::string& key, Seconds fallback) const {
     if (v->kind != Kind::string) type_error(key, *v, "a time such as 100ns");
     r = parse_time(v->text, "configuration key '" + key + "' (" + v->source + ")");
   }
-  record(key, format_scaled(r.value, 1e9, "ns", "s", [](const std::string& t) { return parse_time(t, "").value; }));
+  const auto print = [](double s) {
+    return format_scaled(s, 1e9, "ns", "s", [](const std::string& t) { return parse_time(t, "").value; });
+  };
+  record(key, v, {print(r.value), print(fallback.value), "", "a time (100ns)", "s", r.value});
   return r;
 }
 
@@ -305,7 +321,10 @@ Hertz Config::get_frequency(const std::string& key, Hertz fallback) const {
     if (v->kind != Kind::string) type_error(key, *v, "a frequency such as 1GHz");
     r = parse_frequency(v->text, "configuration key '" + key + "' (" + v->source + ")");
   }
-  record(key, format_scaled(r.value, 1e-6, "MHz", "Hz", [](const std::string& t) { return parse_frequency(t, "").value; }));
+  const auto print = [](double hz) {
+    return format_scaled(hz, 1e-6, "MHz", "Hz", [](const std::string& t) { return parse_frequency(t, "").value; });
+  };
+  record(key, v, {print(r.value), print(fallback.value), "", "a frequency (1GHz)", "Hz", r.value});
   return r;
 }
 

@@ -45,6 +45,8 @@ class Config {
   std::string get_string(const std::string& key, const std::string& fallback) const;
   // One of `choices`; anything else is an Error listing them.
   std::string get_choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> choices) const;
+  // The same, for choices known only at run time (a registry's names).
+  std::string get_choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& choices) const;
   // Strings with units ("1MB"), or plain integers in the base unit.
   Bytes get_bytes(const std::string& key, Bytes fallback) const;
   BytesPerSecond get_bandwidth(const std::string& key, BytesPerSecond fallback) const;
@@ -55,6 +57,17 @@ class Config {
   void check_all_used() const;
   // Every key read, with the value in force (defaults included), sorted.
   const std::map<std::string, std::string>& resolved() const { return m_resolved; }
+  // Every key read, described: what `oovr config --all` lists and what a
+  // result records beside the readable value.
+  struct Entry {
+    std::string value;           // in force, readable and reading back ("1536 KB")
+    std::string fallback;        // the default, in the same form
+    std::string source;          // "default", "FILE.toml:LINE" or "--set"
+    std::string kind;            // what it takes: "a whole number from 1 to 32", "a size", "one of lru, random"
+    std::string unit;            // the base unit of `base` ("B", "B/s", "s", "Hz"; "" for plain numbers)
+    std::optional<double> base;  // the value as a number in the base unit (none for strings)
+  };
+  const std::map<std::string, Entry>& entries() const { return m_entries; }
   // Where the values came from (file names, "--set"), for messages.
   const std::string& origin() const { return m_origin; }
 
@@ -71,12 +84,13 @@ class Config {
   static void flatten(const void* toml_table, const std::string& prefix, const std::string& file,
                       std::map<std::string, Value>& out);
   const Value* find(const std::string& key) const;
-  void record(const std::string& key, const std::string& value) const;
+  void record(const std::string& key, const Value* v, Entry e) const;
   [[noreturn]] void type_error(const std::string& key, const Value& v, const char* expected) const;
 
   std::map<std::string, Value> m_values;
   mutable std::map<std::string, bool> m_used;
   mutable std::map<std::string, std::string> m_resolved;
+  mutable std::map<std::string, Entry> m_entries;
   std::string m_origin;
 };
 

@@ -11,12 +11,6 @@ namespace {
 
 bool power_of_two(uint64_t v) { return v && !(v & (v - 1)); }
 
-std::string names(const std::vector<std::string>& n) {
-  std::string s;
-  for (const auto& x : n) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
 // `max`: the largest size simulated; every instance (an L1 per SM) holds a
 // tag per line, so a size without bound is memory without bound
 // (cache.l1.size=1GB once ended in std::bad_alloc). Real GPUs' largest are
@@ -27,13 +21,10 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
   if (s.size.value > max.value)
     throw Error("configuration key '" + prefix + ".size' must be at most " + format_bytes(max) + ", not " + format_bytes(s.size));
   s.ways = int(c.get_int(prefix + ".ways", def.ways, 1, 1024));
-  s.replacement = c.get_string(prefix + ".replacement", def.replacement);
+  s.replacement = c.get_choice(prefix + ".replacement", def.replacement, ReplacementPolicies::names());
   s.latency = c.get_time(prefix + ".latency", def.latency);
   if (!(s.latency.value >= 0 && s.latency.value <= 1e-3))
     throw Error("configuration key '" + prefix + ".latency' must be from 0 to 1 ms");
-  if (!ReplacementPolicies::find(s.replacement))
-    throw Error("configuration key '" + prefix + ".replacement' must be one of " + names(ReplacementPolicies::names()) +
-                ", not '" + s.replacement + "'");
   const uint64_t lines = s.size.value / line.value;
   if (s.size.value % line.value != 0 || lines == 0 || lines % uint64_t(s.ways) != 0 || !power_of_two(lines / uint64_t(s.ways)))
     throw Error("configuration key '" + prefix + ".size' (" + format_bytes(s.size) +
@@ -55,10 +46,7 @@ MemorySpec MemorySpec::from_config(const Config& c) {
   s.page = c.get_bytes("memory.page", d.page);
   if (!power_of_two(s.page.value) || s.page.value < s.line.value || s.page.value > (1ull << 30))
     throw Error("configuration key 'memory.page' must be a power of two from the line size to 1 GB, not " + format_bytes(s.page));
-  s.placement = c.get_string("memory.placement", d.placement);
-  if (!PlacementPolicies::find(s.placement))
-    throw Error("configuration key 'memory.placement' must be one of " + names(PlacementPolicies::names()) + ", not '" +
-                s.placement + "'");
+  s.placement = c.get_choice("memory.placement", d.placement, PlacementPolicies::names());
   s.l1 = cache(c, "cache.l1", d.l1, s.line, Bytes{uint64_t(16) << 20});
   s.l2 = cache(c, "cache.l2", d.l2, s.line, Bytes{uint64_t(256) << 20});
   s.remote = cache(c, "cache.remote", d.remote, s.line, Bytes{uint64_t(256) << 20});
@@ -67,9 +55,7 @@ MemorySpec MemorySpec::from_config(const Config& c) {
   s.dram_latency = c.get_time("dram.latency", d.dram_latency);
   s.link_bandwidth = c.get_bandwidth("link.bandwidth", d.link_bandwidth);
   s.link_latency = c.get_time("link.latency", d.link_latency);
-  s.topology = c.get_string("link.topology", d.topology);
-  if (!Topologies::find(s.topology))
-    throw Error("configuration key 'link.topology' must be one of " + names(Topologies::names()) + ", not '" + s.topology + "'");
+  s.topology = c.get_choice("link.topology", d.topology, Topologies::names());
   // Wide physical bounds, so that no time computed from them overflows.
   for (const auto& [key, b] : {std::pair{"dram.bandwidth", s.dram_bandwidth}, std::pair{"link.bandwidth", s.link_bandwidth}})
     if (!(b.value >= 1e6 && b.value <= 1e16))
