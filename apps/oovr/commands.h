@@ -21,6 +21,7 @@ struct SimulateArgs {
   std::vector<std::string> settings;
   std::string json, gpm_image, traffic_image;
   bool no_cache = false;
+  std::string command;  // the command line, for the results
 };
 
 struct PaperArgs {

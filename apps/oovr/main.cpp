@@ -380,6 +380,10 @@ int main(int argc, char** argv) {
       if (cmd->get_option_no_throw("--eye-resolution") && cmd->count("--resolution") && cmd->count("--eye-resolution"))
         throw Error("give --resolution or --eye-resolution, not both");
     }
+    // The command line results record, with the program as "oovr".
+    std::vector<const char*> words(argv, argv + argc);
+    words[0] = "oovr";
+    sim.command = cmp.command = paper.command = shell_command_line(argc, words.data());
     const auto run = [&]() -> int {
       if (app.got_subcommand("scenes")) return cmd_scenes();
       if (app.got_subcommand("schemes")) return cmd_schemes();
@@ -393,11 +397,7 @@ int main(int argc, char** argv) {
       }
       if (app.got_subcommand(render_cmd)) return cmd_render(render);
       if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
-      if (app.got_subcommand(paper_cmd)) {
-        paper.command = "oovr";
-        for (int i = 1; i < argc; ++i) paper.command += std::string(" ") + argv[i];
-        return cli::paper(paper);
-      }
+      if (app.got_subcommand(paper_cmd)) return cli::paper(paper);
       return 0;
     };
     const int rc = run();

@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "commands.h"
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
@@ -144,10 +145,35 @@ std::string frame_range(int first, int window) {
   return window > 1 ? fmt::format("frames {} to {}", first, first + window - 1) : fmt::format("frame {}", first);
 }
 
-nlohmann::ordered_json latencies_json(const SchemeResult& r) {
-  nlohmann::ordered_json per = nlohmann::ordered_json::array();
-  for (double l : r.frame_latencies_s) per.push_back(l * r.frequency_hz);
-  return per;
+// The results document simulate and compare both write (docs/results.md):
+// the header, what was run, the machine, and a run per scheme, with ratios
+// against the baseline when it ran.
+nlohmann::ordered_json results_json(const SimulateArgs& a, const Config& config, const Frames& f, int window,
+                                    const std::vector<SchemeResult>& results) {
+  nlohmann::ordered_json j = results_header(a.command);
+  j["scene"] = f.scene.name;
+  j["frame"] = a.frame;
+  j["frames"] = window;
+  j["resolution"] = fmt::format("{}x{}", f.rig.frame_width(), f.rig.frame_height());
+  check_config(config);  // reads every key, so that all are described
+  j["config"] = to_json(config.entries());
+  const SchemeResult* base = nullptr;
+  for (const auto& r : results)
+    if (r.scheme == "baseline") base = &r;
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  for (const auto& r : results) {
+    nlohmann::ordered_json x = to_json(r);
+    if (base) {
+      x["speedup_vs_baseline"] = base->frame_latency_s / r.frame_latency_s;
+      x["throughput_vs_baseline"] = r.throughput_fps / base->throughput_fps;
+      x["traffic_vs_baseline"] =
+          base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0.0;
+    }
+    runs.push_back(x);
+  }
+  j["runs"] = runs;
+  j["trace_notes"] = f.notes;
+  return j;
 }
 
 }  // namespace
@@ -187,15 +213,7 @@ int simulate(const SimulateArgs& a) {
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.frames->size(),
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
-  if (!a.json.empty()) {
-    nlohmann::ordered_json j = to_json(r);
-    j["scene"] = f.scene.name;
-    j["frame"] = a.frame;
-    j["frames"] = window;
-    j["frame_latency_cycles_per_frame"] = latencies_json(r);
-    j["trace_notes"] = f.notes;
-    write_json(a.json, j);
-  }
+  if (!a.json.empty()) write_json(a.json, results_json(a, config, f, window, {r}));
   if (!a.gpm_image.empty()) write_image(gpm_image(f.outputs.front(), r), a.gpm_image);
   if (!a.traffic_image.empty()) write_image(traffic_image(f.outputs.front(), r), a.traffic_image);
   return 0;
@@ -237,28 +255,7 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, window,
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
-  if (!a.json.empty()) {
-    nlohmann::ordered_json j;
-    j["scene"] = f.scene.name;
-    j["frame"] = a.frame;
-    j["frames"] = window;
-    j["resolution"] = fmt::format("{}x{}", f.rig.frame_width(), f.rig.frame_height());
-    nlohmann::ordered_json arr = nlohmann::ordered_json::array();
-    for (const auto& r : results) {
-      nlohmann::ordered_json x = to_json(r);
-      x["frame_latency_cycles_per_frame"] = latencies_json(r);
-      if (base) {
-        x["speedup_vs_baseline"] = base->frame_latency_s / r.frame_latency_s;
-        x["throughput_vs_baseline"] = r.throughput_fps / base->throughput_fps;
-        x["traffic_vs_baseline"] =
-            base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0.0;
-      }
-      arr.push_back(x);
-    }
-    j["schemes"] = arr;
-    j["trace_notes"] = f.notes;
-    write_json(a.json, j);
-  }
+  if (!a.json.empty()) write_json(a.json, results_json(a, config, f, window, results));
   return 0;
 }
 

@@ -167,7 +167,7 @@ void Config::set(const std::string& key, const std::string& value) {
       throw Error("bad setting key '" + key + "': keys are dotted names such as link.bandwidth");
   if (value.empty()) throw Error("bad setting '" + key + "=': the value is empty");
   Value v;
-  v.source = "--set";
+  v.source = m_set_source;
   v.text = value;
   const char* b = value.data();
   const char* e = b + value.size();
@@ -187,7 +187,7 @@ void Config::set(const std::string& key, const std::string& value) {
     v.kind = Kind::string;
   }
   m_values[key] = v;
-  m_origin += m_origin.empty() ? "--set" : ", --set";
+  if (m_origin.find(m_set_source) == std::string::npos) m_origin += (m_origin.empty() ? "" : ", ") + m_set_source;
 }
 
 const Config::Value* Config::find(const std::string& key) const {

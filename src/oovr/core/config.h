@@ -34,6 +34,9 @@ class Config {
   // else as a string (e.g. 128GBps). Throws Error when malformed.
   void set(const std::string& assignment);
   void set(const std::string& key, const std::string& value);
+  // What set() records as the source of the values it sets: "--set" unless
+  // told otherwise (a scheme's own overrides say "scheme NAME").
+  void set_source(const std::string& source) { m_set_source = source; }
 
   bool has(const std::string& key) const { return m_values.count(key) != 0; }
 
@@ -92,6 +95,7 @@ class Config {
   mutable std::map<std::string, std::string> m_resolved;
   mutable std::map<std::string, Entry> m_entries;
   std::string m_origin;
+  std::string m_set_source = "--set";
 };
 
 }  // namespace oovr

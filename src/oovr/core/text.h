@@ -20,4 +20,9 @@ std::string lower_extension(const std::string& path);
 // limits take them; nothing otherwise (the caller names what is wrong).
 std::optional<uint64_t> parse_whole_number(const std::string& text, uint64_t lo, uint64_t hi);
 
+// The words of a command line joined as a POSIX shell would read them back:
+// words with characters the shell treats specially are single-quoted
+// ("oovr compare --set 'link.bandwidth=1 TBps'").
+std::string shell_command_line(int argc, const char* const* argv);
+
 }  // namespace oovr

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
@@ -319,8 +320,9 @@ std::string line_chart(const std::string& title, const std::string& x_label, con
 void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std::string& dir) {
   const fs::path d(dir);
   Figures F{r, o};
-  nlohmann::ordered_json j;
-  j["command"] = o.command;
+  nlohmann::ordered_json j = results_header(o.command);
+  check_config(o.config);  // reads every key, so that all are described
+  j["config"] = to_json(o.config.entries());
   j["scenes"] = r.scenes;
   j["skipped"] = r.skipped;
   j["frames"] = o.frames;

@@ -129,7 +129,7 @@ class Doc {
   // Seconds a GPM's front end spends on one draw in a run.
   static double draw_seconds(const SchemeResult& x) {
     const auto it = x.config.find("gpm.draw_cycles");
-    return (it == x.config.end() ? 0 : std::stod(it->second)) / x.frequency_hz;
+    return (it == x.config.end() ? 0 : std::stod(it->second.value)) / x.frequency_hz;
   }
   // The share of a scheme's frame its front ends spend on draws, on average
   // per GPM (draws received per frame and GPM x gpm.draw_cycles).
@@ -557,7 +557,7 @@ class Doc {
   std::string setting(const std::string& key) const {
     const SchemeResult& x = get(r.scenes.front(), "baseline");
     const auto it = x.config.find(key);
-    return it == x.config.end() ? "n/a" : it->second;
+    return it == x.config.end() ? "n/a" : it->second.value;
   }
 
   // The scene with the most draws: what its draws cost each broadcast GPM.

@@ -1,6 +1,32 @@
 #include "oovr/experiments/result_json.h"
 
+#include "oovr/core/version.h"
+
 namespace oovr {
+
+nlohmann::ordered_json results_header(const std::string& command) {
+  nlohmann::ordered_json j;
+  j["schema"] = "oovr.results";
+  j["schema_version"] = kResultsSchemaVersion;
+  j["oovr"] = {{"version", version()}, {"commit", git_commit()}};
+  j["command"] = command;
+  return j;
+}
+
+nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& config) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [key, e] : config) {
+    nlohmann::ordered_json x;
+    x["value"] = e.value;
+    if (e.base) {
+      x["base"] = *e.base;
+      if (!e.unit.empty()) x["unit"] = e.unit;
+    }
+    x["source"] = e.source;
+    j[key] = x;
+  }
+  return j;
+}
 
 nlohmann::ordered_json to_json(const SchemeResult& r) {
   nlohmann::ordered_json j;
@@ -24,7 +50,9 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["vertices_transformed"] = r.vertices;
   j["work_units"] = r.units;
   j["notes"] = r.notes;
-  j["config"] = r.config;
+  j["frame_latency_cycles_per_frame"] = nlohmann::ordered_json::array();
+  for (double l : r.frame_latencies_s) j["frame_latency_cycles_per_frame"].push_back(l * r.frequency_hz);
+  j["config"] = to_json(r.config);
   return j;
 }
 

@@ -1,13 +1,34 @@
-// A scheme's result as JSON, as `oovr simulate --json`, `oovr compare
-// --json` and `oovr paper` write it.
+// Results as JSON: one document shape for `oovr simulate --json`, `oovr
+// compare --json` and `oovr paper`'s results.json (docs/results.md). Every
+// document says what it is and what made it: schema and version, oovr's
+// version and commit, the command line, and the configuration with each
+// value readable, in base units and with its source.
 #pragma once
+
+#include <map>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "oovr/core/config.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
 
+// Bumped when a field changes meaning or goes; new fields do not bump it.
+inline constexpr int kResultsSchemaVersion = 1;
+
+// {"schema": "oovr.results", "schema_version", "oovr": {version, commit},
+// "command"}: the start of every results document.
+nlohmann::ordered_json results_header(const std::string& command);
+
+// {key: {"value", "base", "unit", "source"}}; "base" and "unit" only for
+// numbers ("base" is the value in "unit": bytes, bytes per second, seconds,
+// hertz; no unit for counts and ratios).
+nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& config);
+
+// One scheme's run: its figures and the configuration it ran with (the
+// machine's, after the scheme's own overrides such as baseline-1tb's links).
 nlohmann::ordered_json to_json(const SchemeResult& r);
 
 }  // namespace oovr

@@ -90,7 +90,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_draw_ends.assign(size_t(gpms()), {});
   m_draws_received.assign(size_t(gpms()), 0);
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
-  m_result.config = in.config.resolved();
+  m_result.config = in.config.entries();
 }
 
 UnitTraffic FrameSim::empty_traffic() const {

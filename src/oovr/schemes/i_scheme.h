@@ -59,7 +59,7 @@ struct SchemeResult {
   std::vector<uint64_t> tile_inter_gpm_bytes;
   // (object, tile index) -> GPM that shaded it, for frames[0].
   std::map<std::pair<uint32_t, uint32_t>, int> owner;
-  std::map<std::string, std::string> config;  // resolved configuration
+  std::map<std::string, Config::Entry> config;  // resolved configuration, described (Config::entries)
   std::vector<std::string> notes;
 
   double frame_latency_cycles() const { return frame_latency_s * frequency_hz; }

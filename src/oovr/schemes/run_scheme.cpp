@@ -40,7 +40,10 @@ SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::
   in.frames = frames;
   in.config = config;
   in.carried = std::move(carried);
+  // The scheme's own overrides name it as their source in the results.
+  in.config.set_source("scheme " + name);
   scheme->configure(in.config);
+  in.config.set_source("--set");
   return scheme->run(in);
 }
 
