@@ -1,0 +1,35 @@
+// The small text helpers the command line and the results rely on.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "oovr/core/text.h"
+
+namespace oovr {
+namespace {
+
+TEST(Text, SplitListDropsEmptyItems) {
+  EXPECT_EQ(split_list("a,b,,c"), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_TRUE(split_list("").empty());
+  EXPECT_TRUE(split_list(",,").empty());
+}
+
+TEST(Text, WholeNumbersAreDigitsOnlyAndInRange) {
+  EXPECT_EQ(parse_whole_number("12", 1, 100), 12u);
+  for (const char* bad : {" 12", "+12", "-5", "1e3", "12MB", "", "101", "0"})
+    EXPECT_FALSE(parse_whole_number(bad, 1, 100).has_value()) << "'" << bad << "'";
+  EXPECT_FALSE(parse_whole_number("99999999999999999999999", 1, UINT64_MAX).has_value()) << "overflow";
+}
+
+// The command line a result records reads back, through a POSIX shell, as
+// the words that were given.
+TEST(Text, CommandLinesAreQuotedAsAShellReadsThem) {
+  const char* plain[] = {"oovr", "compare", "--scene", "oa:oa_dm4", "--set", "link.bandwidth=64GBps", "--json", "out/r.json"};
+  EXPECT_EQ(shell_command_line(8, plain), "oovr compare --scene oa:oa_dm4 --set link.bandwidth=64GBps --json out/r.json");
+  const char* odd[] = {"oovr", "--set", "link.bandwidth=1 TBps", "", "it's", "$HOME", "a;b"};
+  EXPECT_EQ(shell_command_line(7, odd), "oovr --set 'link.bandwidth=1 TBps' '' 'it'\\''s' '$HOME' 'a;b'");
+}
+
+}  // namespace
+}  // namespace oovr
