@@ -138,6 +138,36 @@ TEST(Schemes, TrafficDirections) {
   EXPECT_GT(base.total_inter_gpm_bytes(), paged.total_inter_gpm_bytes());
 }
 
+// The exported memory statistics account for every byte: the GPM-to-GPM
+// matrix sums to the inter-GPM bytes, each transfer crosses as many links as
+// its route has hops (a ring of 8 has routes of 1 to 4), and the DRAMs' bytes
+// sum to local_dram_bytes.
+TEST(Schemes, MemoryStatisticsAccountForEveryByte) {
+  for (const char* scheme : {"baseline", "oo-vr"}) {
+    const SchemeResult r = run(scheme, {"gpms=8", "link.topology=ring"});
+    const MemoryStats& m = r.memory;
+    ASSERT_EQ(m.gpm_to_gpm_bytes.size(), 64u) << scheme;
+    ASSERT_EQ(m.link_bytes.size(), m.link_names.size()) << scheme;
+    ASSERT_EQ(m.dram_bytes.size(), 8u) << scheme;
+    uint64_t matrix = 0, hop_bytes = 0, links = 0, dram = 0;
+    for (int from = 0; from < 8; ++from)
+      for (int to = 0; to < 8; ++to) {
+        const uint64_t b = m.gpm_to_gpm_bytes[size_t(from * 8 + to)];
+        if (from == to) EXPECT_EQ(b, 0u) << scheme;
+        matrix += b;
+        hop_bytes += b * uint64_t(std::min((to - from + 8) % 8, (from - to + 8) % 8));
+      }
+    for (uint64_t b : m.link_bytes) links += b;
+    for (uint64_t b : m.dram_bytes) dram += b;
+    EXPECT_GT(matrix, 0u) << scheme;
+    EXPECT_EQ(matrix, r.total_inter_gpm_bytes()) << scheme;
+    EXPECT_EQ(links, hop_bytes) << scheme;
+    EXPECT_EQ(dram, r.local_dram_bytes) << scheme;
+    EXPECT_GT(m.accesses, m.l1_hits + m.remote_hits + m.home_l2_hits) << scheme;
+    EXPECT_EQ(m.link_names.front(), "gpm0->gpm1") << scheme;
+  }
+}
+
 // SMP transforms each vertex once for both views and the draw is issued
 // once; two sequential passes issue and transform every draw twice, visible
 // in the view or not (at ca88d23 two-pass skipped draws a view could not

@@ -28,6 +28,52 @@ nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& confi
   return j;
 }
 
+namespace {
+
+// The memory system's statistics (docs/results.md, "memory"): counts, the
+// share of accesses each level served, each link's bytes and utilisation
+// (bytes per frame at the run's frame rate over the link's bandwidth), the
+// GPM-to-GPM matrix and each GPM's DRAM bytes.
+nlohmann::ordered_json memory_json(const SchemeResult& r) {
+  const MemoryStats& m = r.memory;
+  nlohmann::ordered_json j;
+  j["accesses"] = m.accesses;
+  j["l1_hits"] = m.l1_hits;
+  j["l2_hits"] = m.l2_hits;
+  j["remote_hits"] = m.remote_hits;
+  j["home_l2_hits"] = m.home_l2_hits;
+  j["dram_lines"] = m.dram_lines;
+  const auto share = [&](uint64_t v) { return m.accesses ? double(v) / double(m.accesses) : 0.0; };
+  j["served_share"] = {{"l1", share(m.l1_hits)},
+                       {"l2", share(m.l2_hits)},
+                       {"remote_cache", share(m.remote_hits)},
+                       {"home_l2", share(m.home_l2_hits)},
+                       {"dram", share(m.dram_lines)}};
+  const auto bw = r.config.find("link.bandwidth");
+  const double link_bandwidth = bw != r.config.end() && bw->second.base ? *bw->second.base : 0;
+  nlohmann::ordered_json links = nlohmann::ordered_json::array();
+  for (size_t l = 0; l < m.link_bytes.size(); ++l) {
+    nlohmann::ordered_json x;
+    x["link"] = l < m.link_names.size() ? m.link_names[l] : std::to_string(l);
+    x["bytes"] = m.link_bytes[l];
+    x["utilisation"] = link_bandwidth > 0 ? double(m.link_bytes[l]) * r.throughput_fps / link_bandwidth : 0.0;
+    links.push_back(x);
+  }
+  j["links"] = links;
+  nlohmann::ordered_json matrix = nlohmann::ordered_json::array();
+  const size_t n = size_t(r.gpms);
+  for (size_t from = 0; from < n && (from + 1) * n <= m.gpm_to_gpm_bytes.size(); ++from) {
+    nlohmann::ordered_json row = nlohmann::ordered_json::array();
+    for (size_t to = 0; to < n; ++to) row.push_back(m.gpm_to_gpm_bytes[from * n + to]);
+    matrix.push_back(row);
+  }
+  j["gpm_to_gpm_bytes"] = matrix;
+  j["dram_bytes"] = m.dram_bytes;
+  return j;
+}
+
+}  // namespace
+
 nlohmann::ordered_json to_json(const SchemeResult& r) {
   nlohmann::ordered_json j;
   j["scheme"] = r.scheme;
@@ -50,6 +96,7 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["vertices_transformed"] = r.vertices;
   j["work_units"] = r.units;
   j["notes"] = r.notes;
+  j["memory"] = memory_json(r);
   j["frame_latency_cycles_per_frame"] = nlohmann::ordered_json::array();
   for (double l : r.frame_latencies_s) j["frame_latency_cycles_per_frame"].push_back(l * r.frequency_hz);
   j["config"] = to_json(r.config);

@@ -69,6 +69,7 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
   m_totals.dram_read_bytes.assign(size_t(spec.gpms), PerCategory{});
   m_totals.dram_write_bytes.assign(size_t(spec.gpms), PerCategory{});
   m_totals.delivered.assign(size_t(spec.gpms) * size_t(spec.gpms), 0);
+  m_totals.moved.assign(size_t(spec.gpms) * size_t(spec.gpms), 0);
 }
 
 void MemorySystem::set_home(uint64_t page, int gpm) {
@@ -135,6 +136,7 @@ void MemorySystem::move(int from, int to, uint64_t bytes, Category c, UnitTraffi
   }
   out.inter_gpm_bytes[size_t(c)] += bytes;
   m_totals.inter_gpm_bytes[size_t(c)] += bytes;
+  m_totals.moved[size_t(from * m_spec.gpms + to)] += bytes;
 }
 
 void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out) {

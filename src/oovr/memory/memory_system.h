@@ -73,6 +73,10 @@ struct TrafficTotals {
   // delivered[src * gpms + dst]: bytes of data held by GPM src (its L2 or
   // DRAM) delivered to requester dst; used to check conservation.
   std::vector<uint64_t> delivered;
+  // moved[from * gpms + to]: bytes sent from GPM `from` to GPM `to` over the
+  // links (every category, counted once however many hops): the GPM-to-GPM
+  // traffic matrix.
+  std::vector<uint64_t> moved;
   uint64_t accesses = 0, l1_hits = 0, l2_hits = 0, remote_hits = 0, home_l2_hits = 0, dram_lines = 0;
   uint64_t copies_evicted = 0;  // pre-allocated pages dropped to make room for others
   uint64_t copies_refused = 0;  // pages not copied: their GPM's room was taken by the same batch

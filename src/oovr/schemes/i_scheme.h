@@ -38,6 +38,25 @@ struct SchemeInput {
   std::shared_ptr<CarriedState> carried;
 };
 
+// The memory system's statistics for one frame (from run_scheme_window: per
+// frame, the window's mean). Counts are of line accesses; bytes are whole.
+struct MemoryStats {
+  uint64_t accesses = 0;                   // line accesses by every SM (reads and writes)
+  uint64_t l1_hits = 0;                    // reads served by the SM's L1
+  uint64_t l2_hits = 0;                    // local data found in the requester's L2 (reads and writes)
+  uint64_t remote_hits = 0;                // remote reads served by the requester's remote cache
+  uint64_t home_l2_hits = 0;               // remote reads served by the holder's L2
+  uint64_t dram_lines = 0;                 // reads served by a DRAM, local or remote
+  std::vector<std::string> link_names;     // "gpm0->gpm1", per link of the topology
+  std::vector<uint64_t> link_bytes;        // per link, every hop counted on its link
+  std::vector<uint64_t> gpm_to_gpm_bytes;  // [from * gpms + to], once per transfer
+  std::vector<uint64_t> dram_bytes;        // per GPM, read and written
+
+  MemoryStats& operator+=(const MemoryStats& o);
+  // Divides every count by `n`, rounding to nearest (a window's mean).
+  void divide(uint64_t n);
+};
+
 struct SchemeResult {
   std::string scheme;
   int gpms = 0;
@@ -50,6 +69,7 @@ struct SchemeResult {
   PerCategory inter_gpm_bytes{};
   uint64_t local_dram_bytes = 0;  // bytes read and written by every DRAM
   uint64_t footprint_bytes = 0;   // memory resident in all GPMs' DRAMs
+  MemoryStats memory;
   // Counts summed over every GPM (and, from run_scheme_window, every frame):
   uint64_t covered_fragments = 0;  // fragments rasterised by all units (duplicates included)
   uint64_t vertices = 0;           // vertex shader invocations (duplicates included)

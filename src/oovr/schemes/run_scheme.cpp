@@ -87,12 +87,14 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
   double time = 0;  // seconds the window's frames take, frames in flight overlapping
   for (auto& x : s.inter_gpm_bytes) x = 0;
   s.local_dram_bytes = s.covered_fragments = s.vertices = s.draws = s.units = 0;
+  s.memory = MemoryStats{};
   std::vector<double> busy(s.gpm_busy_s.size(), 0);
   for (const SchemeResult& r : all) {
     s.frame_latencies_s.insert(s.frame_latencies_s.end(), r.frame_latencies_s.begin(), r.frame_latencies_s.end());
     time += double(r.frames_in_flight) / r.throughput_fps;
     for (size_t c = 0; c < s.inter_gpm_bytes.size(); ++c) s.inter_gpm_bytes[c] += r.inter_gpm_bytes[c];
     s.local_dram_bytes += r.local_dram_bytes;
+    s.memory += r.memory;
     s.covered_fragments += r.covered_fragments;
     s.vertices += r.vertices;
     s.draws += r.draws;
@@ -104,6 +106,7 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
   const auto per_frame = [&](uint64_t v) { return (v + uint64_t(window) / 2) / uint64_t(window); };
   for (auto& x : s.inter_gpm_bytes) x = per_frame(x);
   s.local_dram_bytes = per_frame(s.local_dram_bytes);
+  s.memory.divide(uint64_t(window));
   s.gpm_busy_s = busy;
   double sum = 0;
   for (double l : s.frame_latencies_s) sum += l;
