@@ -50,6 +50,7 @@ struct CorrelateArgs {
   double min_r = -2;      // fail below (-2: no check)
   double max_spread = 0;  // fail above (0: no check)
   std::string sweep;      // "key=v1,v2,...": correlate at each value, pick the most proportional
+  std::string command;    // the command line, for the results
 };
 
 // A preset (or the built-in defaults) with --set overrides.

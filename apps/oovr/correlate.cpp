@@ -8,6 +8,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/experiments/hardware.h"
+#include "oovr/experiments/result_json.h"
 
 namespace oovr::cli {
 namespace {
@@ -81,7 +82,7 @@ int correlate(const CorrelateArgs& a) {
   }
   for (const auto& n : c.notes) fmt::print("  note: {}\n", n);
   if (!a.json.empty()) {
-    nlohmann::ordered_json j;
+    nlohmann::ordered_json j = results_header(a.command);  // docs/results.md
     j["hardware"] = a.hardware;
     j["renderer"] = data.renderer;
     j["scheme"] = c.scheme;

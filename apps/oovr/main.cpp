@@ -383,7 +383,7 @@ int main(int argc, char** argv) {
     // The command line results record, with the program as "oovr".
     std::vector<const char*> words(argv, argv + argc);
     words[0] = "oovr";
-    sim.command = cmp.command = paper.command = shell_command_line(argc, words.data());
+    sim.command = cmp.command = paper.command = corr.command = shell_command_line(argc, words.data());
     const auto run = [&]() -> int {
       if (app.got_subcommand("scenes")) return cmd_scenes();
       if (app.got_subcommand("schemes")) return cmd_schemes();
