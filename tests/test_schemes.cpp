@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <set>
 
 #include "oovr/core/error.h"
+#include "oovr/experiments/result_images.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/schemes/i_scheme.h"
@@ -166,6 +168,48 @@ TEST(Schemes, MemoryStatisticsAccountForEveryByte) {
     EXPECT_GT(m.accesses, m.l1_hits + m.remote_hits + m.home_l2_hits) << scheme;
     EXPECT_EQ(m.link_names.front(), "gpm0->gpm1") << scheme;
   }
+}
+
+// The GPM image colours every covered pixel with its GPM's hue and leaves
+// the background black; one GPM alone gives one hue, and no traffic. The
+// traffic image is black where a tile's work moved nothing and brightest
+// for the tile that moved the most.
+TEST(Schemes, GpmAndTrafficImagesShowOwnersAndBytes) {
+  const FrameOutput& out = courtyard().out.front();
+  const auto covered = [&](int x, int y) { return out.object_id[size_t(y) * size_t(out.colour.width) + size_t(x)] != kNoObject; };
+  const auto hue = [](const uint8_t* p) {  // the palette entry, up to brightness: the largest channel
+    return p[0] >= p[1] && p[0] >= p[2] ? 0 : p[1] >= p[2] ? 1 : 2;
+  };
+  const SchemeResult one = run("single-gpm"), four = run("baseline");
+  const Image g1 = gpm_image(out, one), g4 = gpm_image(out, four);
+  std::set<int> hues1;
+  int covered_pixels = 0;
+  for (int y = 0; y < out.colour.height; ++y)
+    for (int x = 0; x < out.colour.width; ++x) {
+      const uint8_t* p = g1.pixel(x, y);
+      if (!covered(x, y)) {
+        EXPECT_EQ(p[0] + p[1] + p[2], 0) << x << "," << y;
+        continue;
+      }
+      ++covered_pixels;
+      hues1.insert(hue(p));
+    }
+  ASSERT_GT(covered_pixels, 0);
+  EXPECT_EQ(hues1, (std::set<int>{0})) << "one GPM, one colour (the palette's first, red)";
+  std::set<int> hues4;
+  for (int y = 0; y < out.colour.height; ++y)
+    for (int x = 0; x < out.colour.width; ++x)
+      if (covered(x, y)) hues4.insert(hue(g4.pixel(x, y)));
+  EXPECT_EQ(hues4, (std::set<int>{0, 1, 2})) << "four GPMs: the palette's red, green, blue and yellow";
+  const Image t1 = traffic_image(out, one), t4 = traffic_image(out, four);
+  EXPECT_TRUE(std::all_of(t1.rgba.begin(), t1.rgba.end(), [i = 0](uint8_t v) mutable { return (i++ % 4 == 3) || v == 0; }))
+      << "no traffic, no colour";
+  const auto most = std::max_element(four.tile_inter_gpm_bytes.begin(), four.tile_inter_gpm_bytes.end());
+  ASSERT_GT(*most, 0u);
+  const int tile = int(most - four.tile_inter_gpm_bytes.begin());
+  const uint8_t* hot = t4.pixel((tile % out.trace.tiles_x) * kTileSize, (tile / out.trace.tiles_x) * kTileSize);
+  EXPECT_EQ(hot[0], 255);
+  EXPECT_EQ(hot[1], 255) << "the busiest tile is yellow";
 }
 
 // SMP transforms each vertex once for both views and the draw is issued

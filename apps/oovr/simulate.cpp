@@ -4,20 +4,19 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
 
 #include "commands.h"
-#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/experiments/paper.h"
+#include "oovr/experiments/result_images.h"
 #include "oovr/experiments/result_json.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
@@ -65,50 +64,6 @@ void print_result(const SchemeResult& r) {
   for (const auto& n : r.notes) fmt::print("  note: {}\n", n);
 }
 
-// Colours a pixel by the GPM that shaded it (the last writer's tile
-// owner), shaded by the image's brightness so the scene stays readable.
-Image gpm_image(const FrameOutput& out, const SchemeResult& r) {
-  static const uint8_t palette[16][3] = {{230, 25, 75},  {60, 180, 75},   {0, 130, 200},  {255, 225, 25},
-                                         {245, 130, 48}, {145, 30, 180},  {70, 240, 240}, {240, 50, 230},
-                                         {210, 245, 60}, {250, 190, 212}, {0, 128, 128},  {220, 190, 255},
-                                         {170, 110, 40}, {255, 250, 200}, {128, 0, 0},    {170, 255, 195}};
-  Image img(out.colour.width, out.colour.height);
-  const int tiles_x = out.trace.tiles_x;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const uint8_t* src = out.colour.pixel(x, y);
-      uint8_t* dst = img.pixel(x, y);
-      dst[3] = 255;
-      const uint32_t obj = out.object_id[size_t(y) * size_t(img.width) + size_t(x)];
-      if (obj == kNoObject) continue;
-      const uint32_t tile = uint32_t(y / kTileSize) * uint32_t(tiles_x) + uint32_t(x / kTileSize);
-      const auto it = r.owner.find({obj, tile});
-      if (it == r.owner.end()) continue;
-      const float lum = (0.3f * src[0] + 0.59f * src[1] + 0.11f * src[2]) / 255.0f;
-      for (int c = 0; c < 3; ++c) dst[c] = uint8_t(palette[it->second % 16][c] * (0.35f + 0.65f * lum));
-    }
-  return img;
-}
-
-// Bytes moved between GPMs for each screen tile's work, black (none)
-// through red to yellow (the most).
-Image traffic_image(const FrameOutput& out, const SchemeResult& r) {
-  Image img(out.colour.width, out.colour.height);
-  uint64_t most = 1;
-  for (uint64_t b : r.tile_inter_gpm_bytes) most = std::max(most, b);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const size_t tile = size_t(y / kTileSize) * size_t(out.trace.tiles_x) + size_t(x / kTileSize);
-      const float v = std::sqrt(float(r.tile_inter_gpm_bytes[tile]) / float(most));
-      uint8_t* p = img.pixel(x, y);
-      p[0] = uint8_t(255 * std::min(1.0f, v * 2));
-      p[1] = uint8_t(255 * std::max(0.0f, v * 2 - 1));
-      p[2] = 0;
-      p[3] = 255;
-    }
-  return img;
-}
-
 void write_json(const std::string& path, const nlohmann::ordered_json& j) {
   write_output_file(path, j.dump(2) + "\n", "JSON output");
 }
@@ -143,37 +98,6 @@ int window_of(const SimulateArgs& a, const Config& config, const std::vector<std
 
 std::string frame_range(int first, int window) {
   return window > 1 ? fmt::format("frames {} to {}", first, first + window - 1) : fmt::format("frame {}", first);
-}
-
-// The results document simulate and compare both write (docs/results.md):
-// the header, what was run, the machine, and a run per scheme, with ratios
-// against the baseline when it ran.
-nlohmann::ordered_json results_json(const SimulateArgs& a, const Config& config, const Frames& f, int window,
-                                    const std::vector<SchemeResult>& results) {
-  nlohmann::ordered_json j = results_header(a.command);
-  j["scene"] = f.scene.name;
-  j["frame"] = a.frame;
-  j["frames"] = window;
-  j["resolution"] = fmt::format("{}x{}", f.rig.frame_width(), f.rig.frame_height());
-  check_config(config);  // reads every key, so that all are described
-  j["config"] = to_json(config.entries());
-  const SchemeResult* base = nullptr;
-  for (const auto& r : results)
-    if (r.scheme == "baseline") base = &r;
-  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
-  for (const auto& r : results) {
-    nlohmann::ordered_json x = to_json(r);
-    if (base) {
-      x["speedup_vs_baseline"] = base->frame_latency_s / r.frame_latency_s;
-      x["throughput_vs_baseline"] = r.throughput_fps / base->throughput_fps;
-      x["traffic_vs_baseline"] =
-          base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0.0;
-    }
-    runs.push_back(x);
-  }
-  j["runs"] = runs;
-  j["trace_notes"] = f.notes;
-  return j;
 }
 
 }  // namespace
@@ -213,7 +137,8 @@ int simulate(const SimulateArgs& a) {
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, f.frames->size(),
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
-  if (!a.json.empty()) write_json(a.json, results_json(a, config, f, window, {r}));
+  if (!a.json.empty())
+    write_json(a.json, results_document(a.command, f.scene.name, a.frame, window, f.rig, config, {r}, f.notes));
   if (!a.gpm_image.empty()) write_image(gpm_image(f.outputs.front(), r), a.gpm_image);
   if (!a.traffic_image.empty()) write_image(traffic_image(f.outputs.front(), r), a.traffic_image);
   return 0;
@@ -255,7 +180,8 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
              std::chrono::duration<double, std::milli>(t1 - t0).count(), f.cached, window,
              std::chrono::duration<double, std::milli>(t2 - t1).count());
   for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
-  if (!a.json.empty()) write_json(a.json, results_json(a, config, f, window, results));
+  if (!a.json.empty())
+    write_json(a.json, results_document(a.command, f.scene.name, a.frame, window, f.rig, config, results, f.notes));
   return 0;
 }
 

@@ -1,5 +1,6 @@
 #include "oovr/experiments/result_json.h"
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/version.h"
 
 namespace oovr {
@@ -100,6 +101,35 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["frame_latency_cycles_per_frame"] = nlohmann::ordered_json::array();
   for (double l : r.frame_latencies_s) j["frame_latency_cycles_per_frame"].push_back(l * r.frequency_hz);
   j["config"] = to_json(r.config);
+  return j;
+}
+
+nlohmann::ordered_json results_document(const std::string& command, const std::string& scene, int frame, int frames,
+                                        const StereoRig& rig, const Config& config, const std::vector<SchemeResult>& results,
+                                        const std::vector<std::string>& trace_notes) {
+  nlohmann::ordered_json j = results_header(command);
+  j["scene"] = scene;
+  j["frame"] = frame;
+  j["frames"] = frames;
+  j["resolution"] = std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height());
+  check_config(config);  // reads every key, so that all are described
+  j["config"] = to_json(config.entries());
+  const SchemeResult* base = nullptr;
+  for (const auto& r : results)
+    if (r.scheme == "baseline") base = &r;
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  for (const auto& r : results) {
+    nlohmann::ordered_json x = to_json(r);
+    if (base) {
+      x["speedup_vs_baseline"] = base->frame_latency_s / r.frame_latency_s;
+      x["throughput_vs_baseline"] = r.throughput_fps / base->throughput_fps;
+      x["traffic_vs_baseline"] =
+          base->total_inter_gpm_bytes() ? double(r.total_inter_gpm_bytes()) / double(base->total_inter_gpm_bytes()) : 0.0;
+    }
+    runs.push_back(x);
+  }
+  j["runs"] = runs;
+  j["trace_notes"] = trace_notes;
   return j;
 }
 

@@ -7,10 +7,12 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "oovr/core/config.h"
+#include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
@@ -30,5 +32,14 @@ nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& confi
 // One scheme's run: its figures and the configuration it ran with (the
 // machine's, after the scheme's own overrides such as baseline-1tb's links).
 nlohmann::ordered_json to_json(const SchemeResult& r);
+
+// The document simulate and compare write: the header, what was rendered
+// (scene, first frame, frames in the window, the stereo frame's size), the
+// machine as given (`config`, every key read and described), a run per
+// scheme with ratios against the baseline when it ran, and the trace
+// cache's notes.
+nlohmann::ordered_json results_document(const std::string& command, const std::string& scene, int frame, int frames,
+                                        const StereoRig& rig, const Config& config, const std::vector<SchemeResult>& results,
+                                        const std::vector<std::string>& trace_notes);
 
 }  // namespace oovr
