@@ -14,7 +14,8 @@ for arg in "$@"; do
   esac
 done
 command -v clang-format >/dev/null || { echo "check-format: clang-format is not installed (scripts/install-deps.sh installs it)" >&2; exit 2; }
-mapfile -t files < <(git ls-files '*.cpp' '*.h')
+# Tracked files and new ones not yet added (ignored ones, such as build/, left out).
+mapfile -t files < <(git ls-files --cached --others --exclude-standard '*.cpp' '*.h')
 if [[ $fix -eq 1 ]]; then
   clang-format -i "${files[@]}"
   exit 0
