@@ -263,5 +263,32 @@ TEST(Torcs, CentreLineOfTheOlderFormat) {
   EXPECT_NE(why.find("over 1000 km long"), std::string::npos) << why;
 }
 
+// Numbers beyond any track (fuzz_torcs: a border 310 digits wide read as
+// infinity, and made every point of the line so) are an error naming them.
+TEST(Torcs, NumbersBeyondAnyTrackAreRefused) {
+  const std::string v3 = R"(<?xml version="1.0"?>
+<params name="oval" type="param">
+  <section name="Main Track">
+    <attnum name="width" unit="m" val="10"/>
+    <attnum name="rside width" val="4"/>
+    <section name="segments">
+)" + std::string(kOvalSegments) +
+                         R"(    </section>
+  </section>
+</params>)";
+  for (const std::string& value : {std::string(310, '6'), std::string("1e308"), std::string("nan"), std::string("-2e9")}) {
+    std::string bad = v3;
+    bad.replace(bad.find("val=\"4\""), 7, "val=\"" + value + "\"");
+    std::string why;
+    try {
+      torcs_centre_line_from_text(bad, "bad.xml");
+    } catch (const Error& e) {
+      why = e.what();
+    }
+    EXPECT_EQ(why.rfind("track description 'bad.xml': 'rside width' is " + value + ", not a number within 1e9", 0), 0u)
+        << value << ": " << why;
+  }
+}
+
 }  // namespace
 }  // namespace oovr

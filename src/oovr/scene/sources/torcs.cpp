@@ -122,8 +122,19 @@ std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std
   // and a side strip whose widths carry over from segment to segment. In the
   // end every coordinate is shifted so that the smallest x and y reached by
   // the track, its borders and sides (and the origin) become 0.
-  const double width = attnum(main, "width").value_or(15.0), half = width / 2;
-  const double global_step = attnum(main, "profil steps length").value_or(0.0);
+  // Every number must be finite and within 1e9 (metres, radians): a width
+  // of 1e400 reads as infinity, and two widths of 1e308 add up to it; one
+  // infinite coordinate makes the whole line so (found by fuzz_torcs).
+  const auto number = [&](const pugi::xml_node& section, const char* name) {
+    const std::optional<double> v = attnum(section, name);
+    if (v && !(std::abs(*v) <= 1e9))
+      throw Error("track description '" + xml_path + "': '" + name + "' is " +
+                  section.find_child_by_attribute("attnum", "name", name).attribute("val").as_string() +
+                  ", not a number within 1e9");
+    return v;
+  };
+  const double width = number(main, "width").value_or(15.0), half = width / 2;
+  const double global_step = number(main, "profil steps length").value_or(0.0);
   static const char* kSide[2] = {"Right Side", "Left Side"};
   static const char* kBorder[2] = {"Right Border", "Left Border"};
   double side_end[2], border[2];
@@ -131,8 +142,8 @@ std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std
   // A side's or border's value `key` in `node` (the main track or a
   // segment), in either generation of the format.
   const auto side_value = [&](const pugi::xml_node& node, int k, bool is_border, const char* key) {
-    if (v3) return attnum(node, (std::string(kPrefix[k]) + (is_border ? "border " : "side ") + key).c_str());
-    return attnum(child_section(node, is_border ? kBorder[k] : kSide[k]), key);
+    if (v3) return number(node, (std::string(kPrefix[k]) + (is_border ? "border " : "side ") + key).c_str());
+    return number(child_section(node, is_border ? kBorder[k] : kSide[k]), key);
   };
   for (int k = 0; k < 2; ++k) {
     side_end[k] = side_value(main, k, false, "width").value_or(0.0);
@@ -155,12 +166,12 @@ std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std
     const std::string type = seg.find_child_by_attribute("attstr", "name", "type").attribute("val").as_string("");
     double length = 0, radius = 0, radius_end = 0, arc = 0;
     if (type == "str") {
-      length = attnum(seg, "lg").value_or(0.0);
+      length = number(seg, "lg").value_or(0.0);
       if (!(length > 0 && length < 1e5)) throw bad(seg, "is a straight without a valid length");
     } else if (type == "lft" || type == "rgt") {
-      radius = attnum(seg, "radius").value_or(0.0);
-      radius_end = attnum(seg, "end radius").value_or(radius);
-      arc = attnum(seg, "arc").value_or(0.0);
+      radius = number(seg, "radius").value_or(0.0);
+      radius_end = number(seg, "end radius").value_or(radius);
+      arc = number(seg, "arc").value_or(0.0);
       if (!(radius > half && radius_end > half && arc > 0 && arc < 100 && radius < 1e5 && radius_end < 1e5))
         throw bad(seg, "is a turn without a valid radius and arc");
       length = (radius + radius_end) / 2 * arc;
@@ -180,9 +191,9 @@ std::vector<Vec3> torcs_centre_line_from_text(const std::string& text, const std
     // out-of-range double is undefined behaviour, fuzzing found).
     double step_count = 1;
     if (profile == "spline") {
-      step_count = std::floor(attnum(seg, "profil steps").value_or(1.0));
+      step_count = std::floor(number(seg, "profil steps").value_or(1.0));
       if (step_count == 1) {
-        const double step_length = attnum(seg, "profil steps length").value_or(global_step);
+        const double step_length = number(seg, "profil steps length").value_or(global_step);
         step_count = step_length > 0 ? std::floor(length / step_length) + 1 : 1;
       }
     }
