@@ -234,17 +234,21 @@ TEST(Torcs, CentreLineOfASyntheticCircuit) {
 
 // The older track3 format of the same oval: "segments", sides as
 // attributes of the main track and the segments ("rside width").
-TEST(Torcs, CentreLineOfTheOlderFormat) {
-  const std::string v3 = R"(<?xml version="1.0"?>
+std::string older_format_oval() {
+  return R"(<?xml version="1.0"?>
 <params name="oval" type="param">
   <section name="Main Track">
     <attnum name="width" unit="m" val="10"/>
     <attnum name="rside width" val="4"/>
     <section name="segments">
 )" + std::string(kOvalSegments) +
-                         R"(    </section>
+         R"(    </section>
   </section>
 </params>)";
+}
+
+TEST(Torcs, CentreLineOfTheOlderFormat) {
+  const std::string v3 = older_format_oval();
   const std::vector<Vec3> line = torcs_centre_line_from_text(v3, "v3.xml");
   EXPECT_NEAR(line.front().z, -9.0, 1e-3);
   EXPECT_NEAR(line.front().x, 59.0, 1e-3);
@@ -266,16 +270,7 @@ TEST(Torcs, CentreLineOfTheOlderFormat) {
 // Numbers beyond any track (fuzz_torcs: a border 310 digits wide read as
 // infinity, and made every point of the line so) are an error naming them.
 TEST(Torcs, NumbersBeyondAnyTrackAreRefused) {
-  const std::string v3 = R"(<?xml version="1.0"?>
-<params name="oval" type="param">
-  <section name="Main Track">
-    <attnum name="width" unit="m" val="10"/>
-    <attnum name="rside width" val="4"/>
-    <section name="segments">
-)" + std::string(kOvalSegments) +
-                         R"(    </section>
-  </section>
-</params>)";
+  const std::string v3 = older_format_oval();
   for (const std::string& value : {std::string(310, '6'), std::string("1e308"), std::string("nan"), std::string("-2e9")}) {
     std::string bad = v3;
     bad.replace(bad.find("val=\"4\""), 7, "val=\"" + value + "\"");
