@@ -2,12 +2,17 @@
 # Installs oovr's build and test dependencies from Debian 12's archive.
 # Idempotent: asks dpkg what is missing and runs apt-get only for that.
 #
-# Usage: scripts/install-deps.sh [--game-data]
+# Usage: scripts/install-deps.sh [--game-data] [--services]
 #   --game-data  also install the real game levels used as workloads:
 #                OpenArena maps and textures (about 410 MB), Nexuiz
 #                (nexuiz-data, about 800 MB) and TORCS tracks (about
 #                530 MB). Tests that need them report "skipped" without
 #                them; CI installs them.
+#   --services   also install what the cluster and browser tests start:
+#                SLURM (slurmctld, slurmd and the client commands, for
+#                `oovr sweep --backend slurm`) and Chromium (to open
+#                `oovr report`'s page headless). Without them those tests
+#                report "skipped"; CI installs them.
 set -euo pipefail
 
 packages=(
@@ -19,6 +24,10 @@ packages=(
   # libraries
   libassimp-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libtomlplusplus-dev libpng-dev zlib1g-dev libpugixml-dev
+  # the results database (and its command-line shell, for queries and tests)
+  libsqlite3-dev sqlite3
+  # oovr report's plots
+  python3-matplotlib python3-numpy
   # libzip's CMake files need its tools installed too
   libzip-dev zipcmp zipmerge ziptool
   # tests and benchmarks
@@ -35,11 +44,17 @@ game_data=(
   nexuiz-data
 )
 
+services=(
+  slurmctld slurmd slurm-client
+  chromium fonts-dejavu-core
+)
+
 for arg in "$@"; do
   case "$arg" in
     --game-data) packages+=("${game_data[@]}") ;;
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
-    *) echo "install-deps: unknown option '$arg' (use --game-data or --help)" >&2; exit 2 ;;
+    --services) packages+=("${services[@]}") ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    *) echo "install-deps: unknown option '$arg' (use --game-data, --services or --help)" >&2; exit 2 ;;
   esac
 done
 

@@ -155,7 +155,9 @@ TEST(Schemes, MemoryStatisticsAccountForEveryByte) {
     for (int from = 0; from < 8; ++from)
       for (int to = 0; to < 8; ++to) {
         const uint64_t b = m.gpm_to_gpm_bytes[size_t(from * 8 + to)];
-        if (from == to) EXPECT_EQ(b, 0u) << scheme;
+        if (from == to) {
+          EXPECT_EQ(b, 0u) << scheme;
+        }
         matrix += b;
         hop_bytes += b * uint64_t(std::min((to - from + 8) % 8, (from - to + 8) % 8));
       }

@@ -53,11 +53,30 @@ struct CorrelateArgs {
   std::string command;    // the command line, for the results
 };
 
+struct SweepArgs {
+  std::string file;  // the sweep definition
+  std::string db;    // "": FILE's stem + ".db" in the current folder
+  bool resume = false;
+  bool retry_failed = false;
+  unsigned jobs = 0;  // points at once (0: every core)
+  std::string backend = "local";
+  bool no_cache = false;
+  bool collect = false;
+  int task = -1;          // >= 0: run this task of --slurm-dir (what the job script runs)
+  std::string slurm_dir;  // "": the database's path + ".slurm"
+  std::string partition, time_limit;
+  int array_limit = 0, chunk = 0, cpus_per_task = 1;
+  bool wait = false;
+  std::vector<std::string> sbatch_args;
+  std::string command;
+};
+
 // A preset (or the built-in defaults) with --set overrides.
 Config machine_config(const std::string& file, const std::vector<std::string>& settings);
 int simulate(const SimulateArgs& a);
 int compare(const SimulateArgs& a, const std::vector<std::string>& schemes);
 int paper(const PaperArgs& a);
 int correlate(const CorrelateArgs& a);
+int sweep(const SweepArgs& a);
 
 }  // namespace oovr::cli

@@ -300,6 +300,39 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   cmp_cmd->add_option("--schemes", scheme_list, "Comma-separated schemes (default: all: " + all_schemes + ")");
 
+  cli::SweepArgs sweep;
+  auto* sweep_cmd = app.add_subcommand("sweep", "Run a sweep file's points into a results database (here or on SLURM)");
+  sweep_cmd->add_option("file", sweep.file, "Sweep definition (TOML; docs/sweeps.md)");
+  sweep_cmd->add_option("--db", sweep.db, "Results database (default: the sweep file's name with .db, here)");
+  sweep_cmd->add_flag("--resume", sweep.resume, "Run only the points the database does not hold yet");
+  sweep_cmd->add_flag("--retry-failed", sweep.retry_failed, "Run again the points that failed (and those missing)");
+  sweep_cmd->add_option("--jobs", sweep.jobs, "Points run at once (0 = every core)")->capture_default_str();
+  sweep_cmd->add_option("--backend", sweep.backend, "Where the points run")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"local", "slurm"}));
+  sweep_cmd->add_flag("--no-cache", sweep.no_cache, "Render every frame even when its trace is cached ($OOVR_CACHE_DIR)");
+  sweep_cmd->add_flag("--collect", sweep.collect, "Merge the SLURM tasks' result files into the database");
+  const char* slurm_group = "SLURM (--backend slurm, --collect)";
+  sweep_cmd->add_option("--slurm-dir", sweep.slurm_dir, "Job folder: script, manifest, task logs and results (default: DB.slurm)")
+      ->group(slurm_group);
+  sweep_cmd->add_option("--partition", sweep.partition, "Partition to submit to (default: the cluster's)")->group(slurm_group);
+  sweep_cmd->add_option("--time-limit", sweep.time_limit, "Time limit per task, as sbatch --time takes it")->group(slurm_group);
+  sweep_cmd->add_option("--array-limit", sweep.array_limit, "Tasks running at once (0 = no limit)")
+      ->check(CLI::Range(0, 1000000))
+      ->group(slurm_group);
+  sweep_cmd->add_option("--chunk", sweep.chunk, "Points per task (0 = at most 1000 tasks)")
+      ->check(CLI::Range(0, 1000000))
+      ->group(slurm_group);
+  sweep_cmd->add_option("--cpus-per-task", sweep.cpus_per_task, "CPUs per task; a task runs that many points at once")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024))
+      ->group(slurm_group);
+  sweep_cmd->add_flag("--wait", sweep.wait, "Wait for the job to end, then collect")->group(slurm_group);
+  sweep_cmd->add_option("--sbatch-arg", sweep.sbatch_args, "Pass an argument to sbatch (repeatable)")->group(slurm_group);
+  sweep_cmd->add_option("--task", sweep.task, "Run one task of --slurm-dir (what the job script runs)")
+      ->check(CLI::Range(0, 100000000))
+      ->group(slurm_group);
+
   RenderArgs render;
   cli::PaperArgs paper;
   auto* paper_cmd = app.add_subcommand("paper", "Run the paper's evaluation and rewrite docs/paper-comparison.md");
@@ -383,7 +416,7 @@ int main(int argc, char** argv) {
     // The command line results record, with the program as "oovr".
     std::vector<const char*> words(argv, argv + argc);
     words[0] = "oovr";
-    sim.command = cmp.command = paper.command = corr.command = shell_command_line(argc, words.data());
+    sim.command = cmp.command = paper.command = corr.command = sweep.command = shell_command_line(argc, words.data());
     const auto run = [&]() -> int {
       if (app.got_subcommand("scenes")) return cmd_scenes();
       if (app.got_subcommand("schemes")) return cmd_schemes();
@@ -398,6 +431,7 @@ int main(int argc, char** argv) {
       if (app.got_subcommand(render_cmd)) return cmd_render(render);
       if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
       if (app.got_subcommand(paper_cmd)) return cli::paper(paper);
+      if (app.got_subcommand(sweep_cmd)) return cli::sweep(sweep);
       return 0;
     };
     const int rc = run();

@@ -96,12 +96,16 @@ void check_toml_shape(const std::string& text, const std::string& name) {
 
 }  // namespace
 
-Config Config::from_toml_string(const std::string& text, const std::string& name) {
-  Config c;
-  c.m_origin = name;
+void check_toml_text(const std::string& text, const std::string& name) {
   if (text.size() > kMaxConfigBytes)
     throw Error("bad configuration '" + name + "': more than " + std::to_string(kMaxConfigBytes >> 20) + " MiB");
   check_toml_shape(text, name);
+}
+
+Config Config::from_toml_string(const std::string& text, const std::string& name) {
+  Config c;
+  c.m_origin = name;
+  check_toml_text(text, name);
   try {
     const toml::table t = toml::parse(text, name);
     flatten(&t, "", name, c.m_values);

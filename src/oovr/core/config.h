@@ -98,4 +98,9 @@ class Config {
   std::string m_set_source = "--set";
 };
 
+// The limits every TOML text oovr reads is held to before toml++ parses it
+// (at most 1 MiB, keys of at most 32 dotted parts): configurations and
+// sweep files. Throws Error naming `name`.
+void check_toml_text(const std::string& text, const std::string& name);
+
 }  // namespace oovr

@@ -5,11 +5,27 @@
 
 namespace oovr {
 
+namespace {
+
+// Sixteen distinct hues (GPMs beyond 16 reuse them).
+const uint8_t palette[16][3] = {{230, 25, 75},  {60, 180, 75},   {0, 130, 200},  {255, 225, 25},  {245, 130, 48}, {145, 30, 180},
+                                {70, 240, 240}, {240, 50, 230},  {210, 245, 60}, {250, 190, 212}, {0, 128, 128},  {220, 190, 255},
+                                {170, 110, 40}, {255, 250, 200}, {128, 0, 0},    {170, 255, 195}};
+
+}  // namespace
+
+std::string gpm_colour(int gpm) {
+  const uint8_t* c = palette[gpm % 16];
+  static const char* hex = "0123456789abcdef";
+  std::string s = "#";
+  for (int i = 0; i < 3; ++i) {
+    s += hex[c[i] >> 4];
+    s += hex[c[i] & 15];
+  }
+  return s;
+}
+
 Image gpm_image(const FrameOutput& out, const SchemeResult& r) {
-  static const uint8_t palette[16][3] = {{230, 25, 75},  {60, 180, 75},   {0, 130, 200},  {255, 225, 25},
-                                         {245, 130, 48}, {145, 30, 180},  {70, 240, 240}, {240, 50, 230},
-                                         {210, 245, 60}, {250, 190, 212}, {0, 128, 128},  {220, 190, 255},
-                                         {170, 110, 40}, {255, 250, 200}, {128, 0, 0},    {170, 255, 195}};
   Image img(out.colour.width, out.colour.height);
   const int tiles_x = out.trace.tiles_x;
   for (int y = 0; y < img.height; ++y)

@@ -3,11 +3,16 @@
 // (`oovr simulate --gpm-image / --traffic-image`, and the reports).
 #pragma once
 
+#include <string>
+
 #include "oovr/pipeline/image.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
+
+// GPM `gpm`'s colour in gpm_image, "#rrggbb" (for legends).
+std::string gpm_colour(int gpm);
 
 // The frame with each pixel coloured by the GPM that shaded it (the last
 // writer's tile owner, r.owner), darkened by the frame's brightness so the

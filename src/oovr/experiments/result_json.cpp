@@ -97,6 +97,13 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["vertices_transformed"] = r.vertices;
   j["work_units"] = r.units;
   j["notes"] = r.notes;
+  // The scheme's own figures (OO-VR's batches, moved chunks, predictor).
+  nlohmann::ordered_json own = nlohmann::ordered_json::object();
+  for (const SchemeMetric& m : r.metrics) {
+    own[m.name] = {{"value", m.value}};
+    if (!m.unit.empty()) own[m.name]["unit"] = m.unit;
+  }
+  j["scheme_metrics"] = own;
   j["memory"] = memory_json(r);
   j["frame_latency_cycles_per_frame"] = nlohmann::ordered_json::array();
   for (double l : r.frame_latencies_s) j["frame_latency_cycles_per_frame"].push_back(l * r.frequency_hz);

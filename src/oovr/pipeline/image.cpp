@@ -24,14 +24,24 @@ void append_bytes(void* context, void* data, int size) {
 
 }  // namespace
 
-void write_png(const Image& img, const std::string& path) {
+std::string encode_png(const Image& img) {
   const int stride = img.width * 4;
-  if (img.width <= 0 || img.height <= 0) throw Error("cannot write PNG '" + path + "': the image is empty");
+  if (img.width <= 0 || img.height <= 0) throw Error("cannot encode an empty image as PNG");
   // Point at the last row with a negative stride: PNG rows go top-down.
   const uint8_t* last = img.rgba.data() + size_t(img.height - 1) * size_t(stride);
   std::string bytes;
   if (!stbi_write_png_to_func(append_bytes, &bytes, img.width, img.height, 4, last, -stride))
-    throw Error("cannot encode PNG '" + path + "'");
+    throw Error("cannot encode a " + std::to_string(img.width) + "x" + std::to_string(img.height) + " image as PNG");
+  return bytes;
+}
+
+void write_png(const Image& img, const std::string& path) {
+  std::string bytes;
+  try {
+    bytes = encode_png(img);
+  } catch (const Error& e) {
+    throw Error("cannot write PNG '" + path + "': " + e.what());
+  }
   write_output_file(path, bytes, "image");
 }
 

@@ -19,6 +19,8 @@ struct Image {
   const uint8_t* pixel(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };
 
+// The image as PNG file bytes (top row first).
+std::string encode_png(const Image& img);
 // Writes a PNG (top row first). Throws Error naming the file on failure.
 void write_png(const Image& img, const std::string& path);
 // Writes PNG or JPEG (quality 90) by the file's extension (.png, .jpg,

@@ -19,6 +19,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/host.h"
 #include "oovr/core/text.h"
 #include "oovr/pipeline/tiled_layout.h"
 
@@ -349,10 +350,10 @@ bool abandoned_temporary(const fs::directory_entry& e, const std::string& host) 
   return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
 }
 
-std::string host_name() {
-  char buf[256] = {};
-  if (::gethostname(buf, sizeof buf - 1) != 0 || !buf[0]) return "host";
-  std::string h(buf);
+// This host's name as a file name's part.
+std::string host_tag() {
+  std::string h = host_name();
+  if (h.empty()) return "host";
   for (char& c : h)
     if (c == '.' || c == '/') c = '_';
   return h;
@@ -399,7 +400,7 @@ void TraceCache::trim(const fs::path& keep) const {
   std::vector<Entry> entries;
   uint64_t total = 0;
   std::error_code ec;
-  const std::string host = host_name();
+  const std::string host = host_tag();
   for (fs::directory_iterator it(m_dir, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code e2;
     if (abandoned_temporary(*it, host)) {
@@ -425,7 +426,7 @@ void TraceCache::trim(const fs::path& keep) const {
 }
 
 std::string TraceCache::temporary_path(const std::string& stem) const {
-  return (fs::path(m_dir) / (stem + ".tmp." + host_name() + "." + std::to_string(::getpid()))).string();
+  return (fs::path(m_dir) / (stem + ".tmp." + host_tag() + "." + std::to_string(::getpid()))).string();
 }
 
 bool TraceCache::store(const std::string& key, const FrameTrace& t) const {

@@ -57,6 +57,14 @@ struct MemoryStats {
   void divide(uint64_t n);
 };
 
+// A figure only some schemes have (OO-VR's batches, moved chunks and
+// predictor rates), exported with the run (experiments/result_metrics.h).
+struct SchemeMetric {
+  std::string name;  // "batches", "predictor.c0"
+  double value = 0;
+  std::string unit;  // base unit ("s", "B", "bit") or "" for counts and ratios
+};
+
 struct SchemeResult {
   std::string scheme;
   int gpms = 0;
@@ -81,6 +89,9 @@ struct SchemeResult {
   std::map<std::pair<uint32_t, uint32_t>, int> owner;
   std::map<std::string, Config::Entry> config;  // resolved configuration, described (Config::entries)
   std::vector<std::string> notes;
+  // The scheme's own figures (from run_scheme_window: the window's mean per
+  // frame, for the figures every frame reports).
+  std::vector<SchemeMetric> metrics;
 
   double frame_latency_cycles() const { return frame_latency_s * frequency_hz; }
   uint64_t total_inter_gpm_bytes() const;

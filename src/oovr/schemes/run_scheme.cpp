@@ -1,6 +1,7 @@
 // Running a scheme by name, on one frame or over a window of frames in
 // sequence (i_scheme.h).
 #include <algorithm>
+#include <map>
 #include <new>
 
 #include "oovr/core/error.h"
@@ -108,6 +109,18 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
   s.local_dram_bytes = per_frame(s.local_dram_bytes);
   s.memory.divide(uint64_t(window));
   s.gpm_busy_s = busy;
+  // The scheme's figures: each the mean over the frames that report it, in
+  // the order they first appear.
+  s.metrics.clear();
+  std::map<std::string, std::pair<double, int>> sums;
+  for (const SchemeResult& r : all)
+    for (const SchemeMetric& x : r.metrics) {
+      auto& [total, count] = sums[x.name];
+      if (count == 0) s.metrics.push_back(x);
+      total += x.value;
+      ++count;
+    }
+  for (SchemeMetric& x : s.metrics) x.value = sums[x.name].first / double(sums[x.name].second);
   double sum = 0;
   for (double l : s.frame_latencies_s) sum += l;
   s.frame_latency_s = sum / double(s.frame_latencies_s.size());

@@ -170,6 +170,9 @@ class OO final : public Scheme {
     uint64_t tris = 0;
     const auto& batches = runtime.batches();
     for (const auto& b : batches) tris += b.triangles;
+    r.metrics.push_back({"batches", double(batches.size()), ""});
+    r.metrics.push_back({"objects", double(sim.scene().objects.size()), ""});
+    r.metrics.push_back({"batch_triangles", batches.empty() ? 0.0 : double(tris) / double(batches.size()), ""});
     r.notes.push_back(std::to_string(batches.size()) + " batches of " + std::to_string(sim.scene().objects.size()) +
                       " objects (mean " + std::to_string(batches.empty() ? 0 : tris / batches.size()) + " triangles); " +
                       (spec.predictor ? "predictor" : "round-robin") + ", pre-allocation " + (spec.prealloc ? "on" : "off") +
@@ -181,11 +184,18 @@ class OO final : public Scheme {
       std::snprintf(buf, sizeof buf, "predictor rates: c0 %.3g ns/triangle, c1 %.3g ns/vertex, c2 %.3g ns/pixel", x.c0 * 1e9,
                     x.c1 * 1e9, x.c2 * 1e9);
       r.notes.push_back(buf);
+      // The linear predictor's fitted costs (Section 5.2, Equation 3): per
+      // triangle, per transformed vertex and per pixel.
+      r.metrics.push_back({"predictor.c0", x.c0, "s"});
+      r.metrics.push_back({"predictor.c1", x.c1, "s"});
+      r.metrics.push_back({"predictor.c2", x.c2, "s"});
       const EngineStorage st = engine_storage(n, spec.batch_queue);
+      r.metrics.push_back({"engine_storage", double(st.total()), "bit"});
       r.notes.push_back("distribution engine storage: " + std::to_string(st.total()) + " bits (counters " +
                         std::to_string(st.counter_bits) + ", batch ids " + std::to_string(st.batch_id_bits) + ", registers " +
                         std::to_string(st.register_bits) + "; the paper: 960)");
     }
+    r.metrics.push_back({"moved_chunks", double(runtime.moved_chunks()), ""});
     if (runtime.moved_chunks())
       r.notes.push_back(std::to_string(runtime.moved_chunks()) + " chunks of fragment work moved to idle GPMs");
   }

@@ -1,0 +1,217 @@
+// oovr sweep: runs a sweep file's points into a results database, here or
+// on a SLURM cluster, with a progress display (docs/sweeps.md).
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+
+#include "commands.h"
+#include "oovr/core/error.h"
+#include "oovr/experiments/results_db.h"
+#include "oovr/experiments/slurm.h"
+#include "oovr/experiments/sweep.h"
+#include "oovr/experiments/sweep_run.h"
+
+namespace oovr::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string clock_time(double seconds) {
+  const long s = long(seconds + 0.5);
+  if (s >= 3600) return fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
+  return fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+// Points done, failed, time left. On a terminal, one line redrawn in place;
+// otherwise (a log, a pipe, a CI job) one plain line per event.
+class Progress {
+ public:
+  explicit Progress(size_t total) : m_total(total), m_tty(isatty(fileno(stderr)) != 0) {}
+
+  void status(const std::string& what) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_status = what;
+    if (m_tty) draw();
+    else fmt::print(stderr, "  {}\n", what);
+  }
+  void point(const RunRecord& r) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    ++(r.status == "done" ? m_done : m_failed);
+    if (m_tty) {
+      if (r.status != "done") {
+        clear();
+        fmt::print(stderr, "  failed: {} ({}, {}, {}): {}\n", r.id, r.scene, r.scheme, r.resolution, r.error);
+      }
+      draw();
+      return;
+    }
+    std::string swept;
+    for (const auto& [k, v] : r.swept) {
+      // As readable as the configuration prints it ("32 GB/s").
+      const auto c = r.config.find(k);
+      swept += " " + k + "=" + (c != r.config.end() && c->contains("value") ? (*c)["value"].get<std::string>() : v.dump());
+    }
+    fmt::print(stderr, "  [{}/{}] {} {} {} {}{} ({:.1f} s){}; {}\n", m_done + m_failed, m_total, r.status, r.scene, r.scheme,
+               r.resolution, swept, r.wall_s, r.error.empty() ? "" : ": " + r.error, left());
+    std::fflush(stderr);
+  }
+  void finish() {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (m_tty) clear();
+  }
+  size_t done() const { return m_done; }
+  size_t failed() const { return m_failed; }
+  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
+
+ private:
+  std::string left() const {
+    const size_t finished = m_done + m_failed;
+    if (finished == 0) return clock_time(elapsed()) + " elapsed";
+    return fmt::format("{} elapsed, about {} left", clock_time(elapsed()),
+                       clock_time(elapsed() / double(finished) * double(m_total - finished)));
+  }
+  void clear() { fmt::print(stderr, "\r\033[K"); }
+  void draw() {
+    const size_t finished = m_done + m_failed;
+    const int width = 24;
+    const int filled = m_total ? int(double(width) * double(finished) / double(m_total)) : width;
+    std::string bar(size_t(filled), '#');
+    bar.resize(size_t(width), '.');
+    std::string line = fmt::format("  [{}] {}/{} points, {} failed, {}", bar, finished, m_total, m_failed, left());
+    if (!m_status.empty() && finished < m_total) line += " (" + m_status + ")";
+    clear();
+    fmt::print(stderr, "{}", line.substr(0, 160));
+    std::fflush(stderr);
+  }
+
+  size_t m_total, m_done = 0, m_failed = 0;
+  bool m_tty;
+  std::string m_status;
+  std::mutex m_mutex;
+  std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
+};
+
+std::string default_db(const SweepArgs& a) {
+  if (!a.db.empty()) return a.db;
+  return fs::path(a.file).stem().string() + ".db";
+}
+
+SweepRecord sweep_record(const Sweep& s, const std::string& command) {
+  SweepRecord r;
+  r.name = s.name;
+  r.file = s.file;
+  r.definition = s.definition;
+  r.swept_keys = s.swept_keys;
+  r.points = s.points.size();
+  r.command = command;
+  return r;
+}
+
+int print_collect(const CollectReport& rep, const std::string& db_path, const Sweep* s, ResultsDb& db) {
+  for (const auto& p : rep.problems) fmt::print("  note: {}\n", p);
+  fmt::print("collected {} runs from {} task files into {} ({} there already)\n", rep.added, rep.files, db_path, rep.already);
+  if (s) {
+    const auto status = db.run_status();
+    size_t missing = 0, failed = 0;
+    for (const auto& p : s->points) {
+      const auto it = status.find(p.id);
+      if (it == status.end()) ++missing;
+      else if (it->second == "failed") ++failed;
+    }
+    fmt::print("sweep '{}': {} of {} points in the database, {} of them failed{}\n", s->name, s->points.size() - missing,
+               s->points.size(), failed, missing ? "; run the sweep again with --resume for the rest" : "");
+    if (missing || failed) return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int sweep(const SweepArgs& a) {
+  if (a.task >= 0) {
+    if (a.slurm_dir.empty()) throw Error("--task needs --slurm-dir (the job folder)");
+    run_slurm_task(a.slurm_dir, a.task, a.jobs);
+    return 0;
+  }
+  if (a.file.empty()) throw Error("give the sweep file: oovr sweep FILE.toml");
+  if (a.backend != "local" && a.backend != "slurm") throw Error("--backend " + a.backend + ": use local or slurm");
+  Sweep s = read_sweep(a.file);
+  resolve_all(s);
+  const std::string db_path = default_db(a);
+  const std::string slurm_dir = a.slurm_dir.empty() ? db_path + ".slurm" : a.slurm_dir;
+  ResultsDb db(db_path);
+  if (a.collect) return print_collect(collect_slurm(slurm_dir, db), db_path, &s, db);
+
+  // What the database holds of this sweep already.
+  const auto status = db.run_status();
+  std::vector<size_t> todo;
+  size_t held = 0, retried = 0;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    const auto it = status.find(s.points[i].id);
+    if (it == status.end()) todo.push_back(i);
+    else if (a.retry_failed && it->second == "failed") {
+      todo.push_back(i);
+      ++retried;
+    } else ++held;
+  }
+  if ((held || retried) && !a.resume && !a.retry_failed)
+    throw Error(
+        fmt::format("the database {} holds {} of this sweep's {} points already: give --resume to run the other {}, "
+                    "or another --db",
+                    db_path, held, s.points.size(), todo.size()));
+  db.add_sweep(sweep_record(s, a.command));
+  for (size_t i : todo)
+    if (status.count(s.points[i].id)) db.remove(s.points[i].id);  // a failed run, retried
+
+  if (a.backend == "slurm") {
+    SlurmOptions o;
+    o.dir = slurm_dir;
+    o.partition = a.partition;
+    o.time_limit = a.time_limit;
+    o.array_limit = a.array_limit;
+    o.chunk = a.chunk;
+    o.cpus_per_task = a.cpus_per_task;
+    o.use_cache = !a.no_cache;
+    o.wait = a.wait;
+    o.sbatch_args = a.sbatch_args;
+    const SlurmSubmission sub = submit_slurm(s, a.file, todo, a.command, o);
+    fmt::print("sweep '{}': submitted job {}: {} points in {} tasks ({}); results in {}\n", s.name, sub.job_id, sub.points,
+               sub.tasks, sub.script, slurm_dir);
+    if (!a.wait) {
+      fmt::print("when it has ended: oovr sweep {} --collect --db {}{}\n", a.file, db_path,
+                 a.slurm_dir.empty() ? "" : " --slurm-dir " + a.slurm_dir);
+      return 0;
+    }
+    if (sub.sbatch_status != 0) fmt::print("  note: sbatch --wait ended with status {}: a task failed\n", sub.sbatch_status);
+    return print_collect(collect_slurm(slurm_dir, db), db_path, &s, db);
+  }
+
+  fmt::print("sweep '{}': {} points{}; results in {}\n", s.name, s.points.size(),
+             held ? fmt::format(" ({} in the database already, {} to run)", held, todo.size()) : "", db_path);
+  std::fflush(stdout);
+  Progress progress(todo.size());
+  SweepRunOptions o;
+  o.jobs = a.jobs;
+  o.use_cache = !a.no_cache;
+  o.command = a.command;
+  o.on_status = [&](const std::string& line) { progress.status(line); };
+  o.on_record = [&](const RunRecord& r) {
+    db.insert(r);
+    progress.point(r);
+  };
+  run_points(s, todo, o);
+  progress.finish();
+  fmt::print("sweep '{}': {} points run in {}: {} done, {} failed; {} of {} in {}\n", s.name, todo.size(),
+             clock_time(progress.elapsed()), progress.done(), progress.failed(), held + todo.size(), s.points.size(), db_path);
+  if (progress.failed()) {
+    fmt::print(stderr, "oovr: error: {} of the sweep's points failed (their errors are in the runs table)\n", progress.failed());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace oovr::cli

@@ -1,0 +1,100 @@
+// The results store: one SQLite database per study (docs/results.md, "The
+// results database"). A run is one sweep point's outcome, done or failed,
+// with what made it (oovr's version and commit, the command, the host, the
+// resolved configuration) and its figures in long form (metrics). Each run
+// is written in one transaction with its metrics and images, so a process
+// killed at any moment leaves whole runs only, and a point is stored at
+// most once (its id is the key).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "oovr/experiments/result_metrics.h"
+
+struct sqlite3;
+
+namespace oovr {
+
+// Bumped when a table or column changes meaning or goes.
+inline constexpr int kResultsDbVersion = 1;
+
+struct RunImage {
+  std::string kind;  // "gpm": PNG of the first frame coloured by GPM; "tile_traffic": JSON array of bytes per tile
+  int width = 0;     // pixels ("gpm") or tiles ("tile_traffic")
+  int height = 0;
+  std::string data;    // PNG bytes or JSON text
+  std::string legend;  // JSON: {"gpm0": "#e6194b", ...} for "gpm"; {"tile_pixels": 16} for "tile_traffic"
+};
+
+struct RunRecord {
+  std::string id;
+  std::string sweep;
+  int position = 0;  // the point's place in its sweep file
+  std::string scene, scheme, resolution;
+  int frame = 0, frames = 0, aniso = 16;
+  // Swept keys' values: numbers in base units where the key has a unit.
+  std::map<std::string, nlohmann::json> swept;
+  nlohmann::ordered_json config;  // the resolved configuration (result_json's form)
+  std::string status;             // "done" or "failed"
+  std::string error;
+  std::string oovr_version, git_commit, command, host, started;  // started: UTC, ISO 8601
+  double wall_s = 0;
+  nlohmann::ordered_json result;  // result_json's to_json(SchemeResult), for done runs
+  std::vector<Metric> metrics;
+  std::vector<RunImage> images;
+};
+
+// A record as one line of JSON (the SLURM tasks' result files) and back;
+// from_json throws Error on a malformed record.
+nlohmann::ordered_json to_json(const RunRecord& r);
+RunRecord run_record_from_json(const nlohmann::ordered_json& j);
+
+struct SweepRecord {
+  std::string name, file, definition, command;
+  std::vector<std::string> swept_keys;
+  size_t points = 0;
+};
+
+class ResultsDb {
+ public:
+  // Opens (creating when absent) the database at `path`. Throws Error when
+  // it is not an oovr results database, or one of a newer schema.
+  explicit ResultsDb(const std::string& path);
+  ~ResultsDb();
+  ResultsDb(const ResultsDb&) = delete;
+  ResultsDb& operator=(const ResultsDb&) = delete;
+
+  // Records (or updates) a sweep and makes sure runs has a column per
+  // swept key.
+  void add_sweep(const SweepRecord& s);
+  // The runs stored (of any sweep): id -> status ("done" or "failed").
+  std::map<std::string, std::string> run_status() const;
+  // Removes a run with its metrics and images (a failed run to retry).
+  void remove(const std::string& id);
+  // Writes a run, its metrics and images in one transaction. Returns false
+  // (and writes nothing) when a run with its id is there already.
+  bool insert(const RunRecord& r);
+  // Every run, sorted by id (what two databases are compared by).
+  std::vector<RunRecord> runs() const;
+  const std::string& path() const { return m_path; }
+
+ private:
+  void exec(const std::string& sql) const;
+  std::set<std::string> columns() const;
+  std::string m_path;
+  sqlite3* m_db = nullptr;
+};
+
+// The base-64 form the JSON records carry images in.
+std::string base64_encode(const std::string& bytes);
+std::optional<std::string> base64_decode(const std::string& text);
+
+}  // namespace oovr

@@ -1,0 +1,271 @@
+#include "oovr/experiments/slurm.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+#include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/text.h"
+#include "oovr/experiments/sweep_run.h"
+
+namespace oovr {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kManifestSchema = "oovr.slurm-sweep";
+// Records are single lines of a few KB (tens with images): anything
+// longer than this is not one of ours.
+constexpr uint64_t kMaxResultsFile = uint64_t(1) << 34;
+
+std::string task_file(const std::string& dir, int task) {
+  return (fs::path(dir) / ("task-" + std::to_string(task) + ".jsonl")).string();
+}
+
+// Runs a command (words quoted for the shell), returning its exit status
+// and what it printed on both streams.
+int run_command(const std::vector<std::string>& words, std::string& output) {
+  std::vector<const char*> argv;
+  for (const auto& w : words) argv.push_back(w.c_str());
+  const std::string line = shell_command_line(int(argv.size()), argv.data()) + " 2>&1";
+  FILE* p = popen(line.c_str(), "r");
+  if (!p) throw Error("cannot run '" + words.front() + "': " + std::strerror(errno));
+  char buf[4096];
+  size_t n = 0;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+std::string this_executable() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw Error("cannot find this oovr's path (/proc/self/exe): " + ec.message());
+  return p.string();
+}
+
+nlohmann::json read_manifest(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "manifest.json").string();
+  const std::string text = read_input_file(path, "SLURM job manifest", uint64_t(1) << 30);
+  nlohmann::json m;
+  try {
+    m = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error("the SLURM job manifest '" + path + "' is not JSON: " + e.what());
+  }
+  if (!m.is_object() || m.value("schema", "") != kManifestSchema || !m.contains("tasks") || !m["tasks"].is_array())
+    throw Error("'" + path + "' is not an oovr SLURM job manifest");
+  return m;
+}
+
+// The sweep as the job was submitted: the copy in the folder, read as if
+// it were at its original path (its preset path is relative to that).
+Sweep submitted_sweep(const std::string& dir, const nlohmann::json& m) {
+  const std::string copy = (fs::path(dir) / "sweep.toml").string();
+  const std::string text = read_input_file(copy, "sweep", uint64_t(1) << 20);
+  Sweep s = parse_sweep(text, m.at("sweep_file").get<std::string>(), m.at("base_dir").get<std::string>());
+  resolve_all(s);
+  return s;
+}
+
+}  // namespace
+
+SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, const std::vector<size_t>& todo,
+                             const std::string& command, const SlurmOptions& o) {
+  if (todo.empty()) throw Error("nothing to submit: every point is in the database");
+  std::error_code ec;
+  fs::create_directories(o.dir, ec);
+  if (ec) throw Error("cannot create the SLURM job folder '" + o.dir + "': " + ec.message());
+  const fs::path dir = fs::absolute(o.dir).lexically_normal();
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".jsonl")
+      throw Error("the SLURM job folder '" + o.dir + "' holds results of an earlier job (" + e.path().filename().string() +
+                  "): collect them with --collect, then remove the folder or give another --slurm-dir");
+  const size_t chunk = o.chunk > 0 ? size_t(o.chunk) : (todo.size() + 999) / 1000;
+  const int tasks = int((todo.size() + chunk - 1) / chunk);
+
+  nlohmann::json m;
+  m["schema"] = kManifestSchema;
+  m["sweep"] = s.name;
+  m["sweep_file"] = fs::absolute(sweep_path).lexically_normal().string();
+  m["base_dir"] = fs::absolute(sweep_path).parent_path().lexically_normal().string();
+  m["swept_keys"] = s.swept_keys;
+  m["points"] = s.points.size();
+  m["command"] = command;
+  m["use_cache"] = o.use_cache;
+  nlohmann::json list = nlohmann::json::array();
+  for (int t = 0; t < tasks; ++t) {
+    nlohmann::json points = nlohmann::json::array();
+    for (size_t k = size_t(t) * chunk; k < std::min(todo.size(), size_t(t + 1) * chunk); ++k)
+      points.push_back({todo[k], s.points[todo[k]].id});
+    list.push_back(points);
+  }
+  m["tasks"] = list;
+  write_output_file((dir / "sweep.toml").string(), s.definition, "sweep copy");
+  write_output_file((dir / "manifest.json").string(), m.dump(1) + "\n", "SLURM job manifest");
+
+  const std::string exe = o.executable.empty() ? this_executable() : o.executable;
+  std::string script = "#!/bin/sh\n";
+  script += "# oovr sweep '" + s.name + "': " + std::to_string(todo.size()) + " points in " + std::to_string(tasks) +
+            " tasks, written by: " + command + "\n";
+  const auto quote = [](const std::string& w) {
+    const char* argv[] = {w.c_str()};
+    return shell_command_line(1, argv);
+  };
+  script += "#SBATCH --job-name=" + quote("oovr-" + s.name) + "\n";
+  script +=
+      "#SBATCH --array=0-" + std::to_string(tasks - 1) + (o.array_limit > 0 ? "%" + std::to_string(o.array_limit) : "") + "\n";
+  script += "#SBATCH --output=" + quote((dir / "task-%a.log").string()) + "\n";
+  script += "#SBATCH --cpus-per-task=" + std::to_string(o.cpus_per_task) + "\n";
+  if (!o.partition.empty()) script += "#SBATCH --partition=" + quote(o.partition) + "\n";
+  if (!o.time_limit.empty()) script += "#SBATCH --time=" + quote(o.time_limit) + "\n";
+  script += "exec " + quote(exe) + " sweep --task \"$SLURM_ARRAY_TASK_ID\" --slurm-dir " + quote(dir.string()) + " --jobs " +
+            std::to_string(o.cpus_per_task) + "\n";
+  const std::string script_path = (dir / "job.sbatch").string();
+  write_output_file(script_path, script, "sbatch script");
+
+  std::vector<std::string> words = {"sbatch", "--parsable"};
+  if (o.wait) words.push_back("--wait");
+  words.insert(words.end(), o.sbatch_args.begin(), o.sbatch_args.end());
+  words.push_back(script_path);
+  SlurmSubmission sub;
+  sub.tasks = tasks;
+  sub.points = todo.size();
+  sub.script = script_path;
+  sub.sbatch_status = run_command(words, sub.sbatch_output);
+  // --parsable prints "jobid[;cluster]" first; with --wait, later lines
+  // may say how the job ended.
+  const std::string first = sub.sbatch_output.substr(0, sub.sbatch_output.find('\n'));
+  sub.job_id = first.substr(0, first.find(';'));
+  const bool numeric = !sub.job_id.empty() && std::all_of(sub.job_id.begin(), sub.job_id.end(), ::isdigit);
+  if (!numeric) {
+    std::string out = sub.sbatch_output;
+    while (!out.empty() && out.back() == '\n') out.pop_back();
+    if (sub.sbatch_status == 127 || out.find("not found") != std::string::npos)
+      throw Error("sbatch is not installed here (SLURM's client commands; scripts/install-deps.sh --services): " + out);
+    throw Error("sbatch refused the job " + script_path + " (exit status " + std::to_string(sub.sbatch_status) + "): " + out);
+  }
+  return sub;
+}
+
+void run_slurm_task(const std::string& dir, int task, unsigned jobs) {
+  const nlohmann::json m = read_manifest(dir);
+  if (task < 0 || size_t(task) >= m["tasks"].size())
+    throw Error("task " + std::to_string(task) + " is not one of the job's " + std::to_string(m["tasks"].size()) + " tasks");
+  const Sweep s = submitted_sweep(dir, m);
+  std::vector<size_t> which;
+  for (const auto& entry : m["tasks"][size_t(task)]) {
+    const size_t index = entry.at(0).get<size_t>();
+    const std::string id = entry.at(1).get<std::string>();
+    if (index >= s.points.size() || s.points[index].id != id)
+      throw Error("point " + std::to_string(index + 1) + " of the sweep is not the one submitted (id " + id +
+                  "): this oovr resolves the sweep differently from the one that submitted it");
+    which.push_back(index);
+  }
+  // A restarted task keeps what its file holds: whole lines only.
+  const std::string path = task_file(dir, task);
+  std::set<std::string> have;
+  const FileRead old = read_regular_file(path, kMaxResultsFile);
+  if (old.failure == FileRead::Failure::none) {
+    const size_t end = old.bytes.rfind('\n');
+    const size_t keep = end == std::string::npos ? 0 : end + 1;
+    if (keep < old.bytes.size() && truncate(path.c_str(), off_t(keep)) != 0)
+      throw Error("cannot cut the damaged last line of '" + path + "': " + std::strerror(errno));
+    size_t from = 0;
+    while (from < keep) {
+      const size_t nl = old.bytes.find('\n', from);
+      try {
+        have.insert(nlohmann::json::parse(old.bytes.substr(from, nl - from)).at("id").get<std::string>());
+      } catch (const nlohmann::json::exception&) {
+      }
+      from = nl + 1;
+    }
+  } else if (old.failure != FileRead::Failure::missing) {
+    throw Error("cannot read '" + path + "': " + old.why);
+  }
+  which.erase(std::remove_if(which.begin(), which.end(), [&](size_t i) { return have.count(s.points[i].id) != 0; }), which.end());
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  SweepRunOptions o;
+  o.jobs = jobs;
+  o.use_cache = m.value("use_cache", true);
+  o.command = m.at("command").get<std::string>();
+  o.on_record = [&](const RunRecord& r) {
+    const std::string line = to_json(r).dump() + "\n";
+    size_t done = 0;
+    while (done < line.size()) {
+      const ssize_t n = ::write(fd, line.data() + done, line.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+      done += size_t(n);
+    }
+    if (::fsync(fd) != 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+    std::printf("%s %s: %s, %s, %s%s\n", r.status.c_str(), r.id.c_str(), r.scene.c_str(), r.scheme.c_str(), r.resolution.c_str(),
+                r.error.empty() ? "" : (": " + r.error).c_str());
+    std::fflush(stdout);
+  };
+  try {
+    run_points(s, which, o);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  if (::close(fd) != 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+}
+
+CollectReport collect_slurm(const std::string& dir, ResultsDb& db) {
+  const nlohmann::json m = read_manifest(dir);
+  SweepRecord sw;
+  sw.name = m.at("sweep").get<std::string>();
+  sw.file = m.at("sweep_file").get<std::string>();
+  sw.definition = read_input_file((fs::path(dir) / "sweep.toml").string(), "sweep", uint64_t(1) << 20);
+  sw.swept_keys = m.at("swept_keys").get<std::vector<std::string>>();
+  sw.points = m.at("points").get<size_t>();
+  sw.command = m.at("command").get<std::string>();
+  db.add_sweep(sw);
+  CollectReport rep;
+  for (size_t t = 0; t < m["tasks"].size(); ++t) {
+    const std::string path = task_file(dir, int(t));
+    const FileRead f = read_regular_file(path, kMaxResultsFile);
+    if (f.failure == FileRead::Failure::missing) {
+      rep.problems.push_back("task " + std::to_string(t) + " wrote nothing (" + path + " is missing)");
+      continue;
+    }
+    if (f.failure != FileRead::Failure::none) throw Error("cannot read '" + path + "': " + f.why);
+    ++rep.files;
+    size_t from = 0, line = 0;
+    while (from < f.bytes.size()) {
+      size_t nl = f.bytes.find('\n', from);
+      ++line;
+      if (nl == std::string::npos) {
+        rep.problems.push_back(path + " line " + std::to_string(line) +
+                               " is cut short (the task was stopped while writing it): left out");
+        break;
+      }
+      RunRecord r;
+      try {
+        r = run_record_from_json(nlohmann::ordered_json::parse(f.bytes.substr(from, nl - from)));
+      } catch (const std::exception& e) {
+        rep.problems.push_back(path + " line " + std::to_string(line) + " is not a run record (" + e.what() + "): left out");
+        from = nl + 1;
+        continue;
+      }
+      if (r.sweep != sw.name)
+        rep.problems.push_back(path + " line " + std::to_string(line) + " belongs to the sweep '" + r.sweep + "': left out");
+      else if (db.insert(r)) ++rep.added;
+      else ++rep.already;
+      from = nl + 1;
+    }
+  }
+  return rep;
+}
+
+}  // namespace oovr

@@ -1,0 +1,61 @@
+// The SLURM backend of `oovr sweep` (docs/sweeps.md, "On a SLURM
+// cluster"): the points still to run are cut into chunks, one per task of
+// an sbatch job array; each task runs its chunk with this oovr and appends
+// one JSON record per point to its own file in the job folder (no two
+// writers share a file, and nothing writes the database concurrently);
+// `oovr sweep --collect` then merges the files into the database. A task
+// restarted (requeued, or run again by hand) skips the points its file
+// already holds; a line cut short by a lost node is left out and named.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "oovr/experiments/results_db.h"
+#include "oovr/experiments/sweep.h"
+
+namespace oovr {
+
+struct SlurmOptions {
+  std::string dir;         // the job folder (created)
+  std::string partition;   // "" : the cluster's default
+  std::string time_limit;  // per task, as sbatch takes it ("30", "2:00:00"); "": the partition's
+  int array_limit = 0;     // tasks running at once (the array's %N); 0: no limit
+  int chunk = 0;           // points per task; 0: as few tasks as keep every chunk under 1000 tasks
+  int cpus_per_task = 1;   // each task runs this many points at once
+  bool use_cache = true;
+  bool wait = false;                     // sbatch --wait: return when every task has ended
+  std::string executable;                // the oovr the tasks run (default: this one)
+  std::vector<std::string> sbatch_args;  // passed to sbatch as they are
+};
+
+struct SlurmSubmission {
+  std::string job_id;
+  int tasks = 0;
+  size_t points = 0;
+  std::string script;     // the sbatch script's path
+  int sbatch_status = 0;  // sbatch's exit status (with wait: non-zero when a task failed)
+  std::string sbatch_output;
+};
+
+// Writes the job folder (a copy of the sweep file, the manifest of each
+// task's points, the sbatch script) and submits it with sbatch. Throws
+// Error when sbatch is missing or refuses the job (with its message).
+SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, const std::vector<size_t>& todo,
+                             const std::string& command, const SlurmOptions& o);
+
+// What one array task runs: task `task` of the job folder `dir`, its
+// points `jobs` at a time.
+void run_slurm_task(const std::string& dir, int task, unsigned jobs);
+
+struct CollectReport {
+  size_t files = 0;
+  size_t added = 0;                   // runs new to the database
+  size_t already = 0;                 // runs the database had
+  std::vector<std::string> problems;  // damaged lines, tasks that wrote nothing
+};
+
+// Merges every task's records in `dir` into `db`.
+CollectReport collect_slurm(const std::string& dir, ResultsDb& db);
+
+}  // namespace oovr

@@ -1,0 +1,369 @@
+#include "oovr/experiments/sweep.h"
+
+#include <toml++/toml.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "oovr/core/config_sections.h"
+#include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/units.h"
+#include "oovr/memory/memory_spec.h"
+#include "oovr/scene/stereo.h"
+#include "oovr/schemes/i_scheme.h"
+
+namespace oovr {
+namespace fs = std::filesystem;
+
+namespace {
+
+// A sweep of more points than this is refused before it is expanded (a
+// typo'd list should not allocate gigabytes of points).
+constexpr size_t kMaxPoints = 1'000'000;
+
+// What one level of the file (the top level or a [[point]]) says; a field
+// left out is taken from the level above.
+struct Level {
+  std::optional<std::vector<std::string>> scenes, schemes, resolutions;
+  std::optional<std::vector<int>> frame, frames, aniso;
+  std::optional<std::vector<std::pair<std::string, std::string>>> set;
+  std::optional<std::vector<std::pair<std::string, std::vector<std::string>>>> sweep;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : m_file(std::move(file)) {}
+
+  [[noreturn]] void fail(const toml::node& at, const std::string& what) const {
+    throw Error("bad sweep '" + m_file + "' line " + std::to_string(at.source().begin.line) + ": " + what);
+  }
+  [[noreturn]] void fail(const std::string& what) const { throw Error("bad sweep '" + m_file + "': " + what); }
+
+  // A string or a non-empty list of strings.
+  std::vector<std::string> strings(const toml::node& n, const std::string& key) const {
+    std::vector<std::string> out;
+    const auto one = [&](const toml::node& x) {
+      const auto* s = x.as_string();
+      if (!s) fail(x, key + " takes strings");
+      if (s->get().empty()) fail(x, key + " has an empty name");
+      out.push_back(s->get());
+    };
+    if (const auto* a = n.as_array()) {
+      for (const auto& x : *a) one(x);
+      if (out.empty()) fail(n, key + " is an empty list");
+    } else {
+      one(n);
+    }
+    return out;
+  }
+
+  // A whole number or a non-empty list of them, each in [lo, hi].
+  std::vector<int> integers(const toml::node& n, const std::string& key, int lo, int hi) const {
+    std::vector<int> out;
+    const auto one = [&](const toml::node& x) {
+      const auto* i = x.as_integer();
+      if (!i) fail(x, key + " takes whole numbers");
+      if (i->get() < lo || i->get() > hi)
+        fail(x, key + " = " + std::to_string(i->get()) + " is outside " + std::to_string(lo) + " to " + std::to_string(hi));
+      out.push_back(int(i->get()));
+    };
+    if (const auto* a = n.as_array()) {
+      for (const auto& x : *a) one(x);
+      if (out.empty()) fail(n, key + " is an empty list");
+    } else {
+      one(n);
+    }
+    return out;
+  }
+
+  // A configuration value as `--set` takes it: strings as written, numbers
+  // and booleans in TOML's spelling.
+  std::string value(const toml::node& n, const std::string& key) const {
+    if (const auto* s = n.as_string()) {
+      if (s->get().empty()) fail(n, key + " has an empty value");
+      return s->get();
+    }
+    if (const auto* i = n.as_integer()) return std::to_string(i->get());
+    if (const auto* f = n.as_floating_point()) {
+      if (!std::isfinite(f->get())) fail(n, key + " is not a finite number");
+      return format_number(f->get());
+    }
+    if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+    fail(n, key + " takes a string, a number or true/false");
+  }
+
+  // A table of configuration keys, nested tables read as dotted keys.
+  void flatten(const toml::table& t, const std::string& prefix,
+               std::vector<std::pair<std::string, const toml::node*>>& out) const {
+    for (const auto& [k, node] : t) {
+      const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+      if (const auto* sub = node.as_table()) flatten(*sub, key, out);
+      else out.emplace_back(key, &node);
+    }
+  }
+
+  Level level(const toml::table& t, bool top) const {
+    Level l;
+    for (const auto& [k, node] : t) {
+      const std::string key(k.str());
+      if (key == "scenes" || key == "scene") l.scenes = strings(node, key);
+      else if (key == "schemes" || key == "scheme") l.schemes = strings(node, key);
+      else if (key == "resolutions" || key == "resolution") {
+        l.resolutions = strings(node, key);
+        for (const auto& r : *l.resolutions) {
+          try {
+            (void)parse_frame_resolution(r);
+          } catch (const Error& e) {
+            fail(node, key + ": " + e.what());
+          }
+        }
+      } else if (key == "frame") l.frame = integers(node, key, 0, 1'000'000);
+      else if (key == "frames") l.frames = integers(node, key, 1, 1000);
+      else if (key == "aniso") l.aniso = integers(node, key, 1, 16);
+      else if (key == "set") {
+        const auto* tab = node.as_table();
+        if (!tab) fail(node, "set is a table of configuration keys ([set] or set = { key = value })");
+        std::vector<std::pair<std::string, const toml::node*>> flat;
+        flatten(*tab, "", flat);
+        l.set.emplace();
+        for (const auto& [name, value_node] : flat) {
+          if (value_node->is_array()) fail(*value_node, "set." + name + " is a list: swept values go in [sweep]");
+          l.set->emplace_back(name, value(*value_node, name));
+        }
+      } else if (key == "sweep") {
+        const auto* tab = node.as_table();
+        if (!tab) fail(node, "sweep is a table of configuration keys with lists of values");
+        std::vector<std::pair<std::string, const toml::node*>> flat;
+        flatten(*tab, "", flat);
+        l.sweep.emplace();
+        for (const auto& [name, list_node] : flat) {
+          const auto* a = list_node->as_array();
+          if (!a) fail(*list_node, "sweep." + name + " takes a list of values (a single value goes in [set])");
+          if (a->empty()) fail(*list_node, "sweep." + name + " is an empty list");
+          std::vector<std::string> values;
+          for (const auto& x : *a) values.push_back(value(x, name));
+          l.sweep->emplace_back(name, values);
+        }
+      } else if (top && (key == "name" || key == "config" || key == "description" || key == "images" || key == "point")) {
+        continue;  // read by read_top
+      } else {
+        fail(node, "unknown key '" + key + "' (" +
+                       (top ? "name, description, config, images, scenes, schemes, resolutions, frame, frames, aniso, [set], "
+                              "[sweep], [[point]]"
+                            : "a point takes scene, scheme, resolution, frame, frames, aniso, set, sweep") +
+                       ")");
+      }
+    }
+    return l;
+  }
+
+ private:
+  std::string m_file;
+};
+
+// `point` with what it leaves out taken from `top`.
+Level inherit(const Level& top, Level point) {
+  if (!point.scenes) point.scenes = top.scenes;
+  if (!point.schemes) point.schemes = top.schemes;
+  if (!point.resolutions) point.resolutions = top.resolutions;
+  if (!point.frame) point.frame = top.frame;
+  if (!point.frames) point.frames = top.frames;
+  if (!point.aniso) point.aniso = top.aniso;
+  if (!point.sweep) point.sweep = top.sweep;
+  // A point's settings add to the file's (its own win).
+  std::vector<std::pair<std::string, std::string>> set = top.set.value_or(decltype(set){});
+  if (point.set) set.insert(set.end(), point.set->begin(), point.set->end());
+  point.set = set;
+  return point;
+}
+
+// The cross product of a level, schemes innermost (points sharing traces
+// follow each other).
+void expand(const Level& l, const std::string& where, std::vector<SweepPoint>& out, const Reader& reader) {
+  if (!l.scenes) reader.fail(where + " names no scene (scenes = [...])");
+  if (!l.schemes) reader.fail(where + " names no scheme (schemes = [...])");
+  const std::vector<std::string> resolutions = l.resolutions.value_or(std::vector<std::string>{"1280x1024"});
+  const std::vector<int> frame = l.frame.value_or(std::vector<int>{0});
+  const std::vector<int> frames = l.frames.value_or(std::vector<int>{0});
+  const std::vector<int> aniso = l.aniso.value_or(std::vector<int>{16});
+  const auto& sweep = *l.sweep;
+  size_t count = l.scenes->size() * l.schemes->size();
+  for (size_t n : {resolutions.size(), frame.size(), frames.size(), aniso.size()}) count *= n;
+  for (const auto& [key, values] : sweep) {
+    if (count > kMaxPoints) break;
+    count *= values.size();
+  }
+  if (count + out.size() > kMaxPoints)
+    reader.fail(where + " makes more than " + std::to_string(kMaxPoints) + " points: split the sweep");
+  std::vector<size_t> index(sweep.size(), 0);  // the swept keys' odometer
+  for (const auto& scene : *l.scenes)
+    for (const auto& res : resolutions)
+      for (int f : frame)
+        for (int n : frames)
+          for (int a : aniso) {
+            std::fill(index.begin(), index.end(), 0);
+            for (;;) {
+              for (const auto& scheme : *l.schemes) {
+                SweepPoint p;
+                p.scene = scene;
+                p.scheme = scheme;
+                p.resolution = res;
+                p.frame = f;
+                p.frames = n;
+                p.aniso = a;
+                p.settings = *l.set;
+                for (size_t k = 0; k < sweep.size(); ++k) {
+                  p.settings.emplace_back(sweep[k].first, sweep[k].second[index[k]]);
+                  p.swept[sweep[k].first] = sweep[k].second[index[k]];
+                }
+                out.push_back(std::move(p));
+              }
+              size_t k = sweep.size();
+              while (k > 0 && ++index[k - 1] == sweep[k - 1].second.size()) index[--k] = 0;
+              if (k == 0) break;
+            }
+          }
+}
+
+std::string describe(const SweepPoint& p) {
+  std::string s = p.scene + ", " + p.scheme + ", " + p.resolution;
+  for (const auto& [k, v] : p.swept) s += ", " + k + "=" + v;
+  return s;
+}
+
+}  // namespace
+
+std::string stable_id(const std::string& text) {
+  uint64_t h = 14695981039346656037ull;  // FNV-1a 64: offset basis and prime
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  static const char* hex = "0123456789abcdef";
+  std::string out(16, '0');
+  for (int i = 15; i >= 0; --i, h >>= 4) out[size_t(i)] = hex[h & 15];
+  return out;
+}
+
+Sweep parse_sweep(const std::string& text, const std::string& name, const std::string& base_dir) {
+  check_toml_text(text, name);
+  toml::table t;
+  try {
+    t = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw Error("bad sweep '" + name + "' line " + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+  }
+  const Reader reader(name);
+  Sweep s;
+  s.file = name;
+  s.definition = text;
+  s.name = fs::path(name).stem().string();
+  if (const auto* n = t.get("name")) {
+    if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "name takes a non-empty string");
+    s.name = n->as_string()->get();
+  }
+  if (const auto* n = t.get("description"); n && !n->as_string()) reader.fail(*n, "description takes a string");
+  if (const auto* n = t.get("config")) {
+    if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "config takes the path of a machine preset");
+    const fs::path p = n->as_string()->get();
+    s.preset = (p.is_relative() && !base_dir.empty() ? fs::path(base_dir) / p : p).lexically_normal().string();
+  }
+  if (const auto* n = t.get("images")) {
+    if (!n->as_boolean()) reader.fail(*n, "images takes true or false");
+    s.images = n->as_boolean()->get();
+  }
+  const Level top = reader.level(t, true);
+  // The columns: every key swept anywhere in the file.
+  std::set<std::string> seen;
+  const auto add_columns = [&](const Level& l) {
+    if (l.sweep)
+      for (const auto& [key, values] : *l.sweep)
+        if (seen.insert(key).second) s.swept_keys.push_back(key);
+  };
+  add_columns(top);
+  Level top_full = top;
+  if (!top_full.sweep) top_full.sweep.emplace();
+  if (!top_full.set) top_full.set.emplace();
+  // The grid of the top level, when it names schemes.
+  if (top.schemes) expand(top_full, "the file's top level", s.points, reader);
+  if (const auto* points = t.get("point")) {
+    const auto* a = points->as_array();
+    if (!a || !a->is_array_of_tables()) reader.fail(*points, "point entries are tables ([[point]])");
+    for (size_t i = 0; i < a->size(); ++i) {
+      const Level p = reader.level(*a->get(i)->as_table(), false);
+      add_columns(p);
+      expand(inherit(top_full, p), "point " + std::to_string(i + 1), s.points, reader);
+    }
+  }
+  if (s.points.empty()) reader.fail("no points: give schemes = [...] (and scenes) at the top level, or [[point]] tables");
+  return s;
+}
+
+Sweep read_sweep(const std::string& path) {
+  const std::string text = read_input_file(path, "sweep", uint64_t(1) << 20);
+  return parse_sweep(text, path, fs::path(path).parent_path().string());
+}
+
+void resolve(SweepPoint& p, const Config& machine) {
+  try {
+    Config c = machine;
+    c.set_source("sweep");
+    for (const auto& [key, value] : p.settings) c.set(key, value);
+    check_config(c);
+    check_scheme_config(p.scheme, c);
+    const StereoRig rig = parse_frame_resolution(p.resolution);
+    const int needed = scheme_frames_needed(p.scheme, c);
+    if (p.frames > 0) {
+      if (p.frames % needed != 0)
+        throw Error(p.scheme + " renders " + std::to_string(needed) + " frames at once (one per GPM), so frames (" +
+                    std::to_string(p.frames) + ") must be a multiple of " + std::to_string(needed));
+      p.window = p.frames;
+    } else {
+      p.window = std::lcm(int(MemorySpec::from_config(c).gpms), needed);
+    }
+    // What determines the result, in one canonical form: numbers in base
+    // units, however they were written ("64GBps" and 64e9 are one point).
+    nlohmann::ordered_json j;
+    j["scene"] = p.scene;
+    j["scheme"] = p.scheme;
+    j["resolution"] = std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height());
+    j["frame"] = p.frame;
+    j["frames"] = p.window;
+    j["aniso"] = p.aniso;
+    nlohmann::ordered_json config = nlohmann::ordered_json::object();
+    for (const auto& [key, e] : c.entries()) {
+      if (e.base) config[key] = *e.base;
+      else config[key] = e.value;
+    }
+    j["config"] = config;
+    p.canonical = j.dump();
+    p.id = stable_id(p.canonical);
+    p.config = std::move(c);
+  } catch (const Error& e) {
+    throw Error("point (" + describe(p) + "): " + e.what());
+  }
+}
+
+Config resolve_all(Sweep& s) {
+  const Config machine = s.preset.empty() ? Config{} : Config::from_toml_file(s.preset);
+  std::map<std::string, size_t> ids;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    resolve(s.points[i], machine);
+    const auto [it, fresh] = ids.emplace(s.points[i].id, i);
+    if (!fresh)
+      throw Error("bad sweep '" + s.file + "': points " + std::to_string(it->second + 1) + " and " + std::to_string(i + 1) +
+                  " are the same run (" + describe(s.points[i]) + "; id " + s.points[i].id + ")");
+  }
+  return machine;
+}
+
+std::string trace_group(const SweepPoint& p) {
+  return p.scene + "|" + p.resolution + "|" + std::to_string(p.frame) + "|" + std::to_string(p.aniso) + "|" +
+         std::to_string(MemorySpec::from_config(p.config).line.value);
+}
+
+}  // namespace oovr

@@ -1,0 +1,73 @@
+// Sweep definitions (`oovr sweep FILE.toml`, docs/sweeps.md): scenes,
+// schemes, resolutions, frames and any configuration keys with lists of
+// values, crossed, plus explicit points. Each point is resolved against the
+// machine configuration (preset, fixed settings, swept values, defaults)
+// and named by a stable id: a hash of everything that determines its
+// result, so the same point in another sweep, on another host or after a
+// restart has the same id.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "oovr/core/config.h"
+
+namespace oovr {
+
+struct SweepPoint {
+  std::string scene;
+  std::string scheme;
+  std::string resolution = "1280x1024";  // the whole stereo frame, WxH
+  int frame = 0;                         // first frame of the camera path
+  int frames = 0;                        // measured frames; 0: one per GPM (as oovr compare)
+  int aniso = 16;
+  // Configuration overrides in the order applied: the file's fixed [set]
+  // table, then the swept values.
+  std::vector<std::pair<std::string, std::string>> settings;
+  // The swept keys' values of this point ("link.bandwidth" -> "32GBps"),
+  // which the database keeps as columns.
+  std::map<std::string, std::string> swept;
+
+  // Filled by resolve():
+  std::string id;         // 16 hex digits
+  int window = 0;         // frames actually measured
+  Config config;          // preset + settings, every key read
+  std::string canonical;  // the JSON the id hashes
+};
+
+struct Sweep {
+  std::string name;                     // "name" in the file, else the file's stem
+  std::string file;                     // as given
+  std::string definition;               // the file's text, kept with the results
+  std::string preset;                   // machine preset (resolved against the file's folder), "" for Table 1
+  bool images = false;                  // store each point's GPM image and tile traffic (images = true)
+  std::vector<std::string> swept_keys;  // in file order: the columns
+  std::vector<SweepPoint> points;       // in file order, unresolved
+};
+
+// Reads and expands a sweep file. Throws Error naming the file and what is
+// wrong (an unknown key, a list where one value is wanted, an empty list,
+// a point that names no scene, two points with the same id).
+Sweep read_sweep(const std::string& path);
+Sweep parse_sweep(const std::string& text, const std::string& name, const std::string& base_dir);
+
+// Resolves a point against `machine` (the preset with its keys): applies
+// its settings, checks every key and the scheme, fixes the frame window and
+// computes the id. Throws Error naming the point on a bad value.
+void resolve(SweepPoint& p, const Config& machine);
+
+// Resolves every point of `s` (ids must be distinct) and returns the
+// machine preset they start from.
+Config resolve_all(Sweep& s);
+
+// The trace group a point's traces come from: points with the same scene,
+// resolution, first frame, filtering and line size replay the same traces.
+std::string trace_group(const SweepPoint& p);
+
+// "ab12...": FNV-1a 64 of `text` as 16 lower-case hex digits.
+std::string stable_id(const std::string& text);
+
+}  // namespace oovr

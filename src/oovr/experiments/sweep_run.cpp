@@ -1,0 +1,174 @@
+#include "oovr/experiments/sweep_run.h"
+
+#include <chrono>
+#include <ctime>
+#include <map>
+#include <mutex>
+#include <new>
+#include <optional>
+
+#include "oovr/core/config_sections.h"
+#include "oovr/core/error.h"
+#include "oovr/core/host.h"
+#include "oovr/core/out_of_memory.h"
+#include "oovr/core/parallel.h"
+#include "oovr/core/version.h"
+#include "oovr/experiments/frames.h"
+#include "oovr/experiments/result_images.h"
+#include "oovr/experiments/result_json.h"
+#include "oovr/experiments/result_metrics.h"
+#include "oovr/pipeline/image.h"
+#include "oovr/scene/load.h"
+#include "oovr/scene/stereo.h"
+
+namespace oovr {
+
+namespace {
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// What every record of point `index` carries, whatever its outcome.
+RunRecord record_of(const Sweep& s, size_t index, const std::string& command) {
+  const SweepPoint& p = s.points[index];
+  RunRecord r;
+  r.id = p.id;
+  r.sweep = s.name;
+  r.position = int(index);
+  r.scene = p.scene;
+  r.scheme = p.scheme;
+  const StereoRig rig = parse_frame_resolution(p.resolution);
+  r.resolution = std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height());
+  r.frame = p.frame;
+  r.frames = p.window;
+  r.aniso = p.aniso;
+  // Swept values as numbers in base units where the key has a unit, so
+  // that columns sort and plot as numbers.
+  const auto& entries = p.config.entries();
+  for (const auto& [key, text] : p.swept) {
+    const auto it = entries.find(key);
+    if (it != entries.end() && it->second.base) r.swept[key] = *it->second.base;
+    else r.swept[key] = it != entries.end() ? it->second.value : text;
+  }
+  r.config = to_json(entries);
+  r.oovr_version = version();
+  r.git_commit = git_commit();
+  r.command = command;
+  r.host = host_name().empty() ? "unknown" : host_name();
+  r.started = utc_now();
+  return r;
+}
+
+std::vector<RunImage> images_of(const FrameOutput& first, const SchemeResult& result) {
+  std::vector<RunImage> out;
+  RunImage gpm;
+  gpm.kind = "gpm";
+  const Image img = gpm_image(first, result);
+  gpm.width = img.width;
+  gpm.height = img.height;
+  gpm.data = encode_png(img);
+  nlohmann::ordered_json legend;
+  for (int g = 0; g < result.gpms; ++g) legend["gpm" + std::to_string(g)] = gpm_colour(g);
+  gpm.legend = legend.dump();
+  out.push_back(std::move(gpm));
+  RunImage tiles;
+  tiles.kind = "tile_traffic";
+  tiles.width = first.trace.tiles_x;
+  tiles.height = first.trace.tiles_y;
+  tiles.data = nlohmann::json(result.tile_inter_gpm_bytes).dump();
+  tiles.legend = nlohmann::json{{"tile_pixels", kTileSize}, {"unit", "B"}}.dump();
+  out.push_back(std::move(tiles));
+  return out;
+}
+
+}  // namespace
+
+RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, const std::string& command) {
+  RunRecord r = record_of(s, index, command);
+  r.status = "failed";
+  r.error = error;
+  return r;
+}
+
+void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o) {
+  std::mutex record_mutex;
+  const auto emit = [&](const RunRecord& r) {
+    std::lock_guard<std::mutex> lock(record_mutex);
+    if (o.on_record) o.on_record(r);
+  };
+  const auto status = [&](const std::string& line) {
+    if (o.on_status) o.on_status(line);
+  };
+  // Groups of points over the same traces, in the order they first appear.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<size_t>> groups;
+  for (size_t i : which) {
+    const std::string g = trace_group(s.points.at(i));
+    if (!groups.count(g)) order.push_back(g);
+    groups[g].push_back(i);
+  }
+  std::optional<Scene> scene;  // the last scene loaded, kept for the next group
+  std::string loaded;          // what it was loaded as
+  for (const std::string& g : order) {
+    const std::vector<size_t>& points = groups[g];
+    const SweepPoint& first = s.points[points.front()];
+    int window = 0;
+    for (size_t i : points) window = std::max(window, s.points[i].window);
+    std::optional<FrameWindow> frames;
+    try {
+      if (!scene || loaded != first.scene) {
+        status("loading " + first.scene);
+        scene.reset();
+        loaded.clear();
+        scene = load_scene(first.scene);
+        loaded = first.scene;
+      }
+      status("traces of " + first.scene + " at " + first.resolution);
+      WindowRequest req;
+      req.first = first.frame;
+      req.count = window;
+      req.aniso = first.aniso;
+      req.use_cache = o.use_cache;
+      req.need_first_image = s.images;
+      frames = load_window(*scene, parse_frame_resolution(first.resolution), first.config, req);
+    } catch (const Error& e) {
+      for (size_t i : points) emit(failed_record(s, i, e.what(), o.command));
+      continue;
+    } catch (const std::bad_alloc&) {
+      const std::string why = out_of_memory_message("loading " + first.scene + " at " + first.resolution);
+      for (size_t i : points) emit(failed_record(s, i, why, o.command));
+      continue;
+    }
+    status("running " + std::to_string(points.size()) + " points on " + first.scene);
+    parallel_for(points.size(), o.jobs, [&](size_t k) {
+      const size_t i = points[k];
+      const SweepPoint& p = s.points[i];
+      RunRecord r = record_of(s, i, o.command);
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        const SchemeResult result = run_scheme_window(p.scheme, frames->scene, *frames->frames, p.config, p.window);
+        r.status = "done";
+        r.result = to_json(result);
+        r.metrics = metrics_of(result);
+        if (s.images && !frames->outputs.empty() && !frames->outputs.front().colour.rgba.empty())
+          r.images = images_of(frames->outputs.front(), result);
+      } catch (const Error& e) {
+        r.status = "failed";
+        r.error = e.what();
+      } catch (const std::bad_alloc&) {
+        r.status = "failed";
+        r.error = out_of_memory_message("simulating " + p.scheme + " on " + p.scene);
+      }
+      r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      emit(r);
+    });
+  }
+}
+
+}  // namespace oovr

@@ -1,0 +1,36 @@
+// The sweep engine: runs resolved sweep points and hands each outcome over
+// as a RunRecord (results_db.h), done or failed. Points that replay the
+// same traces (trace_group) run together: their scene is loaded and their
+// traces rendered (or read from the trace cache) once, and the points run
+// in parallel over them. A point that fails (a scene not installed, memory
+// exhausted) becomes a failed record with its error; the others go on.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "oovr/experiments/results_db.h"
+#include "oovr/experiments/sweep.h"
+
+namespace oovr {
+
+struct SweepRunOptions {
+  unsigned jobs = 0;      // points run at once (0: every core)
+  bool use_cache = true;  // the trace cache ($OOVR_CACHE_DIR)
+  std::string command;    // the command line, recorded with every run
+  // Called once per point, as it finishes, one call at a time (from worker
+  // threads): store or write the record here.
+  std::function<void(const RunRecord&)> on_record;
+  // What the engine is doing between points ("loading courtyard"), for a
+  // progress display; may be empty.
+  std::function<void(const std::string&)> on_status;
+};
+
+// Runs s.points[i] for every i in `which` (resolved: resolve_all).
+void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o);
+
+// The record of a point that did not run, with its error.
+RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, const std::string& command);
+
+}  // namespace oovr

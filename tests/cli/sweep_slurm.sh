@@ -1,0 +1,100 @@
+#!/bin/sh
+# `oovr sweep --backend slurm` on a real SLURM: starts a one-node cluster
+# (slurmctld and slurmd on localhost, no munge: auth/none), runs a small
+# sweep through an sbatch job array, collects the tasks' files, checks the
+# database equals the local backend's, and shuts SLURM down. Exits 77
+# ("skipped", with the reason) when SLURM is not installed or cannot start.
+# Usage: sweep_slurm.sh OOVR WORKDIR
+set -eu
+oovr=$1
+work=$2
+skip() { echo "skipped: $*"; exit 77; }
+for c in slurmctld slurmd sbatch scontrol sinfo sqlite3; do
+  command -v $c > /dev/null 2>&1 || skip "$c is not installed (scripts/install-deps.sh --services installs SLURM)"
+done
+rm -rf "$work" && mkdir -p "$work/state" "$work/spool" && cd "$work"
+work=$(pwd)
+node=$(hostname -s)
+cpus=$(nproc)
+# Ports of this test only, away from a real SLURM's 6817 and 6818.
+base=$((20000 + $$ % 20000))
+cat > slurm.conf <<CONF
+ClusterName=oovrtest
+SlurmctldHost=$node(127.0.0.1)
+SlurmctldPort=$base
+SlurmdPort=$((base + 1))
+AuthType=auth/none
+CredType=cred/none
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+StateSaveLocation=$work/state
+SlurmdSpoolDir=$work/spool
+SlurmctldPidFile=$work/slurmctld.pid
+SlurmdPidFile=$work/slurmd.pid
+SlurmctldLogFile=$work/slurmctld.log
+SlurmdLogFile=$work/slurmd.log
+SlurmUser=$(id -un)
+ReturnToService=2
+MpiDefault=none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+NodeName=$node NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=1000 State=UNKNOWN
+PartitionName=oovr Nodes=$node Default=YES MaxTime=INFINITE State=UP
+CONF
+export SLURM_CONF="$work/slurm.conf"
+export OOVR_CACHE_DIR="$work/cache"
+# Shut down and wait (at most 10 s) until both daemons have gone.
+stop() {
+  scontrol shutdown > /dev/null 2>&1 || true
+  for f in slurmd.pid slurmctld.pid; do
+    [ -f "$work/$f" ] || continue
+    pid=$(cat "$work/$f")
+    n=0
+    while kill -0 "$pid" 2> /dev/null && [ $n -lt 50 ]; do sleep 0.2; n=$((n + 1)); done
+    kill -9 "$pid" 2> /dev/null || true
+  done
+}
+trap stop EXIT
+slurmctld -c -f "$SLURM_CONF" > ctld.out 2>&1 || skip "slurmctld did not start: $(tail -n 3 ctld.out "$work/slurmctld.log" 2>/dev/null | tr '\n' ' ')"
+slurmd -f "$SLURM_CONF" > d.out 2>&1 || skip "slurmd did not start (it needs root here): $(tail -n 3 d.out "$work/slurmd.log" 2>/dev/null | tr '\n' ' ')"
+tries=0
+until sinfo -h -o %t 2> /dev/null | grep -q idle; do
+  tries=$((tries + 1))
+  [ $tries -gt 100 ] && skip "the SLURM node did not become idle in 20 s: $(sinfo 2>&1 | tail -n 1)"
+  sleep 0.2
+done
+
+cat > small.toml <<'TOML'
+# 8 points: 2 scenes x 2 schemes x 2 GPM counts
+name = "small"
+scenes = ["crowd", "courtyard"]
+schemes = ["baseline", "oo-vr"]
+resolutions = ["160x128"]
+frames = 8
+images = true
+[sweep]
+gpms = [2, 4]
+TOML
+"$oovr" sweep small.toml --db local.db > local.log 2>&1 || { cat local.log; exit 1; }
+"$oovr" sweep small.toml --db slurm.db --backend slurm --chunk 3 --array-limit 2 --wait > slurm.log 2>&1 || {
+  cat slurm.log; tail -n 20 slurm.db.slurm/task-*.log slurmctld.log slurmd.log; exit 1; }
+cat slurm.log
+grep -q "8 points in 3 tasks" slurm.log || exit 1
+grep -q "collected 8 runs from 3 task files" slurm.log || exit 1
+# Collecting again adds nothing.
+"$oovr" sweep small.toml --db slurm.db --collect > collect.log 2>&1 || { cat collect.log; exit 1; }
+grep -q "collected 0 runs from 3 task files into slurm.db (8 there already)" collect.log || { cat collect.log; exit 1; }
+
+dump() {
+  sqlite3 "$1" "SELECT id, sweep, position, scene, scheme, resolution, frame, frames, aniso, config, status, error,
+                       oovr_version, git_commit, result, gpms FROM runs ORDER BY id;
+                SELECT * FROM metrics ORDER BY run, location, metric;
+                SELECT run, kind, width, height, hex(data), legend FROM images ORDER BY run, kind;"
+}
+dump local.db > local.dump
+dump slurm.db > slurm.dump
+[ "$(sqlite3 slurm.db "SELECT count(*) FROM runs WHERE status = 'done'")" = 8 ] || { echo "not 8 runs done"; exit 1; }
+cmp local.dump slurm.dump || { diff local.dump slurm.dump | cut -c 1-300 | head -20; exit 1; }
+echo "SLURM sweep equals the local one: 8 runs in 3 array tasks"

@@ -1,0 +1,279 @@
+// Sweep files, point ids, the sweep engine and the results database
+// (docs/sweeps.md, docs/results.md).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+
+#include "oovr/core/error.h"
+#include "oovr/experiments/results_db.h"
+#include "oovr/experiments/sweep.h"
+#include "oovr/experiments/sweep_run.h"
+#include "temp_dir.h"
+#include "test_util.h"
+
+namespace oovr {
+namespace {
+
+using test::message_of;
+
+Sweep parse(const std::string& text) { return parse_sweep(text, "t.toml", ""); }
+
+TEST(Sweep, CrossProductWithSchemesInnermost) {
+  Sweep s = parse(R"(
+scenes = ["crowd", "courtyard"]
+schemes = ["baseline", "oo-vr"]
+resolutions = ["160x128", "320x256"]
+frames = 4
+[set]
+"memory.placement" = "first-touch"
+[sweep]
+"link.bandwidth" = ["32GBps", "64GBps", "1TBps"]
+)");
+  ASSERT_EQ(s.points.size(), 2u * 2u * 2u * 3u);
+  EXPECT_EQ(s.name, "t");
+  EXPECT_EQ(s.swept_keys, std::vector<std::string>{"link.bandwidth"});
+  EXPECT_EQ(s.points[0].scheme, "baseline");
+  EXPECT_EQ(s.points[1].scheme, "oo-vr");
+  EXPECT_EQ(s.points[0].swept.at("link.bandwidth"), "32GBps");
+  EXPECT_EQ(s.points[2].swept.at("link.bandwidth"), "64GBps");
+  EXPECT_EQ(s.points[6].resolution, "320x256");
+  EXPECT_EQ(s.points[12].scene, "courtyard");
+  // Fixed settings come first, the swept value after.
+  ASSERT_EQ(s.points[0].settings.size(), 2u);
+  EXPECT_EQ(s.points[0].settings[0].first, "memory.placement");
+  resolve_all(s);
+  std::set<std::string> ids;
+  for (const auto& p : s.points) {
+    EXPECT_EQ(p.id.size(), 16u);
+    ids.insert(p.id);
+    EXPECT_EQ(p.window, 4);
+  }
+  EXPECT_EQ(ids.size(), s.points.size());
+}
+
+TEST(Sweep, PointsInheritWhatTheyLeaveOut) {
+  Sweep s = parse(R"(
+scenes = ["crowd"]
+resolutions = ["160x128"]
+[sweep]
+gpms = [2, 4]
+[[point]]
+scheme = "baseline-1tb"
+sweep = {}
+[[point]]
+schemes = ["afr", "object"]
+set = { "link.bandwidth" = "128GBps" }
+)");
+  // No schemes at the top level: no grid there, only the points.
+  ASSERT_EQ(s.points.size(), 1u + 2u * 2u);
+  EXPECT_EQ(s.points[0].scheme, "baseline-1tb");
+  EXPECT_TRUE(s.points[0].swept.empty());
+  EXPECT_EQ(s.points[1].scheme, "afr");
+  EXPECT_EQ(s.points[1].scene, "crowd");
+  EXPECT_EQ(s.points[1].swept.at("gpms"), "2");
+  EXPECT_EQ(s.points[1].settings.front(), (std::pair<std::string, std::string>{"link.bandwidth", "128GBps"}));
+  resolve_all(s);
+  // frames left out: one per GPM (AFR's frames in flight), as oovr compare.
+  EXPECT_EQ(s.points[1].window, 2);
+  EXPECT_EQ(s.points[3].window, 4);
+}
+
+TEST(Sweep, IdsDependOnWhatDeterminesTheResultOnly) {
+  const auto id = [](const std::string& text) {
+    Sweep s = parse(text);
+    resolve_all(s);
+    return s.points.front().id;
+  };
+  const std::string a = id("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'link.bandwidth' = '64GBps'\n");
+  // The same value spelled otherwise, or left at its default: the same point.
+  EXPECT_EQ(a, id("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'link.bandwidth' = '0.064TBps'\n"));
+  EXPECT_EQ(a, id("name = 'other'\nscenes = ['crowd']\nschemes = ['baseline']\n"));
+  // A different value, scheme, frame count or scene: another point.
+  EXPECT_NE(a, id("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'link.bandwidth' = '32GBps'\n"));
+  EXPECT_NE(a, id("scenes = ['crowd']\nschemes = ['object']\n"));
+  EXPECT_NE(a, id("scenes = ['crowd']\nschemes = ['baseline']\nframes = 8\n"));
+  EXPECT_NE(a, id("scenes = ['courtyard']\nschemes = ['baseline']\n"));
+  EXPECT_EQ(stable_id("oovr"), stable_id("oovr"));
+  EXPECT_EQ(stable_id(""), "cbf29ce484222325");  // FNV-1a 64's offset basis
+  EXPECT_EQ(stable_id("a"), "af63dc4c8601ec8c");
+}
+
+TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
+  const auto error = [](const std::string& text) {
+    return message_of([&] {
+      Sweep s = parse(text);
+      resolve_all(s);
+    });
+  };
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\ncolour = 1\n").find("unknown key 'colour'"), std::string::npos);
+  EXPECT_NE(error("scenes = []\nschemes = ['baseline']\n").find("scenes is an empty list"), std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\n").find("no points"), std::string::npos);
+  EXPECT_NE(error("schemes = ['baseline']\n").find("names no scene"), std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\nframes = 0\n").find("frames = 0 is outside 1 to 1000"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\nresolutions = ['big']\n").find("line 3"), std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\n[sweep]\ngpms = 4\n").find("takes a list"), std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\n[set]\ngpms = [4]\n").find("swept values go in [sweep]"),
+            std::string::npos);
+  // Resolved against the machine: a bad value or key names the point.
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\n[sweep]\ngpms = [4, 99]\n").find("point (crowd, baseline"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'link.bandwith' = '1TBps'\n").find("link.bandwith"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['nope']\n").find("unknown scheme 'nope'"), std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['afr']\nframes = 3\n").find("must be a multiple of 4"), std::string::npos);
+  // The same run twice.
+  EXPECT_NE(error("scenes = ['crowd', 'crowd']\nschemes = ['baseline']\n").find("points 1 and 2 are the same run"),
+            std::string::npos);
+  // A list that would expand past the limit is refused before it is.
+  std::string big = "scenes = ['crowd']\nschemes = ['baseline']\n[sweep]\n";
+  for (const char* k : {"a", "b", "c", "d", "e"}) {
+    big += std::string("'") + k + "' = [";
+    for (int i = 0; i < 20; ++i) big += std::to_string(i) + ",";
+    big += "]\n";
+  }
+  EXPECT_NE(error(big).find("more than 1000000 points"), std::string::npos);
+}
+
+RunRecord sample_record(const std::string& id, double value) {
+  RunRecord r;
+  r.id = id;
+  r.sweep = "t";
+  r.scene = "crowd";
+  r.scheme = "baseline";
+  r.resolution = "160x128";
+  r.frames = 4;
+  r.swept["link.bandwidth"] = 32e9;
+  r.config = {{"gpms", {{"value", "4"}, {"base", 4.0}, {"source", "default"}}}};
+  r.status = "done";
+  r.oovr_version = "0.1";
+  r.git_commit = "abc";
+  r.command = "oovr sweep t.toml";
+  r.host = "h";
+  r.started = "2026-11-24T00:00:00Z";
+  r.result = {{"scheme", "baseline"}, {"throughput_fps", value}};
+  r.metrics = {{"frame", "latency", value, "s"}, {"link[0->1]", "bytes", 1024, "B"}};
+  r.images = {{"gpm", 2, 1, std::string("\x89PNG\0\x01", 6), "{\"gpm0\":\"#e6194b\"}"}};
+  return r;
+}
+
+TEST(ResultsDb, RunsRoundTripAndAreStoredOnce) {
+  test::TempDir dir;
+  const std::string path = dir.file("r.db");
+  {
+    ResultsDb db(path);
+    db.add_sweep({"t", "t.toml", "scenes = ['crowd']", "oovr sweep t.toml", {"link.bandwidth"}, 2});
+    EXPECT_TRUE(db.insert(sample_record("b", 2.5)));
+    EXPECT_TRUE(db.insert(sample_record("a", 1.5)));
+    EXPECT_FALSE(db.insert(sample_record("a", 9.0)));  // already there: kept as it was
+  }
+  ResultsDb db(path);  // reopened
+  const auto runs = db.runs();
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].id, "a");
+  EXPECT_EQ(runs[0].result["throughput_fps"], 1.5);
+  EXPECT_EQ(runs[0].swept.at("link.bandwidth"), 32e9);
+  ASSERT_EQ(runs[0].metrics.size(), 2u);
+  EXPECT_EQ(runs[0].metrics[0].location, "frame");
+  EXPECT_EQ(runs[0].metrics[1].location, "link[0->1]");
+  EXPECT_EQ(runs[0].metrics[1].value, 1024);
+  ASSERT_EQ(runs[0].images.size(), 1u);
+  EXPECT_EQ(runs[0].images[0].data, std::string("\x89PNG\0\x01", 6));  // bytes, not text
+  EXPECT_EQ(db.run_status(), (std::map<std::string, std::string>{{"a", "done"}, {"b", "done"}}));
+  db.remove("a");
+  EXPECT_EQ(db.runs().size(), 1u);
+}
+
+TEST(ResultsDb, AFailedWriteLeavesNoPartOfTheRun) {
+  test::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  RunRecord r = sample_record("a", 1);
+  r.metrics.push_back(r.metrics.front());  // the same (location, metric) twice: the insert fails half-way
+  EXPECT_THROW(db.insert(r), Error);
+  EXPECT_TRUE(db.runs().empty());
+  EXPECT_TRUE(db.insert(sample_record("a", 1)));  // and the database is usable after
+  EXPECT_EQ(db.runs().size(), 1u);
+}
+
+TEST(ResultsDb, RecordsRoundTripThroughJson) {
+  const RunRecord r = sample_record("a", 1.25);
+  const RunRecord back = run_record_from_json(nlohmann::ordered_json::parse(to_json(r).dump()));
+  EXPECT_EQ(to_json(back).dump(), to_json(r).dump());
+  EXPECT_NE(message_of([] {
+              (void)run_record_from_json(nlohmann::ordered_json{{"id", "x"}});
+            }).find("not oovr's"),
+            std::string::npos);
+  for (const std::string& s :
+       std::vector<std::string>{"", "f", "fo", "foo", "foob", "fooba", "foobar", std::string("\0\xff\x10", 3)})
+    EXPECT_EQ(base64_decode(base64_encode(s)), s);
+  EXPECT_EQ(base64_encode("foobar"), "Zm9vYmFy");
+  EXPECT_EQ(base64_encode("fo"), "Zm8=");
+  EXPECT_FALSE(base64_decode("Zm9=v"));
+  EXPECT_FALSE(base64_decode("Z=8A"));
+}
+
+TEST(ResultsDb, OtherFilesAreRefused) {
+  test::TempDir dir;
+  const std::string text = dir.file("notes.txt", "not a database, only some text that is long enough to have a header\n");
+  EXPECT_NE(message_of([&] { ResultsDb db(text); }).find("notes.txt"), std::string::npos);
+  EXPECT_NE(message_of([&] { ResultsDb db(dir.path().string()); }).find("cannot open"), std::string::npos);
+}
+
+TEST(SweepRun, PointsRunDoneOrFailedAndTheSameWhateverTheJobs) {
+  Sweep s = parse(R"(
+scenes = ["crowd", "no-such-scene.obj"]
+schemes = ["baseline", "oo-vr"]
+resolutions = ["96x64"]
+frames = 4
+[sweep]
+gpms = [2, 4]
+)");
+  resolve_all(s);
+  const auto run = [&](unsigned jobs) {
+    std::vector<RunRecord> out;
+    SweepRunOptions o;
+    o.jobs = jobs;
+    o.use_cache = false;
+    o.on_record = [&](const RunRecord& r) { out.push_back(r); };
+    std::vector<size_t> all(s.points.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+    run_points(s, all, o);
+    std::sort(out.begin(), out.end(), [](const RunRecord& a, const RunRecord& b) { return a.id < b.id; });
+    return out;
+  };
+  const auto one = run(1), two = run(2);
+  ASSERT_EQ(one.size(), 8u);
+  size_t failed = 0;
+  for (size_t i = 0; i < one.size(); ++i) {
+    if (one[i].status == "failed") {
+      ++failed;
+      EXPECT_EQ(one[i].scene, "no-such-scene.obj");
+      EXPECT_NE(one[i].error.find("no-such-scene.obj"), std::string::npos);
+      continue;
+    }
+    EXPECT_EQ(one[i].status, "done");
+    EXPECT_EQ(one[i].result.dump(), two[i].result.dump());
+    ASSERT_EQ(one[i].metrics.size(), two[i].metrics.size());
+    for (size_t k = 0; k < one[i].metrics.size(); ++k) EXPECT_EQ(one[i].metrics[k].value, two[i].metrics[k].value);
+    const auto has = [&](const std::string& location, const std::string& metric) {
+      return std::any_of(one[i].metrics.begin(), one[i].metrics.end(),
+                         [&](const Metric& m) { return m.location == location && m.metric == metric; });
+    };
+    EXPECT_TRUE(has("frame", "latency"));
+    EXPECT_TRUE(has("l2", "served_share"));
+    EXPECT_TRUE(has("link[0->1]", "utilisation"));
+    EXPECT_TRUE(has("gpm[1]->gpm[0]", "bytes"));
+    EXPECT_TRUE(has("gpm[1].dram", "bytes"));
+    if (one[i].scheme == "oo-vr") {
+      EXPECT_TRUE(has("oo-vr", "batches"));
+      EXPECT_TRUE(has("oo-vr", "moved_chunks"));
+      EXPECT_TRUE(has("oo-vr", "predictor.c2"));
+    }
+  }
+  EXPECT_EQ(failed, 4u);
+}
+
+}  // namespace
+}  // namespace oovr
