@@ -19,6 +19,7 @@
 #include "oovr/core/files.h"
 #include "oovr/core/out_of_memory.h"
 #include "oovr/core/version.h"
+#include "oovr/experiments/report.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -333,6 +334,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 100000000))
       ->group(slurm_group);
 
+  ReportOptions report;
+  auto* report_cmd = app.add_subcommand("report", "Plots and an HTML page from a results database");
+  report_cmd->add_option("db", report.db, "Results database (oovr sweep)")->required();
+  report_cmd->add_option("--out", report.out, "Folder for index.html and the plots")->required();
+
   RenderArgs render;
   cli::PaperArgs paper;
   auto* paper_cmd = app.add_subcommand("paper", "Run the paper's evaluation and rewrite docs/paper-comparison.md");
@@ -432,6 +438,10 @@ int main(int argc, char** argv) {
       if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
       if (app.got_subcommand(paper_cmd)) return cli::paper(paper);
       if (app.got_subcommand(sweep_cmd)) return cli::sweep(sweep);
+      if (app.got_subcommand(report_cmd)) {
+        fmt::print("report: {}\n", write_report(report));
+        return 0;
+      }
       return 0;
     };
     const int rc = run();

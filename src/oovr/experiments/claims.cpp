@@ -1,0 +1,173 @@
+#include "oovr/experiments/claims.h"
+
+#include <toml++/toml.h>
+
+#include "oovr/core/config.h"
+#include "oovr/core/config_sections.h"
+#include "oovr/core/error.h"
+#include "oovr/core/units.h"
+
+namespace oovr {
+
+namespace embedded {
+extern const char* const paper_claims_toml;
+}
+
+namespace {
+
+class ClaimReader {
+ public:
+  explicit ClaimReader(std::string name) : m_name(std::move(name)) {}
+  [[noreturn]] void fail(const toml::node& at, const std::string& what) const {
+    throw Error("bad claims '" + m_name + "' line " + std::to_string(at.source().begin.line) + ": " + what);
+  }
+  std::string text(const toml::table& t, const char* key, bool required = true, const std::string& fallback = "") const {
+    const toml::node* n = t.get(key);
+    if (!n) {
+      if (required) fail(t, std::string("missing ") + key);
+      return fallback;
+    }
+    if (!n->as_string() || n->as_string()->get().empty()) fail(*n, std::string(key) + " takes a non-empty string");
+    return n->as_string()->get();
+  }
+  std::map<std::string, std::string> settings(const toml::table& t, const char* key) const {
+    std::map<std::string, std::string> out;
+    const toml::node* n = t.get(key);
+    if (!n) return out;
+    const toml::table* tab = n->as_table();
+    if (!tab) fail(*n, std::string(key) + " is a table of configuration keys");
+    for (const auto& [k, v] : *tab) {
+      if (const auto* s = v.as_string()) out[std::string(k.str())] = s->get();
+      else if (const auto* i = v.as_integer()) out[std::string(k.str())] = std::to_string(i->get());
+      else if (const auto* f = v.as_floating_point()) out[std::string(k.str())] = format_number(f->get());
+      else fail(v, std::string(k.str()) + " takes a value as --set does");
+    }
+    return out;
+  }
+
+ private:
+  std::string m_name;
+};
+
+}  // namespace
+
+std::vector<Claim> parse_claims(const std::string& text, const std::string& name) {
+  check_toml_text(text, name);
+  toml::table t;
+  try {
+    t = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw Error("bad claims '" + name + "' line " + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+  }
+  const ClaimReader r(name);
+  const toml::array* list = t["claim"].as_array();
+  if (!list || !list->is_array_of_tables()) throw Error("bad claims '" + name + "': no [[claim]] tables");
+  std::vector<Claim> out;
+  for (const auto& node : *list) {
+    const toml::table& c = *node.as_table();
+    Claim claim;
+    claim.id = r.text(c, "id");
+    claim.section = r.text(c, "section");
+    claim.figure = r.text(c, "figure");
+    claim.what = r.text(c, "what");
+    claim.words = r.text(c, "words");
+    const toml::array* values = c["value"].as_array();
+    if (!values || !values->is_array_of_tables() || values->empty()) r.fail(c, claim.id + " has no [[claim.value]]");
+    for (const auto& vn : *values) {
+      const toml::table& v = *vn.as_table();
+      ClaimValue x;
+      x.label = r.text(v, "label");
+      x.measure = r.text(v, "measure");
+      static const char* measures[] = {"speedup", "latency", "throughput", "traffic", "best_to_worst", "engine_storage"};
+      if (std::find(std::begin(measures), std::end(measures), x.measure) == std::end(measures))
+        r.fail(v, "measure '" + x.measure + "' (speedup, latency, throughput, traffic, best_to_worst, engine_storage)");
+      x.scheme = r.text(v, "scheme");
+      x.set = r.settings(v, "set");
+      x.against = r.text(v, "against", false, "baseline");
+      x.against_set = r.settings(v, "against_set");
+      if (const toml::node* p = v.get("paper")) {
+        const auto d = p->value<double>();
+        if (!d || !std::isfinite(*d) || *d <= 0) r.fail(*p, "paper takes a positive number");
+        x.paper = *d;
+      }
+      x.form = r.text(v, "form");
+      if (x.form != "percent" && x.form != "times" && x.form != "bits") r.fail(v, "form '" + x.form + "' (percent, times, bits)");
+      if (const toml::node* a = v.get("about")) {
+        if (!a->as_boolean()) r.fail(*a, "about takes true or false");
+        x.about = a->as_boolean()->get();
+      }
+      claim.values.push_back(std::move(x));
+    }
+    out.push_back(std::move(claim));
+  }
+  return out;
+}
+
+const std::vector<Claim>& paper_claims() {
+  static const std::vector<Claim> claims = parse_claims(embedded::paper_claims_toml, "experiments/paper-claims.toml");
+  return claims;
+}
+
+namespace {
+
+// Each setting as the database stores it: the number in base units, or the
+// readable value for keys without one.
+nlohmann::ordered_json resolve(const std::map<std::string, std::string>& set, const std::string& what) {
+  Config c;
+  for (const auto& [k, v] : set) c.set(k, v);
+  try {
+    check_config(c);
+  } catch (const Error& e) {
+    throw Error(what + ": " + e.what());
+  }
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : set) {
+    const Config::Entry& e = c.entries().at(k);
+    if (e.base) out[k] = *e.base;
+    else out[k] = e.value;
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
+  nlohmann::ordered_json j;
+  Config defaults;
+  check_config(defaults);
+  nlohmann::ordered_json d = nlohmann::ordered_json::object();
+  for (const auto& [k, e] : defaults.entries()) {
+    if (e.base) d[k] = *e.base;
+    else d[k] = e.value;
+  }
+  j["defaults"] = d;
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const Claim& c : claims) {
+    nlohmann::ordered_json x;
+    x["id"] = c.id;
+    x["section"] = c.section;
+    x["figure"] = c.figure;
+    x["what"] = c.what;
+    x["words"] = c.words;
+    nlohmann::ordered_json values = nlohmann::ordered_json::array();
+    for (const ClaimValue& v : c.values) {
+      nlohmann::ordered_json y;
+      y["label"] = v.label;
+      y["measure"] = v.measure;
+      y["scheme"] = v.scheme;
+      y["set"] = resolve(v.set, c.id + " (" + v.label + ")");
+      y["against"] = v.against;
+      y["against_set"] = resolve(v.against_set, c.id + " (" + v.label + ")");
+      if (v.paper) y["paper"] = *v.paper;
+      y["form"] = v.form;
+      y["about"] = v.about;
+      values.push_back(y);
+    }
+    x["values"] = values;
+    list.push_back(x);
+  }
+  j["claims"] = list;
+  return j;
+}
+
+}  // namespace oovr

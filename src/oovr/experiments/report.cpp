@@ -1,0 +1,62 @@
+#include "oovr/experiments/report.h"
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/text.h"
+#include "oovr/experiments/claims.h"
+#include "oovr/experiments/results_db.h"
+
+namespace oovr {
+
+namespace embedded {
+extern const char* const report_py;
+}
+
+namespace fs = std::filesystem;
+
+std::string write_report(const ReportOptions& o) {
+  std::error_code ec;
+  if (!fs::exists(o.db, ec)) throw Error("no results database '" + o.db + "' (oovr sweep writes one)");
+  if (!fs::is_regular_file(o.db, ec)) throw Error("'" + o.db + "' is not a file");
+  { ResultsDb check(o.db); }  // an oovr results database, of a schema this oovr reads
+  fs::create_directories(o.out, ec);
+  if (ec) throw Error("cannot create the folder '" + o.out + "': " + ec.message());
+  const std::string script = (fs::path(o.out) / "report.py").string();
+  const std::string claims = (fs::path(o.out) / "claims.json").string();
+  write_output_file(script, embedded::report_py, "report script");
+  write_output_file(claims, resolved_claims_json(paper_claims()).dump(1) + "\n", "claims");
+
+  std::string python = o.python;
+  if (python.empty()) {
+    const char* env = std::getenv("OOVR_PYTHON");
+    python = env && *env ? env : "/usr/bin/python3";
+  }
+  const char* words[] = {python.c_str(), script.c_str(), o.db.c_str(), o.out.c_str(), claims.c_str()};
+  const std::string command = shell_command_line(5, words) + " 2>&1";
+  FILE* p = popen(command.c_str(), "r");
+  if (!p) throw Error("cannot run " + python);
+  std::string output;
+  char buf[4096];
+  size_t n = 0;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
+  const int status = pclose(p);
+  const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  while (!output.empty() && output.back() == '\n') output.pop_back();
+  if (rc != 0) {
+    if (rc == 127) throw Error("cannot run " + python + " (set OOVR_PYTHON to a Python 3 with matplotlib)");
+    if (output.find("No module named 'matplotlib'") != std::string::npos ||
+        output.find("No module named 'numpy'") != std::string::npos)
+      throw Error(python + " cannot import matplotlib and numpy: install python3-matplotlib (scripts/install-deps.sh does)");
+    const size_t last = output.rfind('\n');
+    throw Error("the report script failed (" + script + "): " + (last == std::string::npos ? output : output.substr(last + 1)));
+  }
+  return (fs::path(o.out) / "index.html").string();
+}
+
+}  // namespace oovr

@@ -1,0 +1,416 @@
+#!/usr/bin/python3
+"""oovr's report: plots and one HTML page from an oovr results database.
+
+`oovr report RESULTS.db --out DIR` writes this script into DIR with claims.json
+(the paper's claims, resolved to base units, and the machine's defaults) and
+runs it with Debian's Python and matplotlib; to draw the page again after
+editing it:  /usr/bin/python3 DIR/report.py RESULTS.db DIR
+(docs/report.md describes what it draws).
+"""
+import html
+import json
+import math
+import os
+import sqlite3
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.patches as mpatches  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+FIXED = {"id", "sweep", "position", "scene", "scheme", "resolution", "frame", "frames", "aniso", "config",
+         "status", "error", "oovr_version", "git_commit", "command", "host", "started", "wall_s", "result"}
+# The order schemes are drawn in (the paper's first), then any other.
+ORDER = ["baseline", "baseline-1tb", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
+         "single-gpm", "ideal", "two-pass"]
+MAX_IMAGE_RUNS = 12
+
+
+def scheme_rank(s):
+    return (ORDER.index(s) if s in ORDER else len(ORDER), s)
+
+
+# ---------------------------------------------------------------- units
+
+def scale_for(unit, values):
+    """(divisor, label) that shows `values` in `unit` readably."""
+    finite = [abs(v) for v in values if isinstance(v, (int, float)) and math.isfinite(v) and v != 0]
+    top = max(finite) if finite else 1
+    if unit == "B/s":
+        return (1e9, "GB/s") if top < 1e12 else (1e12, "TB/s")
+    if unit == "B":
+        for d, u in ((1e9, "GB"), (1e6, "MB"), (1e3, "KB")):
+            if top >= d:
+                return d, u
+        return 1, "B"
+    if unit == "s":
+        for d, u in ((1, "s"), (1e-3, "ms"), (1e-6, "µs")):
+            if top >= d:
+                return d, u
+        return 1e-9, "ns"
+    if unit == "Hz":
+        return (1e6, "MHz") if top < 1e9 else (1e9, "GHz")
+    return 1, unit
+
+
+def readable(entry):
+    """A configuration entry's readable value."""
+    return entry.get("value", "") if isinstance(entry, dict) else str(entry)
+
+
+# ---------------------------------------------------------------- data
+
+def load(db):
+    con = sqlite3.connect("file:" + db + "?mode=ro", uri=True)
+    cols = [r[1] for r in con.execute("PRAGMA table_info(runs)")]
+    swept_cols = [c for c in cols if c not in FIXED]
+    runs = {}
+    for row in con.execute("SELECT * FROM runs ORDER BY sweep, position"):
+        r = dict(zip(cols, row))
+        r["config"] = json.loads(r["config"])
+        r["result"] = json.loads(r["result"]) if r["result"] else None
+        r["swept"] = {c: r[c] for c in swept_cols if r.get(c) is not None}
+        r["m"] = {}
+        runs[r["id"]] = r
+    for run, loc, metric, value, unit in con.execute("SELECT run, location, metric, value, unit FROM metrics"):
+        if run in runs:
+            runs[run]["m"][(loc, metric)] = (value, unit)
+    sweeps = []
+    for name, file, definition, keys, points, command in con.execute(
+            "SELECT name, file, definition, swept_keys, points, command FROM sweeps ORDER BY name"):
+        sweeps.append({"name": name, "file": file, "definition": definition, "keys": json.loads(keys),
+                       "points": points, "command": command})
+    return con, runs, sweeps
+
+
+def metric(run, loc, name):
+    v = run["m"].get((loc, name))
+    return v[0] if v else float("nan")
+
+
+def config_value(run, key):
+    e = run["config"].get(key)
+    if not isinstance(e, dict):
+        return None
+    return e["base"] if "base" in e else e.get("value")
+
+
+def same_setup_key(run):
+    """Runs with this key differ only in scheme (and the frames AFR needs)."""
+    cfg = tuple(sorted((k, json.dumps(config_value(run, k))) for k in run["config"]))
+    return (run["scene"], run["resolution"], run["frame"], run["aniso"], cfg)
+
+
+def group_key(run):
+    return (run["scene"], run["resolution"], run["frame"], run["aniso"])
+
+
+def matches(run, scheme, settings, defaults):
+    """The run is `scheme` on the paper's machine with `settings` changed."""
+    if run["scheme"] != scheme or run["status"] != "done":
+        return False
+    for key, default in defaults.items():
+        want = settings.get(key, default)
+        have = config_value(run, key)
+        if isinstance(want, (int, float)) and isinstance(have, (int, float)):
+            if abs(have - want) > 1e-9 * max(1.0, abs(want)):
+                return False
+        elif have != want:
+            return False
+    return True
+
+
+def geomean(values):
+    v = [x for x in values if isinstance(x, (int, float)) and math.isfinite(x) and x > 0]
+    return math.exp(sum(math.log(x) for x in v) / len(v)) if v else float("nan")
+
+
+def claim_values(runs, claims, defaults):
+    """For each claim value: oovr's ratio per (scene, resolution)."""
+    done = [r for r in runs.values() if r["status"] == "done"]
+    out = []
+    for claim in claims:
+        for v in claim["values"]:
+            per = {}
+            for r in done:
+                if not matches(r, v["scheme"], v["set"], defaults):
+                    continue
+                g = group_key(r)
+                if g in per:
+                    continue
+                m = v["measure"]
+                x = float("nan")
+                if m == "best_to_worst":
+                    x = metric(r, "frame", "best_to_worst")
+                elif m == "engine_storage":
+                    x = metric(r, r["scheme"], "engine_storage")
+                else:
+                    ref = next((a for a in done if group_key(a) == g and matches(a, v["against"], v["against_set"], defaults)),
+                               None)
+                    if ref is None:
+                        continue
+                    if m == "speedup":
+                        x = metric(ref, "frame", "latency") / metric(r, "frame", "latency")
+                    elif m == "latency":
+                        x = metric(r, "frame", "latency") / metric(ref, "frame", "latency")
+                    elif m == "throughput":
+                        x = metric(r, "frame", "throughput") / metric(ref, "frame", "throughput")
+                    elif m == "traffic":
+                        b = metric(ref, "frame", "inter_gpm_bytes")
+                        x = metric(r, "frame", "inter_gpm_bytes") / b if b else float("nan")
+                if math.isfinite(x):
+                    per[g] = x
+            out.append((claim, v, per))
+    return out
+
+
+def form(value, how):
+    if not isinstance(value, (int, float)) or not math.isfinite(value):
+        return "n/a"
+    if how == "percent":
+        return "{:+.0f}%".format((value - 1) * 100)
+    if how == "bits":
+        return "{:.0f} bits".format(value)
+    return "{:.2f}x".format(value)
+
+
+# ---------------------------------------------------------------- plots
+
+def save(fig, out, name):
+    fig.tight_layout()
+    for ext in ("png", "svg"):
+        fig.savefig(os.path.join(out, name + "." + ext), dpi=110)
+    plt.close(fig)
+    return name
+
+
+def slug(text):
+    s = "".join(c if c.isalnum() else "-" for c in text.lower())
+    while "--" in s:
+        s = s.replace("--", "-")
+    return s.strip("-")[:60]
+
+
+def claim_figures(values, out):
+    """One plot per paper figure: oovr's ratio per scene beside the paper's."""
+    figures = {}
+    for claim, v, per in values:
+        figures.setdefault(claim["figure"], []).append((claim, v, per))
+    made = []
+    for title, items in figures.items():
+        items = [(c, v, per) for c, v, per in items if per]
+        if not items:
+            continue
+        groups = sorted({g for _, _, per in items for g in per})
+        fig, ax = plt.subplots(figsize=(max(5.0, 1.3 * len(items) + 2), 3.8))
+        width = 0.8 / (len(groups) + 1)
+        cmap = plt.get_cmap("tab10")
+        for gi, g in enumerate(groups):
+            xs = [i + (gi - len(groups) / 2) * width for i in range(len(items))]
+            ys = [per.get(g, float("nan")) for _, _, per in items]
+            ax.bar(xs, ys, width, color=cmap(gi % 10), label="oovr: {} {}".format(g[0], g[1]))
+        px = [i + (len(groups) / 2) * width for i in range(len(items))]
+        py = [v.get("paper", float("nan")) for _, v, _ in items]
+        if any(math.isfinite(p) for p in py):
+            ax.scatter(px, py, marker="D", s=48, color="black", zorder=3, label="the paper")
+        ax.set_xticks(range(len(items)))
+        ax.set_xticklabels(["{}: {}".format(c["id"], v["label"]) for c, v, _ in items], rotation=20, ha="right", fontsize=8)
+        measures = sorted({v["measure"] for _, v, _ in items})
+        unit = "bits" if measures == ["engine_storage"] else "ratio (x)"
+        ax.set_ylabel("{} ({})".format(", ".join(measures), unit) if unit != "bits" else "storage (bits)")
+        if unit != "bits":
+            ax.axhline(1.0, color="grey", lw=0.8)
+        ax.set_title(title, fontsize=10)
+        ax.legend(fontsize=7, loc="best")
+        made.append((title, save(fig, out, "paper-" + slug(title))))
+    return made
+
+
+def swept_figures(sweep, runs, out):
+    """Per swept key: frame latency and inter-GPM traffic against its value,
+    one panel per scene and resolution, one line per scheme (and per value
+    of the other swept keys)."""
+    mine = [r for r in runs.values() if r["sweep"] == sweep["name"] and r["status"] == "done"]
+    made = []
+    for key in sweep["keys"]:
+        pts = [r for r in mine if isinstance(r["swept"].get(key), (int, float))]
+        if len({r["swept"][key] for r in pts}) < 2:
+            continue
+        unit = next((r["config"][key].get("unit", "") for r in pts if isinstance(r["config"].get(key), dict)), "")
+        div, ulabel = scale_for(unit, [r["swept"][key] for r in pts])
+        panels = sorted({(r["scene"], r["resolution"]) for r in pts})[:6]
+        fig, axes = plt.subplots(2, len(panels), figsize=(4.2 * len(panels), 6.4), squeeze=False)
+        lat_div, lat_unit = scale_for("s", [metric(r, "frame", "latency") for r in pts])
+        tr_div, tr_unit = scale_for("B", [metric(r, "frame", "inter_gpm_bytes") for r in pts])
+        for pi, (scene, res) in enumerate(panels):
+            lines = {}
+            for r in pts:
+                if (r["scene"], r["resolution"]) != (scene, res):
+                    continue
+                others = ", ".join("{}={}".format(k, readable(r["config"].get(k)))
+                                   for k in sweep["keys"] if k != key and k in r["swept"])
+                lines.setdefault((scheme_rank(r["scheme"]), others), []).append(r)
+            for (rank, others), rs in sorted(lines.items())[:12]:
+                rs.sort(key=lambda r: r["swept"][key])
+                xs = [r["swept"][key] / div for r in rs]
+                label = rank[1] + (" ({})".format(others) if others else "")
+                axes[0][pi].plot(xs, [metric(r, "frame", "latency") / lat_div for r in rs], marker="o", label=label)
+                axes[1][pi].plot(xs, [metric(r, "frame", "inter_gpm_bytes") / tr_div for r in rs], marker="o", label=label)
+            for row, ylabel in ((0, "frame latency ({})".format(lat_unit)),
+                                (1, "inter-GPM traffic ({} per frame)".format(tr_unit))):
+                ax = axes[row][pi]
+                xs = [r["swept"][key] / div for r in pts]
+                if min(xs) > 0 and max(xs) / min(xs) >= 8:
+                    ax.set_xscale("log", base=2)
+                ax.set_xlabel("{} ({})".format(key, ulabel) if ulabel else key)
+                ax.set_ylabel(ylabel)
+                ax.grid(alpha=0.3)
+            axes[0][pi].set_title("{}, {}".format(scene, res), fontsize=10)
+        axes[0][0].legend(fontsize=7)
+        made.append((key, save(fig, out, "sweep-{}-{}".format(slug(sweep["name"]), slug(key)))))
+    return made
+
+
+def image_figures(con, runs, out, defaults):
+    """GPM images with a legend, and per-tile traffic with a scale: one run
+    per sweep, scene, resolution and scheme (the paper's setup where the
+    sweep has it, else the sweep's first point of the scheme)."""
+    ids = [row[0] for row in con.execute("SELECT DISTINCT run FROM images")]
+    best = {}
+    for r in sorted((runs[i] for i in ids if i in runs), key=lambda r: (r["sweep"], r["position"])):
+        key = (r["sweep"], r["scene"], r["resolution"], r["scheme"])
+        paper_setup = matches(r, r["scheme"], {}, defaults)
+        if key not in best or (paper_setup and not best[key][0]):
+            best[key] = (paper_setup, r)
+    chosen = sorted((r for _, r in best.values()), key=lambda r: (r["sweep"], r["position"]))[:MAX_IMAGE_RUNS]
+    made = []
+    for r in chosen:
+        imgs = {kind: (w, h, data, legend) for kind, w, h, data, legend in
+                con.execute("SELECT kind, width, height, data, legend FROM images WHERE run = ?", (r["id"],))}
+        if "gpm" not in imgs or "tile_traffic" not in imgs:
+            continue
+        w, h, png, legend = imgs["gpm"]
+        path = os.path.join(out, "gpm-{}.png".format(r["id"]))
+        with open(path, "wb") as f:
+            f.write(png)
+        pic = plt.imread(path)
+        tw, th, data, tlegend = imgs["tile_traffic"]
+        tiles = np.array(json.loads(data), dtype=float).reshape(th, tw) / 1e3
+        fig, (a, b) = plt.subplots(1, 2, figsize=(11, 11 * h / w / 2 + 1.2))
+        a.imshow(pic)
+        a.set_axis_off()
+        a.set_title("GPM that shaded each pixel", fontsize=9)
+        colours = json.loads(legend)
+        a.legend(handles=[mpatches.Patch(color=c, label=g) for g, c in colours.items()], fontsize=7, loc="lower right",
+                 ncol=min(4, len(colours)))
+        im = b.imshow(tiles, origin="lower", cmap="inferno", extent=(0, w, 0, h))
+        b.set_axis_off()
+        b.set_title("bytes moved between GPMs per {0}x{0} tile".format(json.loads(tlegend).get("tile_pixels", 16)),
+                    fontsize=9)
+        fig.colorbar(im, ax=b, fraction=0.03, label="KB per frame")
+        fig.suptitle("{}: {}, {}{}".format(r["sweep"], r["scene"], r["scheme"],
+                                            "".join(", {}={}".format(k, readable(r["config"].get(k))) for k in r["swept"])),
+                     fontsize=10)
+        os.remove(path)
+        made.append((r, save(fig, out, "images-{}".format(r["id"]))))
+    return made
+
+
+# ---------------------------------------------------------------- page
+
+def table(head, rows):
+    out = ["<table><thead><tr>"] + ["<th>{}</th>".format(html.escape(h)) for h in head] + ["</tr></thead><tbody>"]
+    for row in rows:
+        out.append("<tr>" + "".join("<td>{}</td>".format(html.escape(str(c))) for c in row) + "</tr>")
+    out.append("</tbody></table>")
+    return "\n".join(out)
+
+
+def figure(name, caption):
+    return ('<figure><a href="{0}.svg"><img src="{0}.png" alt="{1}"></a><figcaption>{1} '
+            '(<a href="{0}.svg">SVG</a>)</figcaption></figure>').format(name, html.escape(caption))
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit("usage: report.py RESULTS.db OUTDIR [claims.json]")
+    db, out = sys.argv[1], sys.argv[2]
+    claims_path = sys.argv[3] if len(sys.argv) > 3 else os.path.join(out, "claims.json")
+    with open(claims_path) as f:
+        claims = json.load(f)
+    con, runs, sweeps = load(db)
+    values = claim_values(runs, claims["claims"], claims["defaults"])
+
+    body = ["<h1>oovr report</h1>",
+            "<p>{} runs ({} done, {} failed) in <code>{}</code>, from {} sweep(s); oovr {}.</p>".format(
+                len(runs), sum(r["status"] == "done" for r in runs.values()),
+                sum(r["status"] == "failed" for r in runs.values()), html.escape(os.path.abspath(db)), len(sweeps),
+                html.escape(", ".join(sorted({"{} ({})".format(r["oovr_version"], r["git_commit"]) for r in runs.values()}))))]
+
+    rows = []
+    for claim, v, per in values:
+        oovr = geomean(per.values())
+        rows.append([claim["id"], v["label"], claim["words"] if v is claim["values"][0] else "",
+                     ("about " if v.get("about") else "") + form(v["paper"], v["form"]) if "paper" in v else "no number",
+                     form(oovr, v["form"]) if per else "no matching runs",
+                     "; ".join("{} {}: {}".format(g[0], g[1], form(x, v["form"])) for g, x in sorted(per.items()))])
+    body.append("<h2>The paper's claims</h2>")
+    body.append("<p>Each claim's numbers against oovr's runs that match its setup: the paper's machine "
+                "(oovr's defaults, its Table 1) with only the keys the claim names changed, the run and the run it "
+                "is relative to on the same scene and resolution. oovr's value is the geometric mean over the scenes "
+                "and resolutions; a claim without matching runs needs another sweep "
+                "(<code>experiments/paper.toml</code> runs them all).</p>")
+    body.append(table(["claim", "value", "the paper's words", "paper", "oovr (mean)", "per scene and resolution"], rows))
+    for title, name in claim_figures(values, out):
+        body.append(figure(name, title + ": oovr's value per scene and resolution (bars) and the paper's (diamonds)"))
+
+    for s in sweeps:
+        body.append("<h2>Sweep {}</h2>".format(html.escape(s["name"])))
+        body.append("<p>{} points from <code>{}</code>; run as <code>{}</code>.</p>".format(
+            s["points"], html.escape(s["file"]), html.escape(s["command"])))
+        body.append("<details><summary>sweep file</summary><pre>{}</pre></details>".format(html.escape(s["definition"])))
+        for key, name in swept_figures(s, runs, out):
+            body.append(figure(name, "frame latency and inter-GPM traffic against " + key))
+        mine = [r for r in runs.values() if r["sweep"] == s["name"]]
+        base = {same_setup_key(r): r for r in mine if r["scheme"] == "baseline" and r["status"] == "done"}
+        rows = []
+        for r in sorted(mine, key=lambda r: r["position"]):
+            b = base.get(same_setup_key(r))
+            lat = metric(r, "frame", "latency")
+            rows.append([r["id"], r["scene"], r["scheme"], r["resolution"]]
+                        + [readable(r["config"].get(k)) for k in s["keys"]]
+                        + [r["status"], "{:.3f}".format(lat * 1e3) if r["status"] == "done" else "",
+                           "{:.2f}x".format(metric(b, "frame", "latency") / lat) if b and r["status"] == "done" else "",
+                           "{:.1f}".format(metric(r, "frame", "throughput")) if r["status"] == "done" else "",
+                           "{:.2f}".format(metric(r, "frame", "inter_gpm_bytes") / 1e6) if r["status"] == "done" else "",
+                           "{:.2f}".format(metric(r, "frame", "best_to_worst")) if r["status"] == "done" else "",
+                           r["error"]])
+        body.append(table(["id", "scene", "scheme", "resolution"] + s["keys"]
+                          + ["status", "latency (ms)", "speed-up over baseline", "frames/s", "inter-GPM (MB/frame)",
+                             "best/worst", "error"], rows))
+
+    imgs = image_figures(con, runs, out, claims["defaults"])
+    if imgs:
+        body.append("<h2>Images</h2><p>The first frame of runs stored with <code>images = true</code>, one per sweep, "
+                    "scene, resolution and scheme (the paper's setup where the sweep has it; at most {}): each pixel "
+                    "coloured by the GPM that shaded it, and the bytes each screen tile's work moved between "
+                    "GPMs.</p>".format(MAX_IMAGE_RUNS))
+        for r, name in imgs:
+            body.append(figure(name, "{} {} {}".format(r["scene"], r["scheme"], r["id"])))
+
+    style = ("body{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}"
+             "table{border-collapse:collapse;font-size:12px;margin:1em 0}"
+             "th,td{border:1px solid #ccc;padding:2px 6px;text-align:left}th{background:#eee}"
+             "img{max-width:100%}figure{margin:1em 0}figcaption{font-size:12px;color:#555}")
+    page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>oovr report</title><style>{}</style></head>"
+            "<body>{}</body></html>\n").format(style, "\n".join(body))
+    with open(os.path.join(out, "index.html"), "w") as f:
+        f.write(page)
+    print(os.path.join(out, "index.html"))
+
+
+if __name__ == "__main__":
+    main()

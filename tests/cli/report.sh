@@ -1,0 +1,71 @@
+#!/bin/sh
+# `oovr report` on a small sweep: the page, its tables and plots (PNG and
+# SVG) are written; with --browser, headless Chromium opens the page, its
+# screenshot must not be blank and its tables must be there. Exits 77
+# ("skipped", with the reason) when --browser is asked and Chromium is not
+# installed (scripts/install-deps.sh --services installs it).
+# Usage: report.sh OOVR WORKDIR [--browser]
+set -eu
+oovr=$1
+work=$2
+browser=${3:-}
+if [ "$browser" = --browser ]; then
+  command -v chromium > /dev/null 2>&1 || { echo "skipped: chromium is not installed (scripts/install-deps.sh --services)"; exit 77; }
+fi
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+export OOVR_CACHE_DIR="$work/cache"
+cat > small.toml <<'TOML'
+name = "small"
+scenes = ["crowd"]
+schemes = ["baseline", "object", "oo-vr"]
+resolutions = ["160x128"]
+frames = 8
+images = true
+[sweep]
+gpms = [2, 4, 8]
+TOML
+"$oovr" sweep small.toml --db small.db > sweep.log 2>&1 || { cat sweep.log; exit 1; }
+"$oovr" report small.db --out rep > report.log 2>&1 || { cat report.log; exit 1; }
+grep -q "^report: rep/index.html$" report.log || { cat report.log; exit 1; }
+for f in index.html report.py claims.json sweep-small-gpms.png sweep-small-gpms.svg \
+         paper-figure-15-speed-up-over-the-baseline.png paper-figure-16-inter-gpm-traffic-against-the-baseline.svg; do
+  [ -s "rep/$f" ] || { echo "missing rep/$f"; ls rep; exit 1; }
+done
+[ "$(ls rep/images-*.png | wc -l)" -eq 3 ] || { echo "not one image per scheme"; ls rep; exit 1; }
+grep -q "<h2>The paper's claims</h2>" rep/index.html || exit 1
+grep -q "<h2>Sweep small</h2>" rep/index.html || exit 1
+# The object-level P7 claim matches the 4-GPM runs; the 8-GPM P14 ones need single-gpm, absent here.
+grep -q "<td>P7</td><td>object</td>" rep/index.html || exit 1
+grep -q "no matching runs" rep/index.html || exit 1
+# A database that is not one: one clear error.
+echo "not a database" > bad.db
+if "$oovr" report bad.db --out bad > bad.log 2>&1; then echo "reported a bad database"; exit 1; fi
+grep -q "^oovr: error: .*bad.db" bad.log || { cat bad.log; exit 1; }
+if [ "$browser" != --browser ]; then
+  echo "report written: $(ls rep | wc -l) files"
+  exit 0
+fi
+
+run_chromium() {
+  chromium --headless --no-sandbox --disable-gpu --no-first-run --disable-background-networking \
+    --user-data-dir="$work/profile" --window-size=1200,900 "$@" 2> chromium.err
+}
+run_chromium --screenshot="$work/shot.png" "file://$work/rep/index.html" > /dev/null || { tail chromium.err; exit 1; }
+run_chromium --dump-dom "file://$work/rep/index.html" > dom.html || { tail chromium.err; exit 1; }
+[ -s shot.png ] || { echo "no screenshot"; exit 1; }
+# Not blank: many colours, and a good share of the page is not background.
+/usr/bin/python3 - "$work/shot.png" <<'PY'
+import sys
+import matplotlib.image as mpimg
+import numpy as np
+img = mpimg.imread(sys.argv[1])[:, :, :3]
+colours = len(np.unique((img * 255).astype(np.uint8).reshape(-1, 3), axis=0))
+inked = float((img.sum(axis=2) < 2.9).mean())
+print("screenshot: %dx%d, %d colours, %.1f%% not white" % (img.shape[1], img.shape[0], colours, 100 * inked))
+sys.exit(0 if colours > 50 and inked > 0.02 else 1)
+PY
+tables=$(grep -o "<table" dom.html | wc -l)
+[ "$tables" -ge 2 ] || { echo "the page has $tables tables"; exit 1; }
+grep -q "oovr report" dom.html || exit 1
+grep -q "<img src=\"sweep-small-gpms.png\"" dom.html || exit 1
+echo "Chromium shows the report: $tables tables"
