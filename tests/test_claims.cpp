@@ -43,7 +43,7 @@ TEST(Claims, TheCarriedFileHoldsP1ToP16WithKnownSchemesAndKeys) {
 TEST(Claims, BadFilesAreRefused) {
   const auto error = [](const std::string& text) { return message_of([&] { (void)parse_claims(text, "c.toml"); }); };
   EXPECT_NE(error("x = 1\n").find("no [[claim]]"), std::string::npos);
-  const std::string head = "[[claim]]\nid = 'P1'\nsection = '1'\nfigure = 'f'\nwhat = 'w'\nwords = 'x'\n";
+  const std::string head = "[[claim]]\nid = 'P1'\nsection = '1'\nfigure = 'f'\nwhat = 'w'\nwords = 'x'\nshort = 's'\n";
   EXPECT_NE(error(head).find("has no [[claim.value]]"), std::string::npos);
   const std::string value = "[[claim.value]]\nlabel = 'l'\nscheme = 'baseline'\nform = 'times'\n";
   EXPECT_NE(error(head + value + "measure = 'speed'\n").find("measure 'speed'"), std::string::npos);

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "oovr/core/error.h"
+#include "oovr/experiments/result_json.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
@@ -203,8 +204,15 @@ TEST(ResultsDb, RecordsRoundTripThroughJson) {
   EXPECT_EQ(to_json(back).dump(), to_json(r).dump());
   EXPECT_NE(message_of([] {
               (void)run_record_from_json(nlohmann::ordered_json{{"id", "x"}});
+            }).find("not an oovr run"),
+            std::string::npos);
+  EXPECT_NE(message_of([] {
+              (void)run_record_from_json(nlohmann::ordered_json{{"schema", "oovr.run"}, {"schema_version", 1}, {"id", "x"}});
             }).find("not oovr's"),
             std::string::npos);
+  nlohmann::ordered_json newer = to_json(r);
+  newer["schema_version"] = kResultsDbVersion + 1;
+  EXPECT_NE(message_of([&] { (void)run_record_from_json(newer); }).find("newer than this oovr's"), std::string::npos);
   for (const std::string& s :
        std::vector<std::string>{"", "f", "fo", "foo", "foob", "fooba", "foobar", std::string("\0\xff\x10", 3)})
     EXPECT_EQ(base64_decode(base64_encode(s)), s);
@@ -273,6 +281,29 @@ gpms = [2, 4]
     }
   }
   EXPECT_EQ(failed, 4u);
+}
+
+TEST(SweepRun, AStoredResultReadsBackExactly) {
+  Sweep s = parse("scenes = ['crowd']\nschemes = ['oo-vr', 'afr']\nresolutions = ['96x64']\n");
+  resolve_all(s);
+  std::vector<RunRecord> out;
+  SweepRunOptions o;
+  o.use_cache = false;
+  o.on_record = [&](const RunRecord& r) { out.push_back(r); };
+  run_points(s, {0, 1}, o);
+  ASSERT_EQ(out.size(), 2u);
+  for (const RunRecord& r : out) {
+    ASSERT_EQ(r.status, "done") << r.error;
+    const SchemeResult back = scheme_result_from_json(r.result);
+    // Everything the JSON holds comes back: writing it again gives the same text.
+    EXPECT_EQ(to_json(back).dump(), r.result.dump()) << r.scheme;
+    EXPECT_EQ(back.frame_latency_s, r.result["frame_latency_s"].get<double>());
+    EXPECT_GT(back.best_to_worst(), 0);
+  }
+  EXPECT_NE(message_of([] {
+              (void)scheme_result_from_json(nlohmann::ordered_json{{"scheme", "x"}});
+            }).find("not oovr's"),
+            std::string::npos);
 }
 
 }  // namespace

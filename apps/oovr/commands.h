@@ -25,18 +25,13 @@ struct SimulateArgs {
 };
 
 struct PaperArgs {
-  std::string scenes;  // comma-separated; empty: the default list
-  std::string resolutions = "640x480,1280x1024,1600x1200";
-  std::string sweep_resolution = "1280x1024";
-  int frame = 0;
-  int frames = 4;
-  int aniso = 16;
-  std::string config;
-  std::vector<std::string> settings;
+  std::string sweep;   // the evaluation's sweep file; "": the one oovr carries (experiments/paper.toml)
+  std::string scenes;  // comma-separated: only these scenes of the sweep; empty: all
   std::string out = "out/paper";
-  std::string doc = "docs/paper-comparison.md";
-  bool no_steps = false;  // skip the model's steps (the before-and-after table)
-  std::string command;    // the command line, for the document
+  std::string doc;      // also write the comparison here (docs/paper-comparison.md); empty: only into --out
+  bool resume = false;  // keep the database in --out and run only the points it lacks
+  unsigned jobs = 0;
+  std::string command;  // the command line, for the document
 };
 
 struct CorrelateArgs {
@@ -62,6 +57,7 @@ struct SweepArgs {
   std::string backend = "local";
   bool no_cache = false;
   bool collect = false;
+  bool list = false;      // print the points and their ids, run nothing
   int task = -1;          // >= 0: run this task of --slurm-dir (what the job script runs)
   std::string slurm_dir;  // "": the database's path + ".slurm"
   std::string partition, time_limit;

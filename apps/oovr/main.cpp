@@ -229,12 +229,11 @@ const CLI::Validator kFinite(
     "FINITE");
 
 // An option given with an empty value ("--config ''") is an error, never
-// the default: only --out and --doc of oovr paper take "" (meaning none).
+// the default.
 void check_no_empty_values(const CLI::App& cmd) {
   for (const CLI::Option* o : cmd.get_options()) {
     if (!o->count() || o->get_expected_min() == 0) continue;
     const std::string& name = o->get_name();
-    if (cmd.get_name() == "paper" && (name == "--out" || name == "--doc")) continue;
     for (const auto& r : o->results())
       if (r.find_first_not_of(" \t") == std::string::npos) throw Error(name + " is empty: give a value, or leave the option out");
   }
@@ -313,6 +312,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"local", "slurm"}));
   sweep_cmd->add_flag("--no-cache", sweep.no_cache, "Render every frame even when its trace is cached ($OOVR_CACHE_DIR)");
   sweep_cmd->add_flag("--collect", sweep.collect, "Merge the SLURM tasks' result files into the database");
+  sweep_cmd->add_flag("--list", sweep.list, "Print the points with their ids and settings; run nothing");
   const char* slurm_group = "SLURM (--backend slurm, --collect)";
   sweep_cmd->add_option("--slurm-dir", sweep.slurm_dir, "Job folder: script, manifest, task logs and results (default: DB.slurm)")
       ->group(slurm_group);
@@ -341,32 +341,15 @@ int main(int argc, char** argv) {
 
   RenderArgs render;
   cli::PaperArgs paper;
-  auto* paper_cmd = app.add_subcommand("paper", "Run the paper's evaluation and rewrite docs/paper-comparison.md");
-  paper_cmd->add_option("--scenes", paper.scenes,
-                        "Comma-separated scenes (default: the built-in scenes and installed game levels)");
-  paper_cmd->add_option("--resolutions", paper.resolutions, "Comma-separated stereo frame sizes of Figure 15")
+  auto* paper_cmd = app.add_subcommand(
+      "paper", "Run the paper's evaluation (a sweep) and write the comparison with the paper from its database");
+  paper_cmd->add_option("--sweep", paper.sweep, "The evaluation's sweep file (default: experiments/paper.toml, carried by oovr)");
+  paper_cmd->add_option("--scenes", paper.scenes, "Comma-separated: only these scenes of the sweep (default: all)");
+  paper_cmd->add_option("--out", paper.out, "Folder for the database, results.json, CSV, plots and paper-comparison.md")
       ->capture_default_str();
-  paper_cmd->add_option("--sweep-resolution", paper.sweep_resolution, "Frame size of the claims, sweeps and ablations")
-      ->capture_default_str();
-  paper_cmd->add_option("--frame", paper.frame, "First frame of the camera path")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  paper_cmd->add_option("--frames", paper.frames, "Frames per run (a multiple of the GPM count, for AFR)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
-  paper_cmd->add_option("--aniso", paper.aniso, "Maximum anisotropic filtering taps")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 16));
-  paper_cmd->add_option("--config", paper.config, "TOML machine preset (default: the paper's Table 1)");
-  paper_cmd->add_option("--set", paper.settings, "Override a configuration key (repeatable)");
-  paper_cmd
-      ->add_option(
-          "--out", paper.out,
-          "Folder for results.json, CSV files and SVG plots (empty: none; the document's plots go to img/paper beside it)")
-      ->capture_default_str();
-  paper_cmd->add_option("--doc", paper.doc, "The comparison document to write (empty: none)")->capture_default_str();
-  paper_cmd->add_flag("--no-steps", paper.no_steps,
-                      "Skip the claims under the model's earlier steps (the document's before-and-after table)");
+  paper_cmd->add_option("--doc", paper.doc, "Also write the comparison here, plots beside it (e.g. docs/paper-comparison.md)");
+  paper_cmd->add_flag("--resume", paper.resume, "Keep the database in --out and run only the points it lacks");
+  paper_cmd->add_option("--jobs", paper.jobs, "Points run at once (0 = every core)")->capture_default_str();
 
   cli::CorrelateArgs corr;
   auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <numeric>
 
 #include "commands.h"
 #include "oovr/core/error.h"
@@ -15,10 +14,8 @@
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
 #include "oovr/experiments/frames.h"
-#include "oovr/experiments/paper.h"
 #include "oovr/experiments/result_images.h"
 #include "oovr/experiments/result_json.h"
-#include "oovr/memory/memory_spec.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/schemes/i_scheme.h"
@@ -78,22 +75,8 @@ Config machine_config(const std::string& file, const std::vector<std::string>& s
 
 namespace {
 
-// The frames every scheme is measured on: --frames, else one per GPM (so
-// that AFR's frames in flight and every other scheme see the same frames).
 int window_of(const SimulateArgs& a, const Config& config, const std::vector<std::string>& schemes) {
-  for (const auto& s : schemes) check_scheme_config(s, config);  // before any trace is rendered
-  if (a.frames > 0) {
-    for (const auto& s : schemes) {
-      const int m = scheme_frames_needed(s, config);
-      if (a.frames % m != 0)
-        throw Error(fmt::format("--frames {}: {} renders {} frames at once (one per GPM), so --frames must be a multiple of {}",
-                                a.frames, s, m, m));
-    }
-    return a.frames;
-  }
-  int w = int(MemorySpec::from_config(config).gpms);
-  for (const auto& s : schemes) w = std::lcm(w, scheme_frames_needed(s, config));
-  return w;
+  return measured_window(schemes, config, a.frames, "--frames");
 }
 
 std::string frame_range(int first, int window) {
@@ -182,47 +165,6 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   for (const auto& n : f.notes) fmt::print("  note: {}\n", n);
   if (!a.json.empty())
     write_json(a.json, results_document(a.command, f.scene.name, a.frame, window, f.rig, config, results, f.notes));
-  return 0;
-}
-
-int paper(const PaperArgs& a) {
-  PaperOptions o;
-  o.scenes = split_list(a.scenes);
-  o.resolutions = split_list(a.resolutions);
-  if (o.resolutions.empty()) throw Error("--resolutions names no resolution");
-  o.sweep_resolution = a.sweep_resolution;
-  o.first_frame = a.frame;
-  o.frames = a.frames;
-  o.aniso = a.aniso;
-  o.steps = !a.no_steps;
-  o.config = machine_config(a.config, a.settings);
-  o.command = a.command;
-  // Fail before the work, not after: the outputs must be writable.
-  if (!a.out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(a.out, ec);
-    if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
-  }
-  if (!a.doc.empty()) {
-    const auto parent = std::filesystem::absolute(a.doc).parent_path();
-    if (!std::filesystem::is_directory(parent))
-      throw Error("cannot write '" + a.doc + "': the folder " + parent.string() + " does not exist (give --doc FILE)");
-  }
-  o.progress = [](const std::string& line) {
-    fmt::print("  {}\n", line);
-    std::fflush(stdout);
-  };
-  const PaperResults r = run_paper(o);
-  if (!a.out.empty()) write_paper_outputs(r, o, a.out);
-  if (!a.doc.empty()) {
-    // The document's plots live beside it, so that it can be committed
-    // without the raw results.
-    const std::string plots = (std::filesystem::absolute(a.doc).parent_path() / "img" / "paper").string();
-    write_paper_plots(r, o, plots);
-    write_paper_doc(r, o, a.doc, plots);
-  }
-  fmt::print("{} scenes, {} runs in {:.0f} s{}{}\n", r.scenes.size(), r.runs.size(), r.seconds,
-             a.out.empty() ? "" : "; results, CSV and plots in " + a.out, a.doc.empty() ? "" : "; comparison in " + a.doc);
   return 0;
 }
 

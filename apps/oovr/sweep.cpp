@@ -1,12 +1,9 @@
 // oovr sweep: runs a sweep file's points into a results database, here or
 // on a SLURM cluster, with a progress display (docs/sweeps.md).
 #include <fmt/core.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <mutex>
 
 #include "commands.h"
 #include "oovr/core/error.h"
@@ -14,86 +11,12 @@
 #include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
+#include "progress.h"
 
 namespace oovr::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string clock_time(double seconds) {
-  const long s = long(seconds + 0.5);
-  if (s >= 3600) return fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
-  return fmt::format("{}:{:02}", s / 60, s % 60);
-}
-
-// Points done, failed, time left. On a terminal, one line redrawn in place;
-// otherwise (a log, a pipe, a CI job) one plain line per event.
-class Progress {
- public:
-  explicit Progress(size_t total) : m_total(total), m_tty(isatty(fileno(stderr)) != 0) {}
-
-  void status(const std::string& what) {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    m_status = what;
-    if (m_tty) draw();
-    else fmt::print(stderr, "  {}\n", what);
-  }
-  void point(const RunRecord& r) {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    ++(r.status == "done" ? m_done : m_failed);
-    if (m_tty) {
-      if (r.status != "done") {
-        clear();
-        fmt::print(stderr, "  failed: {} ({}, {}, {}): {}\n", r.id, r.scene, r.scheme, r.resolution, r.error);
-      }
-      draw();
-      return;
-    }
-    std::string swept;
-    for (const auto& [k, v] : r.swept) {
-      // As readable as the configuration prints it ("32 GB/s").
-      const auto c = r.config.find(k);
-      swept += " " + k + "=" + (c != r.config.end() && c->contains("value") ? (*c)["value"].get<std::string>() : v.dump());
-    }
-    fmt::print(stderr, "  [{}/{}] {} {} {} {}{} ({:.1f} s){}; {}\n", m_done + m_failed, m_total, r.status, r.scene, r.scheme,
-               r.resolution, swept, r.wall_s, r.error.empty() ? "" : ": " + r.error, left());
-    std::fflush(stderr);
-  }
-  void finish() {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    if (m_tty) clear();
-  }
-  size_t done() const { return m_done; }
-  size_t failed() const { return m_failed; }
-  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
-
- private:
-  std::string left() const {
-    const size_t finished = m_done + m_failed;
-    if (finished == 0) return clock_time(elapsed()) + " elapsed";
-    return fmt::format("{} elapsed, about {} left", clock_time(elapsed()),
-                       clock_time(elapsed() / double(finished) * double(m_total - finished)));
-  }
-  void clear() { fmt::print(stderr, "\r\033[K"); }
-  void draw() {
-    const size_t finished = m_done + m_failed;
-    const int width = 24;
-    const int filled = m_total ? int(double(width) * double(finished) / double(m_total)) : width;
-    std::string bar(size_t(filled), '#');
-    bar.resize(size_t(width), '.');
-    std::string line = fmt::format("  [{}] {}/{} points, {} failed, {}", bar, finished, m_total, m_failed, left());
-    if (!m_status.empty() && finished < m_total) line += " (" + m_status + ")";
-    clear();
-    fmt::print(stderr, "{}", line.substr(0, 160));
-    std::fflush(stderr);
-  }
-
-  size_t m_total, m_done = 0, m_failed = 0;
-  bool m_tty;
-  std::string m_status;
-  std::mutex m_mutex;
-  std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
-};
 
 std::string default_db(const SweepArgs& a) {
   if (!a.db.empty()) return a.db;
@@ -141,6 +64,17 @@ int sweep(const SweepArgs& a) {
   if (a.backend != "local" && a.backend != "slurm") throw Error("--backend " + a.backend + ": use local or slurm");
   Sweep s = read_sweep(a.file);
   resolve_all(s);
+  if (a.list) {
+    for (size_t i = 0; i < s.points.size(); ++i) {
+      const SweepPoint& p = s.points[i];
+      std::string settings;
+      for (const auto& [k, v] : p.settings) settings += " " + k + "=" + v;
+      fmt::print("{:>5} {} {} {} {} frames {}-{}{}\n", i + 1, p.id, p.scene, p.scheme, p.resolution, p.frame,
+                 p.frame + p.window - 1, settings);
+    }
+    fmt::print("sweep '{}': {} points\n", s.name, s.points.size());
+    return 0;
+  }
   const std::string db_path = default_db(a);
   const std::string slurm_dir = a.slurm_dir.empty() ? db_path + ".slurm" : a.slurm_dir;
   ResultsDb db(db_path);

@@ -71,6 +71,7 @@ std::vector<Claim> parse_claims(const std::string& text, const std::string& name
     claim.figure = r.text(c, "figure");
     claim.what = r.text(c, "what");
     claim.words = r.text(c, "words");
+    claim.short_form = r.text(c, "short");
     const toml::array* values = c["value"].as_array();
     if (!values || !values->is_array_of_tables() || values->empty()) r.fail(c, claim.id + " has no [[claim.value]]");
     for (const auto& vn : *values) {
@@ -149,6 +150,7 @@ nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
     x["figure"] = c.figure;
     x["what"] = c.what;
     x["words"] = c.words;
+    x["short"] = c.short_form;
     nlohmann::ordered_json values = nlohmann::ordered_json::array();
     for (const ClaimValue& v : c.values) {
       nlohmann::ordered_json y;

@@ -27,6 +27,7 @@ struct ClaimValue {
 
 struct Claim {
   std::string id, section, figure, what, words;
+  std::string short_form;  // `short`: the numbers in the form of the document's steps and workload tables
   std::vector<ClaimValue> values;
 };
 

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <new>
+#include <numeric>
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
@@ -89,6 +90,22 @@ fs::path stream_folder(const TraceCache& cache, uint64_t bytes, int count) {
 }
 
 }  // namespace
+
+int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what) {
+  for (const auto& s : schemes) check_scheme_config(s, config);  // before any trace is rendered
+  if (frames > 0) {
+    for (const auto& s : schemes) {
+      const int m = scheme_frames_needed(s, config);
+      if (frames % m != 0)
+        throw Error(what + " " + std::to_string(frames) + ": " + s + " renders " + std::to_string(m) +
+                    " frames at once (one per GPM), so " + what + " must be a multiple of " + std::to_string(m));
+    }
+    return frames;
+  }
+  int w = int(MemorySpec::from_config(config).gpms);
+  for (const auto& s : schemes) w = std::lcm(w, scheme_frames_needed(s, config));
+  return w;
+}
 
 FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config, const WindowRequest& r) {
   FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};

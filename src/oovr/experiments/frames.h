@@ -49,6 +49,14 @@ struct WindowRequest {
   uint64_t memory_budget = 0;
 };
 
+// The frames every scheme of `schemes` is measured on with `config`:
+// `frames` when given (> 0), which must then be a multiple of the frames
+// each scheme renders at once (AFR: one per GPM; else Error naming the
+// scheme, with `what` naming the setting: "--frames", "frames"); without
+// it, one per GPM, so that AFR's frames in flight and every other scheme
+// see the same frames. Checks each scheme's configuration first.
+int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what);
+
 // Loads the traces for `scene` (already loaded) with the memory system's
 // line size from `config`. Throws Error when `first` is off the path, when
 // a streamed window does not fit on the disk, or when memory runs out

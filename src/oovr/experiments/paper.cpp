@@ -13,9 +13,11 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/units.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/experiments/paper_figures.h"
 #include "oovr/experiments/result_json.h"
+#include "oovr/experiments/sweep_run.h"
 #include "oovr/scene/load.h"
 #include "oovr/timing/gpm_model.h"
 
@@ -23,167 +25,212 @@ namespace oovr {
 namespace fs = std::filesystem;
 using namespace paper;
 
+namespace embedded {
+extern const char* const paper_toml;
+}
+
 namespace {
 
-struct Job {
-  std::string scheme, variant;
-};
+// A setting's value in one spelling: the number in base units, shortest
+// form, or the readable value.
+std::string canonical_value(const Config::Entry& e) { return e.base ? format_number(*e.base) : e.value; }
 
-Config with_variant(const Config& base, const std::string& variant) {
-  Config c = base;
-  std::stringstream in(variant);
-  std::string item;
-  while (std::getline(in, item, ';'))
-    if (!item.empty()) c.set(item);
-  return c;
+// "key=value;..." of the settings of `c` that differ from `machine`, sorted.
+std::string differences(const std::map<std::string, Config::Entry>& c, const std::map<std::string, Config::Entry>& machine) {
+  std::string out;
+  for (const auto& [key, e] : c) {
+    const auto m = machine.find(key);
+    const std::string v = canonical_value(e);
+    if (m != machine.end() && canonical_value(m->second) == v) continue;
+    out += (out.empty() ? "" : ";") + key + "=" + v;
+  }
+  return out;
+}
+
+std::string index_key(const std::string& scene, const std::string& resolution, const std::string& scheme,
+                      const std::string& canonical) {
+  return scene + "|" + resolution + "|" + scheme + "|" + canonical;
+}
+
+const std::map<std::string, Config::Entry>& machine_entries(const Config& machine) {
+  check_config(machine);
+  return machine.entries();
+}
+
+// A point's scene as the evaluation names it: one-pass forms under their level.
+std::string base_scene(const std::string& scene) {
+  const auto at = scene.find(kOnePassOption);
+  if (at == std::string::npos) return scene;
+  std::string s = scene.substr(0, at);
+  while (!s.empty() && (s.back() == '?' || s.back() == '&')) s.pop_back();
+  return s;
 }
 
 }  // namespace
 
 const SchemeResult* PaperResults::find(const std::string& scene, const std::string& resolution, const std::string& scheme,
                                        const std::string& variant) const {
-  for (const auto& r : runs)
-    if (r.scene == scene && r.resolution == resolution && r.scheme == scheme && r.variant == variant) return &r.result;
-  return nullptr;
-}
-
-std::vector<std::string> paper_default_scenes() {
-  return {"courtyard",         "crowd",           "oa:oa_dm4",       "oa:ctf_inyard",
-          "oa:am_underworks2", "nexuiz:strength", "nexuiz:reslimed", "nexuiz:runningmanctf",
-          "torcs:forza"};
-}
-
-namespace {
-
-// The one-pass workloads: every scene whose source takes the one-pass
-// option, at the sweep resolution, with the runs the claims need.
-void run_one_pass_workloads(const PaperOptions& o, PaperResults& res) {
-  for (const auto& name : res.scenes) {
-    const std::string one = one_pass_scene(name);
-    Scene scene;
-    try {
-      scene = load_scene(one);
-    } catch (const Error&) {
-      continue;  // a source without that option (built-in scenes, TORCS): its draws are one pass already
-    }
-    const auto ts = std::chrono::steady_clock::now();
-    Config config = with_variant(o.config, kOnePassWindow);
-    WindowRequest w;
-    w.first = o.first_frame;
-    w.count = o.frames;
-    w.aniso = o.aniso;
-    const FrameWindow window = load_window(scene, parse_frame_resolution(o.sweep_resolution), config, w);
-    if (o.progress)
-      for (const auto& n : window.notes) o.progress(one + ": note: " + n);
-    std::vector<Job> jobs;
-    for (const auto& [scheme, extra] : step_runs(kSteps.back()))
-      jobs.push_back({scheme, extra.empty() ? kOnePassVariant : kOnePassVariant + ";" + extra});
-    std::vector<SchemeResult> out(jobs.size());
-    parallel_for(jobs.size(), 0, [&](size_t i) {
-      out[i] = run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(config, jobs[i].variant), o.frames);
-    });
-    for (size_t i = 0; i < jobs.size(); ++i)
-      res.runs.push_back({one, o.sweep_resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
-    res.one_pass_scenes.push_back(name);
-    if (o.progress)
-      o.progress(fmt::format("{} {}: {} runs of {} frames in {:.1f} s", one, o.sweep_resolution, jobs.size(), o.frames,
-                             std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count()));
+  // One-pass runs carry their texture format too (paper_figures.h).
+  const std::string asked = scene.find(kOnePassOption) == std::string::npos ? variant
+                            : variant.empty()                               ? kOnePassWindow
+                                                                            : variant + ";" + kOnePassWindow;
+  auto it = canonical.find(asked);
+  if (it == canonical.end()) {
+    Config c = machine;
+    std::stringstream in(asked);
+    std::string item;
+    while (std::getline(in, item, ';'))
+      if (!item.empty()) c.set(item);
+    check_config(c);
+    it = canonical.emplace(asked, differences(c.entries(), machine_entries(machine))).first;
   }
+  const auto at = index.find(index_key(scene, resolution, scheme, it->second));
+  return at == index.end() ? nullptr : &runs[at->second].result;
 }
 
-}  // namespace
+Sweep paper_sweep() { return parse_sweep(embedded::paper_toml, "experiments/paper.toml", ""); }
 
-PaperResults run_paper(const PaperOptions& o) {
+PaperResults run_paper(PaperOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   PaperResults res;
-  for (const auto& s : kSchemes)
-    if (!Schemes::find(s)) throw Error("the paper's evaluation needs scheme '" + s + "', which is not registered");
-  std::vector<std::string> resolutions = o.resolutions;
-  if (std::find(resolutions.begin(), resolutions.end(), o.sweep_resolution) == resolutions.end())
-    resolutions.push_back(o.sweep_resolution);
-  for (const auto& r : resolutions) (void)parse_frame_resolution(r);  // a bad one fails before any work
-  const std::vector<std::string> scenes = o.scenes.empty() ? paper_default_scenes() : o.scenes;
+  res.machine = o.machine;
+  const Sweep& s = o.sweep;
+  const auto wanted = [&](const SweepPoint& p) {
+    return o.only_scenes.empty() ||
+           std::find(o.only_scenes.begin(), o.only_scenes.end(), base_scene(p.scene)) != o.only_scenes.end();
+  };
+  std::vector<std::string> names;  // the sweep's scenes, in order
+  for (const auto& p : s.points)
+    if (std::find(names.begin(), names.end(), base_scene(p.scene)) == names.end()) names.push_back(base_scene(p.scene));
+  for (const auto& name : o.only_scenes)
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw Error("the sweep '" + s.name + "' has no scene '" + name + "' (its scenes: " + list + ")");
+    }
+  std::vector<size_t> which;
+  for (size_t i = 0; i < s.points.size(); ++i)
+    if (wanted(s.points[i])) which.push_back(i);
 
-  for (const auto& name : scenes) {
-    Scene scene;
-    try {
-      scene = load_scene(name);
-    } catch (const Error& e) {
-      // Explicitly named scenes must load; the default list skips what is not installed.
-      if (!o.scenes.empty()) throw;
-      res.skipped.push_back(name + ": " + e.what());
-      if (o.progress) o.progress(fmt::format("{}: skipped ({})", name, e.what()));
+  // Run what the database does not hold.
+  ResultsDb db(o.db);
+  const auto held = db.run_status();
+  std::vector<size_t> todo;
+  for (size_t i : which)
+    if (!held.count(s.points[i].id)) todo.push_back(i);
+  SweepRecord sw;
+  sw.name = s.name;
+  sw.file = s.file;
+  sw.definition = s.definition;
+  sw.swept_keys = s.swept_keys;
+  sw.points = s.points.size();
+  sw.command = o.command;
+  db.add_sweep(sw);
+  if (o.progress && todo.size() < which.size())
+    o.progress(fmt::format("{} of {} points in {} already", which.size() - todo.size(), which.size(), o.db));
+  if (o.on_plan) o.on_plan(todo.size());
+  SweepRunOptions ro;
+  ro.jobs = o.jobs;
+  ro.command = o.command;
+  ro.on_status = o.progress;
+  ro.on_record = [&](const RunRecord& r) {
+    db.insert(r);
+    if (o.on_record) o.on_record(r);
+  };
+  run_points(s, todo, ro);
+  res.ran = todo.size();
+
+  // Read them back: the document is written from the database.
+  std::map<std::string, size_t> position;
+  for (size_t i : which) position[s.points[i].id] = i;
+  const auto& machine = machine_entries(o.machine);
+  std::map<std::string, std::string> failed;  // scene -> first error
+  std::vector<std::string> done_scenes;
+  for (const RunRecord& r : db.runs()) {
+    const auto p = position.find(r.id);
+    if (p == position.end()) continue;
+    if (r.status != "done") {
+      failed.emplace(r.scene, r.error);
       continue;
     }
-    res.scenes.push_back(name);
-    for (const auto& resolution : resolutions) {
-      const auto ts = std::chrono::steady_clock::now();
-      WindowRequest w;
-      w.first = o.first_frame;
-      w.count = o.frames;
-      w.aniso = o.aniso;
-      const FrameWindow window = load_window(scene, parse_frame_resolution(resolution), o.config, w);
-      if (o.progress)
-        for (const auto& n : window.notes) o.progress(name + " " + resolution + ": note: " + n);
-      if (resolution == o.sweep_resolution) {
-        PaperSceneStats st;
-        st.draws = scene.objects.size();
-        for (const auto& ob : scene.objects) st.triangles += scene.meshes[size_t(ob.mesh)].indices.size() / 3;
-        for (const auto& t : scene.textures) st.texture_bytes += t.bytes();
-        Config probe = o.config;
-        const TimingSpec timing = TimingSpec::from_config(probe);
-        double vi = 0, fi = 0;
-        const std::shared_ptr<const FrameTrace> first = window.frames->at(0);
-        for (const auto& ow : first->objects) vi += double(ow.vertices) * timing.vertex_instructions;
-        for (const auto& tw : first->tiles)
-          fi += timing.fragment_work(tw.quads, uint64_t(tw.quads) * 4 * first->objects[tw.object].fragment_instructions);
-        st.vertex_share = vi + fi > 0 ? vi / (vi + fi) : 0;
-        res.stats[name] = st;
-      }
-      std::vector<Job> jobs;
-      for (const auto& s : kSchemes) jobs.push_back({s, ""});
-      if (resolution == o.sweep_resolution) {
-        for (const auto& s : kSweepSchemes) {
-          for (const auto& [bw, gbps] : kLinks)
-            if (!link_variant(bw).empty()) jobs.push_back({s, link_variant(bw)});
-          for (int n : kGpms)
-            if (!gpm_variant(n).empty()) jobs.push_back({s, gpm_variant(n)});
-        }
-        for (const auto& [label, key] : kMechanisms) {
-          jobs.push_back({"oo-vr", key + "=" + off_value(key)});
-          jobs.push_back({"oo-app", key + "=" + on_value(key)});
-        }
-        // The model's steps (each run once; the last step is the main runs).
-        if (o.steps)
-          for (const auto& step : kSteps)
-            for (const auto& [scheme, extra] : step_runs(step)) {
-              const Job j{scheme, step_variant(step, extra)};
-              if (std::none_of(jobs.begin(), jobs.end(),
-                               [&](const Job& x) { return x.scheme == j.scheme && x.variant == j.variant; }))
-                jobs.push_back(j);
-            }
-      }
-      std::vector<SchemeResult> out(jobs.size());
-      parallel_for(jobs.size(), 0, [&](size_t i) {
-        out[i] =
-            run_scheme_window(jobs[i].scheme, window.scene, *window.frames, with_variant(o.config, jobs[i].variant), o.frames);
-      });
-      for (size_t i = 0; i < jobs.size(); ++i)
-        res.runs.push_back({name, resolution, jobs[i].scheme, jobs[i].variant, std::move(out[i])});
-      if (o.progress)
-        o.progress(fmt::format("{} {}: {} runs of {} frames ({} traces cached) in {:.1f} s", name, resolution, jobs.size(),
-                               o.frames, window.cached,
-                               std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count()));
+    SchemeResult result = scheme_result_from_json(r.result);
+    std::map<std::string, Config::Entry> config;
+    for (const auto& [key, e] : r.config.items()) {
+      Config::Entry x;
+      x.value = e.at("value").get<std::string>();
+      if (e.contains("base")) x.base = e.at("base").get<double>();
+      config[key] = x;
     }
+    const std::string canonical = differences(config, machine);
+    res.index[index_key(r.scene, r.resolution, r.scheme, canonical)] = res.runs.size();
+    res.runs.push_back({r.scene, r.resolution, r.scheme, canonical, std::move(result)});
+    done_scenes.push_back(r.scene);
   }
-  if (o.workloads) run_one_pass_workloads(o, res);
-  if (res.scenes.empty()) throw Error("no scene of the evaluation could be loaded");
+  // The order of the sweep file; levels that ran nothing are skipped, with why.
+  for (size_t i : which) {
+    const std::string& scene = s.points[i].scene;
+    const bool ran = std::find(done_scenes.begin(), done_scenes.end(), scene) != done_scenes.end();
+    if (scene.find(kOnePassOption) != std::string::npos) {
+      const std::string level = base_scene(scene);
+      if (ran && std::find(res.one_pass_scenes.begin(), res.one_pass_scenes.end(), level) == res.one_pass_scenes.end())
+        res.one_pass_scenes.push_back(level);
+      continue;
+    }
+    if (ran && std::find(res.scenes.begin(), res.scenes.end(), scene) == res.scenes.end()) res.scenes.push_back(scene);
+    const std::string skip = scene + ": " + (failed.count(scene) ? failed[scene] : "no run");
+    if (!ran && std::find(res.skipped.begin(), res.skipped.end(), skip) == res.skipped.end()) res.skipped.push_back(skip);
+  }
+  if (res.scenes.empty())
+    throw Error("no scene of the evaluation ran" + (res.skipped.empty() ? std::string() : " (" + res.skipped.front() + ")"));
+  std::sort(res.one_pass_scenes.begin(), res.one_pass_scenes.end(), [&](const std::string& a, const std::string& b) {
+    return std::find(res.scenes.begin(), res.scenes.end(), a) < std::find(res.scenes.begin(), res.scenes.end(), b);
+  });
+
+  // What the writers need to know of the runs.
+  o.config = o.machine;
+  o.resolutions.clear();
+  o.sweep_resolution.clear();
+  for (size_t i : which) {
+    const SweepPoint& p = s.points[i];
+    if (p.settings.empty() && std::find(o.resolutions.begin(), o.resolutions.end(), p.resolution) == o.resolutions.end())
+      o.resolutions.push_back(p.resolution);
+    if (o.sweep_resolution.empty() && p.swept.count("link.bandwidth")) o.sweep_resolution = p.resolution;
+  }
+  if (o.sweep_resolution.empty())
+    o.sweep_resolution = o.resolutions.empty() ? s.points[which.front()].resolution : o.resolutions.back();
+  const SweepPoint& first = s.points[which.front()];
+  o.first_frame = first.frame;
+  o.frames = first.window;
+  o.aniso = first.aniso;
+  o.steps = res.find(res.scenes.front(), o.sweep_resolution, kSteps.front().baseline, kSteps.front().settings) != nullptr;
+  o.workloads = !res.one_pass_scenes.empty();
+
+  // Each scene's statistics at the sweep resolution, from its first frame
+  // (the trace cache has it).
+  for (const auto& name : res.scenes) {
+    const Scene scene = load_scene(name);
+    WindowRequest w;
+    w.first = o.first_frame;
+    w.count = 1;
+    w.aniso = o.aniso;
+    const FrameWindow window = load_window(scene, parse_frame_resolution(o.sweep_resolution), o.config, w);
+    PaperSceneStats st;
+    st.draws = scene.objects.size();
+    for (const auto& ob : scene.objects) st.triangles += scene.meshes[size_t(ob.mesh)].indices.size() / 3;
+    for (const auto& t : scene.textures) st.texture_bytes += t.bytes();
+    Config probe = o.config;
+    const TimingSpec timing = TimingSpec::from_config(probe);
+    double vi = 0, fi = 0;
+    const std::shared_ptr<const FrameTrace> trace = window.frames->at(0);
+    for (const auto& ow : trace->objects) vi += double(ow.vertices) * timing.vertex_instructions;
+    for (const auto& tw : trace->tiles)
+      fi += timing.fragment_work(tw.quads, uint64_t(tw.quads) * 4 * trace->objects[tw.object].fragment_instructions);
+    st.vertex_share = vi + fi > 0 ? vi / (vi + fi) : 0;
+    res.stats[name] = st;
+  }
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }
-
-// ---------------------------------------------------------------------------
-// Outputs: JSON, CSV, SVG.
 
 namespace {
 

@@ -1,9 +1,12 @@
-// The paper's evaluation as one sweep over replayed traces (`oovr paper`):
-// every scheme on every scene at the paper's resolutions (Figures 15 and
-// 16), the link bandwidth sweep (Figure 17), the GPM count sweep (Figure
-// 18), OO-VR's ablations and the SMP comparison; then the claims P1-P16 of
-// the paper (its values in the document's tables) beside oovr's, per scene, with the reasons
-// where they differ (docs/paper-comparison.md), plus CSV, JSON and SVG plots.
+// The paper's evaluation (`oovr paper`): the sweep experiments/paper.toml
+// (every scheme on every scene at the paper's resolutions for Figures 15
+// and 16, the link bandwidth sweep of Figure 17, the GPM count sweep of
+// Figure 18, OO-VR's ablations, the SMP comparison, the model's earlier
+// steps and the one-pass workloads) runs into a results database; the
+// runs are read back from it and the claims P1-P16 of the paper (their
+// values from experiments/paper-claims.toml, claims.h) set beside oovr's,
+// per scene, with the reasons where they differ (docs/paper-comparison.md),
+// plus CSV, JSON and SVG plots.
 #pragma once
 
 #include <functional>
@@ -12,28 +15,37 @@
 #include <vector>
 
 #include "oovr/core/config.h"
+#include "oovr/experiments/results_db.h"
+#include "oovr/experiments/sweep.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
 
 struct PaperOptions {
-  // Scenes; the default list is the built-in scenes and the game levels of
-  // the workloads page, those not installed being left out (and said so).
-  std::vector<std::string> scenes;
-  std::vector<std::string> resolutions = {"640x480", "1280x1024", "1600x1200"};
-  std::string sweep_resolution = "1280x1024";  // of the sweeps and ablations
-  int first_frame = 0;
-  int frames = 4;
-  int aniso = 16;
-  // Also run the claims with issue 9's model changes switched on one by one
-  // (the document's before-and-after table).
-  bool steps = true;
-  // Also run the game levels as one-pass workloads (paper_figures.h), for
-  // the document's workload section.
-  bool workloads = true;
-  Config config;        // the machine: preset and --set overrides
-  std::string command;  // as run, for the document
+  // The evaluation: a resolved sweep (experiments/paper.toml, which oovr
+  // carries: paper_sweep()), run into the database `db`.
+  Sweep sweep;
+  Config machine;                        // the preset the sweep's points start from (resolve_all)
+  std::string db;                        // the results database (created; points it holds are not run again)
+  std::vector<std::string> only_scenes;  // run and report these scenes only (and their one-pass forms); empty: all
+  unsigned jobs = 0;                     // points at once (0: every core)
+  std::string command;                   // as run, for the document
   std::function<void(const std::string&)> progress;
+  std::function<void(size_t)> on_plan;              // how many points will run (the others are in the database)
+  std::function<void(const RunRecord&)> on_record;  // each point as it ends (a progress display)
+
+  // Derived from the runs by run_paper, for the writers: the resolutions of
+  // Figure 15, the one of the sweeps and ablations (the one the link sweep
+  // ran at), the frames each run measured from `first_frame`, the filtering,
+  // whether the model's earlier steps and the one-pass workloads ran.
+  std::vector<std::string> resolutions;
+  std::string sweep_resolution;
+  int first_frame = 0;
+  int frames = 0;
+  int aniso = 16;
+  bool steps = false;
+  bool workloads = false;
+  Config config;  // the machine as the document describes it (= machine)
 };
 
 // One run: `variant` names the overrides on top of the machine ("" for none).
@@ -58,16 +70,28 @@ struct PaperResults {
   std::vector<std::string> one_pass_scenes;
   std::map<std::string, PaperSceneStats> stats;
   std::vector<std::string> skipped;  // "scene: reason"
-  std::vector<PaperRun> runs;
+  std::vector<PaperRun> runs;        // `variant`: the run's settings that differ from the machine, canonical
   double seconds = 0;
+  size_t ran = 0;  // points run now (the others were in the database)
+  // The run of `scheme` on `scene` at `resolution` with the settings
+  // `variant` ("key=value;..." as --set takes them, in any order and
+  // spelling: "link.bandwidth=1TBps" finds the run stored with 1e12).
   const SchemeResult* find(const std::string& scene, const std::string& resolution, const std::string& scheme,
                            const std::string& variant = "") const;
+
+  Config machine;
+  std::map<std::string, size_t> index;                   // "scene|resolution|scheme|canonical variant" -> runs
+  mutable std::map<std::string, std::string> canonical;  // asked variant -> canonical
 };
 
-// The default scenes of the evaluation.
-std::vector<std::string> paper_default_scenes();
+// The evaluation oovr carries (experiments/paper.toml), read.
+Sweep paper_sweep();
 
-PaperResults run_paper(const PaperOptions& options);
+// Runs the points of o.sweep (those of o.only_scenes) the database does
+// not hold, then reads every one of them back from it, fills o's derived
+// fields and the scenes' statistics. Throws Error when no scene could be
+// run.
+PaperResults run_paper(PaperOptions& options);
 
 // Writes results.json, one CSV per figure and the SVG plots into `dir`.
 void write_paper_outputs(const PaperResults& results, const PaperOptions& options, const std::string& dir);

@@ -1,6 +1,7 @@
 #include "oovr/experiments/result_json.h"
 
 #include "oovr/core/config_sections.h"
+#include "oovr/core/error.h"
 #include "oovr/core/version.h"
 
 namespace oovr {
@@ -81,6 +82,9 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["gpms"] = r.gpms;
   j["frame_latency_cycles"] = r.frame_latency_cycles();
   j["frame_latency_ms"] = r.frame_latency_s * 1e3;
+  j["frame_latency_s"] = r.frame_latency_s;  // exact, for scheme_result_from_json
+  j["frame_latencies_s"] = r.frame_latencies_s;
+  j["frequency_hz"] = r.frequency_hz;
   j["throughput_fps"] = r.throughput_fps;
   j["frames_in_flight"] = r.frames_in_flight;
   j["inter_gpm_bytes"] = r.total_inter_gpm_bytes();
@@ -92,10 +96,12 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   nlohmann::ordered_json busy = nlohmann::ordered_json::array();
   for (double b : r.gpm_busy_s) busy.push_back(b * r.frequency_hz);
   j["gpm_busy_cycles"] = busy;
+  j["gpm_busy_s"] = r.gpm_busy_s;
   j["best_to_worst"] = r.best_to_worst();
   j["draws_received"] = r.draws;
   j["vertices_transformed"] = r.vertices;
   j["work_units"] = r.units;
+  j["covered_fragments"] = r.covered_fragments;
   j["notes"] = r.notes;
   // The scheme's own figures (OO-VR's batches, moved chunks, predictor).
   nlohmann::ordered_json own = nlohmann::ordered_json::object();
@@ -109,6 +115,56 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   for (double l : r.frame_latencies_s) j["frame_latency_cycles_per_frame"].push_back(l * r.frequency_hz);
   j["config"] = to_json(r.config);
   return j;
+}
+
+SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j) {
+  try {
+    SchemeResult r;
+    r.scheme = j.at("scheme").get<std::string>();
+    r.gpms = j.at("gpms").get<int>();
+    r.frequency_hz = j.at("frequency_hz").get<double>();
+    r.frame_latency_s = j.at("frame_latency_s").get<double>();
+    r.frame_latencies_s = j.at("frame_latencies_s").get<std::vector<double>>();
+    r.throughput_fps = j.at("throughput_fps").get<double>();
+    r.frames_in_flight = j.at("frames_in_flight").get<int>();
+    r.gpm_busy_s = j.at("gpm_busy_s").get<std::vector<double>>();
+    for (int c = 0; c < kCategories; ++c)
+      r.inter_gpm_bytes[size_t(c)] = j.at("inter_gpm_bytes_by_category").at(category_name(Category(c))).get<uint64_t>();
+    r.local_dram_bytes = j.at("local_dram_bytes").get<uint64_t>();
+    r.footprint_bytes = j.at("footprint_bytes").get<uint64_t>();
+    r.covered_fragments = j.at("covered_fragments").get<uint64_t>();
+    r.vertices = j.at("vertices_transformed").get<uint64_t>();
+    r.draws = j.at("draws_received").get<uint64_t>();
+    r.units = j.at("work_units").get<uint64_t>();
+    r.notes = j.at("notes").get<std::vector<std::string>>();
+    for (const auto& [name, m] : j.at("scheme_metrics").items())
+      r.metrics.push_back({name, m.at("value").get<double>(), m.value("unit", "")});
+    const auto& mem = j.at("memory");
+    r.memory.accesses = mem.at("accesses").get<uint64_t>();
+    r.memory.l1_hits = mem.at("l1_hits").get<uint64_t>();
+    r.memory.l2_hits = mem.at("l2_hits").get<uint64_t>();
+    r.memory.remote_hits = mem.at("remote_hits").get<uint64_t>();
+    r.memory.home_l2_hits = mem.at("home_l2_hits").get<uint64_t>();
+    r.memory.dram_lines = mem.at("dram_lines").get<uint64_t>();
+    for (const auto& l : mem.at("links")) {
+      r.memory.link_names.push_back(l.at("link").get<std::string>());
+      r.memory.link_bytes.push_back(l.at("bytes").get<uint64_t>());
+    }
+    for (const auto& row : mem.at("gpm_to_gpm_bytes"))
+      for (const auto& b : row) r.memory.gpm_to_gpm_bytes.push_back(b.get<uint64_t>());
+    r.memory.dram_bytes = mem.at("dram_bytes").get<std::vector<uint64_t>>();
+    for (const auto& [key, e] : j.at("config").items()) {
+      Config::Entry x;
+      x.value = e.at("value").get<std::string>();
+      x.source = e.at("source").get<std::string>();
+      if (e.contains("base")) x.base = e.at("base").get<double>();
+      x.unit = e.value("unit", "");
+      r.config[key] = x;
+    }
+    return r;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("a run's result that is not oovr's: ") + e.what());
+  }
 }
 
 nlohmann::ordered_json results_document(const std::string& command, const std::string& scene, int frame, int frames,

@@ -33,6 +33,12 @@ nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& confi
 // machine's, after the scheme's own overrides such as baseline-1tb's links).
 nlohmann::ordered_json to_json(const SchemeResult& r);
 
+// A run back from its JSON (a results database's `result`): every figure
+// to_json writes, exactly (not the per-tile bytes or tile owners, which it
+// does not write; configuration entries without their default and kind).
+// Throws Error on JSON that is not a run's.
+SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j);
+
 // The document simulate and compare write: the header, what was rendered
 // (scene, first frame, frames in the window, the stereo frame's size), the
 // machine as given (`config`, every key read and described), a run per

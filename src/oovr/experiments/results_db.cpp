@@ -385,6 +385,8 @@ std::optional<std::string> base64_decode(const std::string& text) {
 
 nlohmann::ordered_json to_json(const RunRecord& r) {
   nlohmann::ordered_json j;
+  j["schema"] = "oovr.run";
+  j["schema_version"] = kResultsDbVersion;
   j["id"] = r.id;
   j["sweep"] = r.sweep;
   j["position"] = r.position;
@@ -418,6 +420,10 @@ nlohmann::ordered_json to_json(const RunRecord& r) {
 
 RunRecord run_record_from_json(const nlohmann::ordered_json& j) {
   try {
+    if (j.value("schema", "") != "oovr.run") throw Error("a record that is not an oovr run (no \"schema\": \"oovr.run\")");
+    if (j.at("schema_version").get<int>() > kResultsDbVersion)
+      throw Error("a run record of schema version " + std::to_string(j.at("schema_version").get<int>()) +
+                  ", newer than this oovr's " + std::to_string(kResultsDbVersion));
     RunRecord r;
     r.id = j.at("id").get<std::string>();
     r.sweep = j.at("sweep").get<std::string>();

@@ -52,8 +52,9 @@ struct RunRecord {
   std::vector<RunImage> images;
 };
 
-// A record as one line of JSON (the SLURM tasks' result files) and back;
-// from_json throws Error on a malformed record.
+// A record as one line of JSON (the SLURM tasks' result files), with
+// "schema": "oovr.run" and the schema version, and back; from_json throws
+// Error on a malformed record or one of a newer schema.
 nlohmann::ordered_json to_json(const RunRecord& r);
 RunRecord run_record_from_json(const nlohmann::ordered_json& j);
 

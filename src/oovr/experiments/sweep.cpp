@@ -4,7 +4,6 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <numeric>
 #include <set>
 #include <sstream>
 
@@ -12,6 +11,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/units.h"
+#include "oovr/experiments/frames.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
@@ -314,17 +314,8 @@ void resolve(SweepPoint& p, const Config& machine) {
     c.set_source("sweep");
     for (const auto& [key, value] : p.settings) c.set(key, value);
     check_config(c);
-    check_scheme_config(p.scheme, c);
     const StereoRig rig = parse_frame_resolution(p.resolution);
-    const int needed = scheme_frames_needed(p.scheme, c);
-    if (p.frames > 0) {
-      if (p.frames % needed != 0)
-        throw Error(p.scheme + " renders " + std::to_string(needed) + " frames at once (one per GPM), so frames (" +
-                    std::to_string(p.frames) + ") must be a multiple of " + std::to_string(needed));
-      p.window = p.frames;
-    } else {
-      p.window = std::lcm(int(MemorySpec::from_config(c).gpms), needed);
-    }
+    p.window = measured_window({p.scheme}, c, p.frames, "frames");
     // What determines the result, in one canonical form: numbers in base
     // units, however they were written ("64GBps" and 64e9 are one point).
     nlohmann::ordered_json j;

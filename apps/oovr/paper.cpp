@@ -1,0 +1,67 @@
+// oovr paper: the paper's evaluation as a sweep (experiments/paper.toml),
+// run into a database in --out, and the comparison with the paper written
+// from it (docs/paper-comparison.md when asked with --doc).
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "commands.h"
+#include "oovr/core/error.h"
+#include "oovr/core/files.h"
+#include "oovr/core/text.h"
+#include "oovr/experiments/paper.h"
+#include "oovr/experiments/sweep.h"
+#include "progress.h"
+
+namespace oovr::cli {
+
+namespace fs = std::filesystem;
+
+int paper(const PaperArgs& a) {
+  PaperOptions o;
+  o.sweep = a.sweep.empty() ? paper_sweep() : read_sweep(a.sweep);
+  o.machine = resolve_all(o.sweep);
+  o.only_scenes = split_list(a.scenes);
+  o.jobs = a.jobs;
+  o.command = a.command;
+  // Fail before the work, not after: the outputs must be writable.
+  if (a.out.empty()) throw Error("--out is empty: the evaluation's database and results need a folder");
+  std::error_code ec;
+  fs::create_directories(a.out, ec);
+  if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
+  if (!a.doc.empty()) check_output_path(a.doc, "comparison document (--doc)");
+  o.db = (fs::path(a.out) / (o.sweep.name + ".db")).string();
+  // Results of another build must not be mixed in: a new run starts afresh.
+  if (!a.resume && fs::exists(o.db, ec)) {
+    fs::remove(o.db, ec);
+    if (ec) throw Error("cannot remove the earlier database '" + o.db + "': " + ec.message());
+  }
+  Progress progress(0);
+  o.on_plan = [&](size_t points) {
+    fmt::print("paper: sweep '{}': {} points to run into {}\n", o.sweep.name, points, o.db);
+    std::fflush(stdout);
+    progress.set_total(points);
+  };
+  o.progress = [&](const std::string& line) { progress.status(line); };
+  o.on_record = [&](const RunRecord& r) { progress.point(r); };
+  const PaperResults r = run_paper(o);
+  progress.finish();
+  write_paper_outputs(r, o, a.out);
+  // The document and its plots in --out; with --doc, also there, its plots
+  // beside it, so that it can be committed without the raw results.
+  const std::string out_doc = (fs::path(a.out) / "paper-comparison.md").string();
+  write_paper_plots(r, o, (fs::path(a.out) / "img" / "paper").string());
+  write_paper_doc(r, o, out_doc, (fs::path(a.out) / "img" / "paper").string());
+  if (!a.doc.empty()) {
+    const std::string plots = (fs::absolute(a.doc).parent_path() / "img" / "paper").string();
+    write_paper_plots(r, o, plots);
+    write_paper_doc(r, o, a.doc, plots);
+  }
+  fmt::print("{} scenes ({} skipped), {} runs ({} run now) in {:.0f} s; database, results, CSV, plots and {} in {}{}\n",
+             r.scenes.size(), r.skipped.size(), r.runs.size(), r.ran, r.seconds, "paper-comparison.md", a.out,
+             a.doc.empty() ? "" : "; comparison also in " + a.doc);
+  for (const auto& s : r.skipped) fmt::print("  skipped: {}\n", s);
+  return 0;
+}
+
+}  // namespace oovr::cli
