@@ -46,10 +46,11 @@ asan: deps $(SAN_BUILD)/build.ninja
 	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS) $(ASAN_CTEST_ARGS)
 
 # libFuzzer targets for every parser oovr owns or guards (BSP, SGI, Quake 3
-# shader scripts, configuration, trace cache, model checks, AC3D, TORCS, pk3),
+# shader scripts, configuration, trace cache, model checks, AC3D, TORCS, pk3,
+# sweep files and run records),
 # each run for FUZZ_SECONDS from seeds written by oovr-fuzz-seeds; a crash,
 # a hang (-timeout) or a blown memory limit fails the target.
-FUZZ_TARGETS ?= bsp sgi q3_shader config trace model ac3d torcs pk3
+FUZZ_TARGETS ?= bsp sgi q3_shader config trace model ac3d torcs pk3 sweep
 fuzz: deps $(SAN_BUILD)/build.ninja
 	cmake --build $(SAN_BUILD) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS)) oovr-fuzz-seeds
 	$(SAN_BUILD)/fuzz/oovr-fuzz-seeds $(SAN_BUILD)/corpus $(CURDIR)

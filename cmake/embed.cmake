@@ -13,10 +13,5 @@ extern const char* const ${NAME};
 const char* const ${NAME} = R\"oovr_embed(${body})oovr_embed\";
 }  // namespace oovr::embedded
 ")
-set(old "")
-if(EXISTS "${OUT}")
-  file(READ "${OUT}" old)
-endif()
-if(NOT old STREQUAL text)
-  file(WRITE "${OUT}" "${text}")
-endif()
+include("${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake")
+write_if_changed("${OUT}" "${text}")

@@ -20,10 +20,5 @@ const char* version() { return \"${VERSION}\"; }
 const char* git_commit() { return \"${commit}\"; }
 }  // namespace oovr
 ")
-set(old "")
-if(EXISTS "${OUT}")
-  file(READ "${OUT}" old)
-endif()
-if(NOT old STREQUAL text)
-  file(WRITE "${OUT}" "${text}")
-endif()
+include("${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake")
+write_if_changed("${OUT}" "${text}")

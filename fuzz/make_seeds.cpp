@@ -2,7 +2,8 @@
 // the tests (tests/game_data.h), shader scripts in the styles OpenArena and
 // Nexuiz write them, the configuration presets, a real trace and cache
 // entry, small PLY / GLB / glTF, AC3D and TORCS files of each form the
-// readers know. Usage: oovr-fuzz-seeds DIR [SOURCE_DIR]
+// readers know, the sweep files and a run record. Usage: oovr-fuzz-seeds
+// DIR [SOURCE_DIR]
 #include <zip.h>
 
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <fstream>
 
 #include "game_data.h"
+#include "oovr/experiments/sweep.h"
+#include "oovr/experiments/sweep_run.h"
 #include "oovr/pipeline/trace_cache.h"
 #include "oovr/scene/builtin.h"
 
@@ -25,7 +28,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3"}) fs::create_directories(dir / sub);
+  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep"}) fs::create_directories(dir / sub);
   // pk3: a stored and a deflated entry, as the games' archives hold them.
   {
     int err = 0;
@@ -45,6 +48,30 @@ int main(int argc, char** argv) {
   std::ofstream(dir / "config" / "kinds.toml") << "gpms = 8\n[link]\nbandwidth = \"128GBps\"\nlatency = \"32ns\"\n"
                                                   "[cache.l2]\nsize = \"2MB\"\nways = 16\n[oo]\ntsl_threshold = 0.5\n"
                                                   "prealloc = false\n[gpm]\ndraw_cycles = 625.5\n";
+  // Sweeps (first byte 0): the project's sweep files and one of every key;
+  // run records (first byte 1): a real one, as a SLURM task writes it.
+  if (argc == 3)
+    for (const auto& e : fs::directory_iterator(fs::path(argv[2]) / "experiments"))
+      if (e.path().extension() == ".toml" && e.path().filename() != "paper-claims.toml") {
+        std::ifstream in(e.path(), std::ios::binary);
+        std::ofstream(dir / "sweep" / e.path().filename(), std::ios::binary) << '\0' << in.rdbuf();
+      }
+  std::ofstream(dir / "sweep" / "keys.toml", std::ios::binary)
+      << '\0'
+      << "name = \"k\"\nimages = true\nscenes = [\"crowd\"]\nschemes = [\"baseline\", \"afr\"]\n"
+         "resolutions = [\"64x48\"]\nframe = [0, 1]\nframes = 4\naniso = 2\n[set]\ngpms = 4\n[sweep.link]\n"
+         "bandwidth = [\"32GBps\", 1000000000]\n[[point]]\nscheme = \"object\"\nsweep = {}\nset = { \"oo.split\" = false }\n";
+  {
+    oovr::Sweep s =
+        oovr::parse_sweep("scenes = ['crowd']\nschemes = ['oo-vr']\nresolutions = ['64x48']\nimages = true\n", "s", "");
+    oovr::resolve_all(s);
+    oovr::SweepRunOptions o;
+    o.use_cache = false;
+    o.on_record = [&](const oovr::RunRecord& r) {
+      std::ofstream(dir / "sweep" / "record.json", std::ios::binary) << '\1' << oovr::to_json(r).dump();
+    };
+    oovr::run_points(s, {0}, o);
+  }
   // A trace of a small frame: its payload and its cache entry.
   {
     const oovr::Scene scene = oovr::BuiltinScenes::find("crowd")->make();

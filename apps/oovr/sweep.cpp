@@ -23,17 +23,6 @@ std::string default_db(const SweepArgs& a) {
   return fs::path(a.file).stem().string() + ".db";
 }
 
-SweepRecord sweep_record(const Sweep& s, const std::string& command) {
-  SweepRecord r;
-  r.name = s.name;
-  r.file = s.file;
-  r.definition = s.definition;
-  r.swept_keys = s.swept_keys;
-  r.points = s.points.size();
-  r.command = command;
-  return r;
-}
-
 int print_collect(const CollectReport& rep, const std::string& db_path, const Sweep* s, ResultsDb& db) {
   for (const auto& p : rep.problems) fmt::print("  note: {}\n", p);
   fmt::print("collected {} runs from {} task files into {} ({} there already)\n", rep.added, rep.files, db_path, rep.already);

@@ -4,6 +4,7 @@
 # figures (docs/sweeps.md, "Interrupted sweeps").
 # Usage: sweep_resume.sh OOVR WORKDIR
 set -eu
+here=$(cd "$(dirname "$0")" && pwd)
 oovr=$1
 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
@@ -46,12 +47,7 @@ grep -q "give --resume" again.log || { cat again.log; exit 1; }
 grep -q "($n in the database already, $((20 - n)) to run)" resumed.log || { cat resumed.log; exit 1; }
 
 # Everything but when, where and by which command each run was made.
-dump() {
-  sqlite3 "$1" "SELECT id, sweep, position, scene, scheme, resolution, frame, frames, aniso, config, status, error,
-                       oovr_version, git_commit, result, \"link.bandwidth\" FROM runs ORDER BY id;
-                SELECT * FROM metrics ORDER BY run, location, metric;
-                SELECT run, kind, width, height, hex(data), legend FROM images ORDER BY run, kind;"
-}
+dump() { sh "$here/dump_runs.sh" "$1" link.bandwidth; }
 dump whole.db > whole.dump
 dump killed.db > resumed.dump
 [ "$(sqlite3 killed.db "SELECT count(*), count(DISTINCT id) FROM runs WHERE status = 'done'")" = "20|20" ] || { echo "not 20 distinct runs"; exit 1; }

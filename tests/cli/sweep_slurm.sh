@@ -6,6 +6,7 @@
 # ("skipped", with the reason) when SLURM is not installed or cannot start.
 # Usage: sweep_slurm.sh OOVR WORKDIR
 set -eu
+here=$(cd "$(dirname "$0")" && pwd)
 oovr=$1
 work=$2
 skip() { echo "skipped: $*"; exit 77; }
@@ -87,12 +88,7 @@ grep -q "collected 8 runs from 3 task files" slurm.log || exit 1
 "$oovr" sweep small.toml --db slurm.db --collect > collect.log 2>&1 || { cat collect.log; exit 1; }
 grep -q "collected 0 runs from 3 task files into slurm.db (8 there already)" collect.log || { cat collect.log; exit 1; }
 
-dump() {
-  sqlite3 "$1" "SELECT id, sweep, position, scene, scheme, resolution, frame, frames, aniso, config, status, error,
-                       oovr_version, git_commit, result, gpms FROM runs ORDER BY id;
-                SELECT * FROM metrics ORDER BY run, location, metric;
-                SELECT run, kind, width, height, hex(data), legend FROM images ORDER BY run, kind;"
-}
+dump() { sh "$here/dump_runs.sh" "$1" gpms; }
 dump local.db > local.dump
 dump slurm.db > slurm.dump
 [ "$(sqlite3 slurm.db "SELECT count(*) FROM runs WHERE status = 'done'")" = 8 ] || { echo "not 8 runs done"; exit 1; }

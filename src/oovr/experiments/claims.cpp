@@ -6,6 +6,7 @@
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/units.h"
+#include "oovr/experiments/result_json.h"
 
 namespace oovr {
 
@@ -122,11 +123,7 @@ nlohmann::ordered_json resolve(const std::map<std::string, std::string>& set, co
     throw Error(what + ": " + e.what());
   }
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  for (const auto& [k, v] : set) {
-    const Config::Entry& e = c.entries().at(k);
-    if (e.base) out[k] = *e.base;
-    else out[k] = e.value;
-  }
+  for (const auto& [k, v] : set) out[k] = base_value(c.entries().at(k));
   return out;
 }
 
@@ -137,10 +134,7 @@ nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
   Config defaults;
   check_config(defaults);
   nlohmann::ordered_json d = nlohmann::ordered_json::object();
-  for (const auto& [k, e] : defaults.entries()) {
-    if (e.base) d[k] = *e.base;
-    else d[k] = e.value;
-  }
+  for (const auto& [k, e] : defaults.entries()) d[k] = base_value(e);
   j["defaults"] = d;
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const Claim& c : claims) {

@@ -118,14 +118,7 @@ PaperResults run_paper(PaperOptions& o) {
   std::vector<size_t> todo;
   for (size_t i : which)
     if (!held.count(s.points[i].id)) todo.push_back(i);
-  SweepRecord sw;
-  sw.name = s.name;
-  sw.file = s.file;
-  sw.definition = s.definition;
-  sw.swept_keys = s.swept_keys;
-  sw.points = s.points.size();
-  sw.command = o.command;
-  db.add_sweep(sw);
+  db.add_sweep(sweep_record(s, o.command));
   if (o.progress && todo.size() < which.size())
     o.progress(fmt::format("{} of {} points in {} already", which.size() - todo.size(), which.size(), o.db));
   if (o.on_plan) o.on_plan(todo.size());

@@ -15,6 +15,10 @@ nlohmann::ordered_json results_header(const std::string& command) {
   return j;
 }
 
+nlohmann::ordered_json base_value(const Config::Entry& e) {
+  return e.base ? nlohmann::ordered_json(*e.base) : nlohmann::ordered_json(e.value);
+}
+
 nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& config) {
   nlohmann::ordered_json j = nlohmann::ordered_json::object();
   for (const auto& [key, e] : config) {

@@ -24,6 +24,10 @@ inline constexpr int kResultsSchemaVersion = 1;
 // "command"}: the start of every results document.
 nlohmann::ordered_json results_header(const std::string& command);
 
+// A configuration value as results store it: the number in base units, or
+// the readable value for keys without a number (strings, choices).
+nlohmann::ordered_json base_value(const Config::Entry& e);
+
 // {key: {"value", "base", "unit", "source"}}; "base" and "unit" only for
 // numbers ("base" is the value in "unit": bytes, bytes per second, seconds,
 // hertz; no unit for counts and ratios).

@@ -12,6 +12,7 @@
 #include "oovr/core/files.h"
 #include "oovr/core/units.h"
 #include "oovr/experiments/frames.h"
+#include "oovr/experiments/result_json.h"
 #include "oovr/memory/memory_spec.h"
 #include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
@@ -43,40 +44,39 @@ class Reader {
   }
   [[noreturn]] void fail(const std::string& what) const { throw Error("bad sweep '" + m_file + "': " + what); }
 
+  // `one` for a single value, or for each of a non-empty list of them.
+  template <class F>
+  void one_or_list(const toml::node& n, const std::string& key, F one) const {
+    if (const auto* a = n.as_array()) {
+      if (a->empty()) fail(n, key + " is an empty list");
+      for (const auto& x : *a) one(x);
+    } else {
+      one(n);
+    }
+  }
+
   // A string or a non-empty list of strings.
   std::vector<std::string> strings(const toml::node& n, const std::string& key) const {
     std::vector<std::string> out;
-    const auto one = [&](const toml::node& x) {
+    one_or_list(n, key, [&](const toml::node& x) {
       const auto* s = x.as_string();
       if (!s) fail(x, key + " takes strings");
       if (s->get().empty()) fail(x, key + " has an empty name");
       out.push_back(s->get());
-    };
-    if (const auto* a = n.as_array()) {
-      for (const auto& x : *a) one(x);
-      if (out.empty()) fail(n, key + " is an empty list");
-    } else {
-      one(n);
-    }
+    });
     return out;
   }
 
   // A whole number or a non-empty list of them, each in [lo, hi].
   std::vector<int> integers(const toml::node& n, const std::string& key, int lo, int hi) const {
     std::vector<int> out;
-    const auto one = [&](const toml::node& x) {
+    one_or_list(n, key, [&](const toml::node& x) {
       const auto* i = x.as_integer();
       if (!i) fail(x, key + " takes whole numbers");
       if (i->get() < lo || i->get() > hi)
         fail(x, key + " = " + std::to_string(i->get()) + " is outside " + std::to_string(lo) + " to " + std::to_string(hi));
       out.push_back(int(i->get()));
-    };
-    if (const auto* a = n.as_array()) {
-      for (const auto& x : *a) one(x);
-      if (out.empty()) fail(n, key + " is an empty list");
-    } else {
-      one(n);
-    }
+    });
     return out;
   }
 
@@ -326,10 +326,7 @@ void resolve(SweepPoint& p, const Config& machine) {
     j["frames"] = p.window;
     j["aniso"] = p.aniso;
     nlohmann::ordered_json config = nlohmann::ordered_json::object();
-    for (const auto& [key, e] : c.entries()) {
-      if (e.base) config[key] = *e.base;
-      else config[key] = e.value;
-    }
+    for (const auto& [key, e] : c.entries()) config[key] = base_value(e);
     j["config"] = config;
     p.canonical = j.dump();
     p.id = stable_id(p.canonical);

@@ -53,8 +53,7 @@ RunRecord record_of(const Sweep& s, size_t index, const std::string& command) {
   const auto& entries = p.config.entries();
   for (const auto& [key, text] : p.swept) {
     const auto it = entries.find(key);
-    if (it != entries.end() && it->second.base) r.swept[key] = *it->second.base;
-    else r.swept[key] = it != entries.end() ? it->second.value : text;
+    r.swept[key] = it != entries.end() ? base_value(it->second) : nlohmann::ordered_json(text);
   }
   r.config = to_json(entries);
   r.oovr_version = version();
@@ -88,6 +87,17 @@ std::vector<RunImage> images_of(const FrameOutput& first, const SchemeResult& re
 }
 
 }  // namespace
+
+SweepRecord sweep_record(const Sweep& s, const std::string& command) {
+  SweepRecord r;
+  r.name = s.name;
+  r.file = s.file;
+  r.definition = s.definition;
+  r.swept_keys = s.swept_keys;
+  r.points = s.points.size();
+  r.command = command;
+  return r;
+}
 
 RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, const std::string& command) {
   RunRecord r = record_of(s, index, command);

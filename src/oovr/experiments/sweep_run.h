@@ -30,6 +30,9 @@ struct SweepRunOptions {
 // Runs s.points[i] for every i in `which` (resolved: resolve_all).
 void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o);
 
+// The sweeps table's row for `s`, run by `command`.
+SweepRecord sweep_record(const Sweep& s, const std::string& command);
+
 // The record of a point that did not run, with its error.
 RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, const std::string& command);
 
