@@ -135,7 +135,7 @@ TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
     for (int i = 0; i < 20; ++i) big += std::to_string(i) + ",";
     big += "]\n";
   }
-  EXPECT_NE(error(big).find("more than 1000000 points"), std::string::npos);
+  EXPECT_NE(error(big).find("more than 100000 points"), std::string::npos);
 }
 
 RunRecord sample_record(const std::string& id, double value) {

@@ -4,9 +4,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "commands.h"
 #include "oovr/core/error.h"
+#include "oovr/core/version.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
@@ -86,6 +88,21 @@ int sweep(const SweepArgs& a) {
         fmt::format("the database {} holds {} of this sweep's {} points already: give --resume to run the other {}, "
                     "or another --db",
                     db_path, held, s.points.size(), todo.size()));
+  // Runs kept from another build: a point's id is its configuration, not
+  // the model that ran it, so say so rather than mix builds silently.
+  if (held) {
+    const auto commits = db.run_commits();
+    std::map<std::string, size_t> other;
+    for (const auto& p : s.points) {
+      const auto it = commits.find(p.id);
+      if (it != commits.end() && it->second != git_commit() && status.at(p.id) == "done") ++other[it->second];
+    }
+    for (const auto& [commit, n] : other)
+      fmt::print(
+          "note: {} of the runs kept were made by oovr {}, not by this one ({}); start a new database to have "
+          "every run from one build\n",
+          n, commit, git_commit());
+  }
   db.add_sweep(sweep_record(s, a.command));
   for (size_t i : todo)
     if (status.count(s.points[i].id)) db.remove(s.points[i].id);  // a failed run, retried

@@ -53,3 +53,8 @@ dump killed.db > resumed.dump
 [ "$(sqlite3 killed.db "SELECT count(*), count(DISTINCT id) FROM runs WHERE status = 'done'")" = "20|20" ] || { echo "not 20 distinct runs"; exit 1; }
 cmp whole.dump resumed.dump || { diff whole.dump resumed.dump | cut -c 1-300 | head -20; exit 1; }
 echo "resumed sweep equals the uninterrupted one: 20 runs, $(sqlite3 killed.db "SELECT count(*) FROM metrics") metrics"
+# A run kept from another build is named when the sweep is resumed.
+sqlite3 killed.db "UPDATE runs SET git_commit = '0123456789ab' WHERE position = 3"
+"$oovr" sweep twenty.toml --db killed.db --resume > noted.log 2>&1 || { cat noted.log; exit 1; }
+grep -q "^note: 1 of the runs kept were made by oovr 0123456789ab, not by this one" noted.log || { cat noted.log; exit 1; }
+echo "a run of another build is named on --resume"

@@ -225,6 +225,13 @@ std::map<std::string, std::string> ResultsDb::run_status() const {
   return out;
 }
 
+std::map<std::string, std::string> ResultsDb::run_commits() const {
+  std::map<std::string, std::string> out;
+  Statement s(m_db, "SELECT id, git_commit FROM runs", m_path);
+  while (s.step()) out[s.text(0)] = s.text(1);
+  return out;
+}
+
 void ResultsDb::remove(const std::string& id) {
   Statement s(m_db, "DELETE FROM runs WHERE id = ?", m_path);
   s.bind(1, id);

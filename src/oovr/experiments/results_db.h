@@ -78,6 +78,8 @@ class ResultsDb {
   void add_sweep(const SweepRecord& s);
   // The runs stored (of any sweep): id -> status ("done" or "failed").
   std::map<std::string, std::string> run_status() const;
+  // The git commit of the oovr that made each run: id -> commit.
+  std::map<std::string, std::string> run_commits() const;
   // Removes a run with its metrics and images (a failed run to retry).
   void remove(const std::string& id);
   // Writes a run, its metrics and images in one transaction. Returns false

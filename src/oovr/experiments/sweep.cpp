@@ -22,9 +22,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A sweep of more points than this is refused before it is expanded (a
-// typo'd list should not allocate gigabytes of points).
-constexpr size_t kMaxPoints = 1'000'000;
+// A sweep of more points than this is refused before it is expanded: a
+// resolved point holds its whole configuration (docs/reliability.md), and a typo'd
+// list should not allocate gigabytes of points. Larger studies are several
+// sweeps into one database.
+constexpr size_t kMaxPoints = 100000;
 
 // What one level of the file (the top level or a [[point]]) says; a field
 // left out is taken from the level above.
@@ -191,12 +193,11 @@ void expand(const Level& l, const std::string& where, std::vector<SweepPoint>& o
   const std::vector<int> frames = l.frames.value_or(std::vector<int>{0});
   const std::vector<int> aniso = l.aniso.value_or(std::vector<int>{16});
   const auto& sweep = *l.sweep;
-  size_t count = l.scenes->size() * l.schemes->size();
-  for (size_t n : {resolutions.size(), frame.size(), frames.size(), aniso.size()}) count *= n;
-  for (const auto& [key, values] : sweep) {
-    if (count > kMaxPoints) break;
-    count *= values.size();
-  }
+  // Counted saturating, so that long lists cannot wrap the product around.
+  size_t count = 1;
+  const auto times = [&](size_t n) { count = count > kMaxPoints / std::max<size_t>(n, 1) ? kMaxPoints + 1 : count * n; };
+  for (size_t n : {l.scenes->size(), l.schemes->size(), resolutions.size(), frame.size(), frames.size(), aniso.size()}) times(n);
+  for (const auto& [key, values] : sweep) times(values.size());
   if (count + out.size() > kMaxPoints)
     reader.fail(where + " makes more than " + std::to_string(kMaxPoints) + " points: split the sweep");
   std::vector<size_t> index(sweep.size(), 0);  // the swept keys' odometer
