@@ -325,6 +325,37 @@ TEST(Schemes, AWindowAveragesTheSameFramesForEveryScheme) {
   EXPECT_THROW(run_scheme_window("baseline", r.scene, r.traces, c, 5), Error);
 }
 
+// A scheme made outside the registry (as the Python module makes one from
+// a Python class) runs through the same window machinery, with the name it
+// is given, and gives the registered scheme's numbers when it does its work.
+TEST(Schemes, ASchemeOutsideTheRegistryRunsAsARegisteredOne) {
+  class Wrapped final : public Scheme {
+   public:
+    explicit Wrapped(SchemeRef inner) : m_inner(std::move(inner)) {}
+    int frames_needed(int gpms) const override { return m_inner.impl->frames_needed(gpms); }
+    void configure(Config& c) const override { m_inner.impl->configure(c); }
+    SchemeResult run(const SchemeInput& in) const override { return m_inner.impl->run(in); }
+
+   private:
+    SchemeRef m_inner;
+  };
+  const Rendered& r = courtyard();
+  const Config c;
+  for (const char* name : {"object", "afr", "baseline-1tb"}) {
+    const SchemeRef wrapped{std::string("my-") + name, std::make_shared<Wrapped>(find_scheme(name))};
+    EXPECT_EQ(scheme_frames_needed(wrapped, c), scheme_frames_needed(name, c)) << name;
+    const SchemeResult a = run_scheme_window(name, r.scene, r.traces, c, 4);
+    const SchemeResult b = run_scheme_window(wrapped, r.scene, FramesInMemory(r.traces), c, 4);
+    EXPECT_EQ(a.frame_latencies_s, b.frame_latencies_s) << name;
+    EXPECT_EQ(a.total_inter_gpm_bytes(), b.total_inter_gpm_bytes()) << name;
+    // The scheme's own overrides are recorded as coming from it, by its name.
+    if (std::string(name) == "baseline-1tb") {
+      EXPECT_EQ(b.config.at("link.bandwidth").source, "scheme my-baseline-1tb");
+    }
+  }
+  EXPECT_THROW(find_scheme("no-such-scheme"), Error);
+}
+
 // A frame that follows another finds the data where the first left it:
 // first touch does not place pages again, and traffic is counted per frame.
 TEST(Schemes, PlacementCarriesOverFromFrameToFrame) {

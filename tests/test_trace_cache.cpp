@@ -16,6 +16,7 @@
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
 #include "oovr/experiments/frames.h"
+#include "oovr/experiments/session.h"
 #include "oovr/pipeline/trace_cache.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/schemes/i_scheme.h"
@@ -254,7 +255,7 @@ class CrowdWindows : public ::testing::Test {
  protected:
   const test::TempDir dir;
   const CacheDirectory env{dir.path()};
-  const Scene scene = BuiltinScenes::find("crowd")->make();
+  const std::shared_ptr<const Scene> scene = std::make_shared<const Scene>(BuiltinScenes::find("crowd")->make());
   const StereoRig rig = parse_eye_resolution("96x64");
   const Config config{};
   WindowRequest w;
@@ -265,7 +266,7 @@ TEST_F(CrowdWindows, ACorruptEntryIsAMissWithTheUncachedResults) {
   w.count = 1;
   w.use_cache = false;
   const FrameWindow fresh = load_window(scene, rig, config, w);
-  const SchemeResult expected = run_scheme_window("oo-vr", fresh.scene, fresh.traces, config, 1);
+  const SchemeResult expected = run_scheme_window("oo-vr", *fresh.scene, fresh.traces, config, 1);
   w.use_cache = true;
   ASSERT_EQ(load_window(scene, rig, config, w).cached, 0);
   std::vector<fs::path> files;
@@ -313,7 +314,7 @@ TEST_F(CrowdWindows, ACorruptEntryIsAMissWithTheUncachedResults) {
       EXPECT_NE(got.notes.front().find("did not verify and was rendered again"), std::string::npos) << got.notes.front();
       EXPECT_EQ(got.outputs.front().trace.tiles, t.tiles) << what;
       EXPECT_EQ(got.outputs.front().trace.tex_lines, t.tex_lines) << what;
-      const SchemeResult r = run_scheme_window("oo-vr", got.scene, got.traces, config, 1);
+      const SchemeResult r = run_scheme_window("oo-vr", *got.scene, got.traces, config, 1);
       EXPECT_EQ(r.frame_latency_s, expected.frame_latency_s) << what;
       EXPECT_EQ(r.total_inter_gpm_bytes(), expected.total_inter_gpm_bytes()) << what;
       // Replaced: the next run is a hit that says nothing.
@@ -331,7 +332,7 @@ TEST_F(CrowdWindows, ACorruptEntryIsAMissWithTheUncachedResults) {
   const FrameWindow got = load_window(scene, rig, config, w);
   EXPECT_EQ(got.cached, 0);
   ASSERT_EQ(got.notes.size(), 1u);
-  EXPECT_EQ(run_scheme_window("oo-vr", got.scene, got.traces, config, 1).frame_latency_s, expected.frame_latency_s);
+  EXPECT_EQ(run_scheme_window("oo-vr", *got.scene, got.traces, config, 1).frame_latency_s, expected.frame_latency_s);
 }
 
 // A window beyond the memory budget is streamed from disk: the same numbers
@@ -356,13 +357,55 @@ TEST_F(CrowdWindows, AStreamedWindowGivesTheNumbersOfOneInMemory) {
     ASSERT_FALSE(folder.empty());
     for (size_t k = 0; k < 8; ++k) EXPECT_EQ(streamed.frames->at(k)->tiles, memory.traces[k]->tiles) << k;
     for (const char* scheme : {"baseline", "afr", "oo-vr"}) {
-      const SchemeResult a = run_scheme_window(scheme, memory.scene, *memory.frames, config, 8);
-      const SchemeResult b = run_scheme_window(scheme, streamed.scene, *streamed.frames, config, 8);
+      const SchemeResult a = run_scheme_window(scheme, *memory.scene, *memory.frames, config, 8);
+      const SchemeResult b = run_scheme_window(scheme, *streamed.scene, *streamed.frames, config, 8);
       EXPECT_EQ(a.frame_latencies_s, b.frame_latencies_s) << scheme;
       EXPECT_EQ(a.total_inter_gpm_bytes(), b.total_inter_gpm_bytes()) << scheme;
     }
   }
   EXPECT_FALSE(fs::exists(folder)) << "the streamed window's folder is removed with it";
+}
+
+// A session (the Python module's) renders a window once and replays it for
+// every configuration whose traces are the same; another line size, a
+// first image or an uncached request load again; the budget drops the
+// least recently used window.
+TEST_F(CrowdWindows, ASessionRendersEachWindowOnceAndKeepsItWithinItsBudget) {
+  TraceSession session(uint64_t(1) << 30);
+  w.count = 2;
+  w.use_cache = false;  // the test's cache folder is empty anyway: count renders, not disk hits
+  const auto first = session.window("crowd", rig, config, w);
+  EXPECT_EQ(session.stats().frames_rendered, 2u);
+  EXPECT_EQ(session.stats().scenes_loaded, 1u);
+  w.use_cache = true;
+  Config links = config;
+  links.set("link.bandwidth=32GBps");  // not a pipeline setting: the same traces
+  EXPECT_EQ(session.window("crowd", rig, links, w), first);
+  w.count = 1;
+  EXPECT_EQ(session.window("crowd", rig, config, w), first) << "a longer window covers a shorter one";
+  EXPECT_EQ(session.stats().windows_reused, 2u);
+  EXPECT_EQ(session.stats().frames_rendered, 2u);
+
+  Config lines = config;
+  lines.set("memory.line=64B");  // the trace's line addresses change
+  const auto other = session.window("crowd", rig, lines, w);
+  EXPECT_NE(other, first);
+  EXPECT_EQ(other->outputs.front().trace.line_bytes, 64u);
+  EXPECT_EQ(session.stats().windows_held, 2u);
+  EXPECT_EQ(session.stats().scenes_loaded, 1u) << "the scene is loaded once";
+
+  w.count = 2;
+  w.need_first_image = true;  // held without it: cached traces carry no picture
+  const auto again = session.window("crowd", rig, config, w);
+  EXPECT_FALSE(again->outputs.front().colour.rgba.empty());
+
+  TraceSession small(1);  // one byte: only the window in use stays
+  (void)small.window("crowd", rig, config, w);
+  (void)small.window("crowd", rig, lines, w);
+  EXPECT_EQ(small.stats().windows_held, 1u);
+  w.first = 1000;
+  EXPECT_THROW(session.window("crowd", rig, config, w), Error);
+  EXPECT_THROW(session.window("no-such-scene", rig, config, w), Error);
 }
 
 }  // namespace

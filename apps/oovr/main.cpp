@@ -20,6 +20,8 @@
 #include "oovr/core/out_of_memory.h"
 #include "oovr/core/version.h"
 #include "oovr/experiments/report.h"
+#include "oovr/experiments/simulation.h"
+#include "oovr/pipeline/frame_summary.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
@@ -67,33 +69,7 @@ int cmd_scene_info(const SceneInfoArgs& a) {
   const Scene scene = load_scene(a.scene);
   const SceneInfo i = scene_info(scene);
   if (a.json) {
-    nlohmann::ordered_json j;
-    j["scene"] = i.name;
-    j["draws"] = i.draws;
-    j["triangles"] = i.triangles;
-    j["vertices"] = i.vertices;
-    j["meshes"] = i.meshes;
-    j["materials"] = i.materials;
-    j["textures"] = i.textures;
-    j["texture_bytes"] = i.texture_bytes;
-    j["camera_frames"] = i.camera_frames;
-    j["texture_layers"] = i.texture_layers;
-    j["lit_draws"] = i.lit_draws;
-    j["max_objects_sharing_a_texture"] = i.max_sharing;
-    nlohmann::ordered_json hist = nlohmann::ordered_json::object();
-    for (const auto& [objects, textures] : i.sharing_histogram) hist[std::to_string(objects)] = textures;
-    j["sharing_histogram"] = hist;
-    nlohmann::ordered_json tex = nlohmann::ordered_json::array();
-    for (const auto& t : i.texture_use)
-      tex.push_back({{"name", t.name},
-                     {"width", t.width},
-                     {"height", t.height},
-                     {"levels", t.levels},
-                     {"bytes", t.bytes},
-                     {"objects", t.objects}});
-    j["texture_list"] = tex;
-    j["notes"] = scene.notes;
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", scene_info_json(i, scene.notes).dump(2));
     return 0;
   }
   fmt::print("scene          {}\n", i.name);
@@ -146,15 +122,8 @@ int cmd_config(const ConfigArgs& a) {
     return 0;
   }
   // Printed as TOML (dotted keys), so that the output is itself a preset.
-  fmt::print("# {}\n", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file);
-  for (const auto& [k, v] : c.resolved()) {
-    // Numbers and booleans bare, so they read back as numbers ("1e-05" too).
-    double number = 0;
-    const auto r = std::from_chars(v.data(), v.data() + v.size(), number);
-    const bool bare = v == "true" || v == "false" || (!v.empty() && r.ec == std::errc() && r.ptr == v.data() + v.size());
-    if (bare) fmt::print("{} = {}\n", k, v);
-    else fmt::print("{} = \"{}\"\n", k, v);
-  }
+  fmt::print("# {}\n{}", a.file.empty() ? "built-in defaults (the paper's Table 1, as configs/paper-table1.toml)" : a.file,
+             resolved_toml(c));
   return 0;
 }
 
@@ -186,33 +155,19 @@ int cmd_render(const RenderArgs& a) {
   const auto t2 = std::chrono::steady_clock::now();
   write_image(out.colour, a.out);
 
-  const FrameTrace& tr = out.trace;
-  uint64_t setup[2] = {0, 0}, culled = 0, quads = 0, shaded = 0;
-  for (const auto& o : tr.objects) {
-    setup[0] += o.setup[0];
-    setup[1] += o.setup[1];
-    culled += o.culled[0] + o.culled[1];
-  }
-  for (const auto& t : tr.tiles) {
-    quads += t.quads;
-    shaded += t.shaded;
-  }
+  const FrameSummary sum = summarise(out);
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
   fmt::print("{}: frame {} of {}, {}x{} stereo ({}x{} per eye) -> {}\n", scene.name, a.frame, scene.camera.frames.size(),
              view.frame_width, view.frame_height, rig.eye_width, rig.eye_height, a.out);
   fmt::print("  draws {}, triangles {}, set up left {} right {}, culled (back-facing or outside the view) {}\n",
-             scene.objects.size(), scene.triangle_count(), setup[0], setup[1], culled);
-  fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", tr.total_covered(), shaded, tr.total_passed(), quads);
-  fmt::print("  trace: {} (object, eye, tile) records, {} texture line reads ({}-byte lines)\n", tr.tiles.size(),
-             tr.tex_lines.size(), tr.line_bytes);
+             scene.objects.size(), scene.triangle_count(), sum.setup[0], sum.setup[1], sum.culled);
+  fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", sum.covered, sum.shaded, sum.passed, sum.quads);
+  fmt::print("  trace: {} (object, eye, tile) records, {} texture line reads ({}-byte lines)\n", sum.records,
+             sum.texture_line_reads, sum.line_bytes);
   // Texture work: layers sampled per shaded fragment and per pixel drawn
   // (the frame's pixels some draw wrote), and the texture bytes touched.
-  const uint64_t drawn =
-      uint64_t(std::count_if(out.object_id.begin(), out.object_id.end(), [](uint32_t id) { return id != kNoObject; }));
-  const double fetches = double(tr.layer_fetches());
   fmt::print("  texture: {:.2f} layers per shaded fragment, {:.2f} per pixel drawn; {} of texture lines touched\n",
-             shaded ? fetches / double(shaded) : 0.0, drawn ? fetches / double(drawn) : 0.0,
-             human_bytes(tr.unique_tex_lines() * tr.line_bytes));
+             sum.layers_per_shaded(), sum.layers_per_pixel(), human_bytes(sum.texture_bytes_touched));
   fmt::print("  time: scene {:.0f} ms, render {:.0f} ms\n", ms(t1 - t0), ms(t2 - t1));
   return 0;
 }
@@ -284,14 +239,7 @@ int main(int argc, char** argv) {
 
   cli::SimulateArgs cmp;
   std::string scheme_list;
-  // The paper's order first (Sections 3 and 4), then the bounds, then any
-  // other registered scheme.
-  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "baseline-paged", "afr",        "sfr-v", "sfr-h",
-                                      "object",   "oo-app",       "oo-vr",          "single-gpm", "ideal", "two-pass"};
-  ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
-                ordered.end());
-  for (const auto& n : Schemes::names())
-    if (std::find(ordered.begin(), ordered.end(), n) == ordered.end()) ordered.push_back(n);
+  const std::vector<std::string> ordered = default_compare_schemes();
   std::string all_schemes;
   for (const auto& n : ordered) all_schemes += (all_schemes.empty() ? "" : ",") + n;
   auto* cmp_cmd = app.add_subcommand("compare", "Run several schemes on the same frame, normalised to baseline");

@@ -4,11 +4,9 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include "commands.h"
 #include "oovr/core/error.h"
-#include "oovr/core/version.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
@@ -71,41 +69,11 @@ int sweep(const SweepArgs& a) {
   ResultsDb db(db_path);
   if (a.collect) return print_collect(collect_slurm(slurm_dir, db), db_path, &s, db);
 
-  // What the database holds of this sweep already.
-  const auto status = db.run_status();
-  std::vector<size_t> todo;
-  size_t held = 0, retried = 0;
-  for (size_t i = 0; i < s.points.size(); ++i) {
-    const auto it = status.find(s.points[i].id);
-    if (it == status.end()) todo.push_back(i);
-    else if (a.retry_failed && it->second == "failed") {
-      todo.push_back(i);
-      ++retried;
-    } else ++held;
-  }
-  if ((held || retried) && !a.resume && !a.retry_failed)
-    throw Error(
-        fmt::format("the database {} holds {} of this sweep's {} points already: give --resume to run the other {}, "
-                    "or another --db",
-                    db_path, held, s.points.size(), todo.size()));
-  // Runs kept from another build: a point's id is its configuration, not
-  // the model that ran it, so say so rather than mix builds silently.
-  if (held) {
-    const auto commits = db.run_commits();
-    std::map<std::string, size_t> other;
-    for (const auto& p : s.points) {
-      const auto it = commits.find(p.id);
-      if (it != commits.end() && it->second != git_commit() && status.at(p.id) == "done") ++other[it->second];
-    }
-    for (const auto& [commit, n] : other)
-      fmt::print(
-          "note: {} of the runs kept were made by oovr {}, not by this one ({}); start a new database to have "
-          "every run from one build\n",
-          n, commit, git_commit());
-  }
-  db.add_sweep(sweep_record(s, a.command));
-  for (size_t i : todo)
-    if (status.count(s.points[i].id)) db.remove(s.points[i].id);  // a failed run, retried
+  const SweepPlan plan = plan_sweep(s, db, a.resume, a.retry_failed);
+  for (const auto& n : plan.notes) fmt::print("note: {}\n", n);
+  begin_sweep(s, plan, db, a.command);
+  const std::vector<size_t>& todo = plan.todo;
+  const size_t held = plan.held;
 
   if (a.backend == "slurm") {
     SlurmOptions o;

@@ -336,7 +336,19 @@ void Config::check_all_used() const {
   std::string unknown;
   for (const auto& [k, v] : m_values)
     if (!m_used.count(k)) unknown += (unknown.empty() ? "" : ", ") + ("'" + k + "' (" + v.source + ")");
-  if (!unknown.empty()) throw Error("unknown configuration key " + unknown);
+  if (!unknown.empty()) throw UnknownKeyError("unknown configuration key " + unknown);
+}
+
+std::string resolved_toml(const Config& c) {
+  std::string out;
+  for (const auto& [k, v] : c.resolved()) {
+    // Numbers and booleans bare, so they read back as numbers ("1e-05" too).
+    double number = 0;
+    const auto r = std::from_chars(v.data(), v.data() + v.size(), number);
+    const bool bare = v == "true" || v == "false" || (!v.empty() && r.ec == std::errc() && r.ptr == v.data() + v.size());
+    out += k + " = " + (bare ? v : "\"" + v + "\"") + "\n";
+  }
+  return out;
 }
 
 }  // namespace oovr

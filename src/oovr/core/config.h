@@ -98,6 +98,11 @@ class Config {
   std::string m_set_source = "--set";
 };
 
+// Every value in force (c.resolved(), after check_config) as TOML lines
+// "key = value", numbers and booleans bare: a preset that reads back as
+// the same configuration (`oovr config`).
+std::string resolved_toml(const Config& c);
+
 // The limits every TOML text oovr reads is held to before toml++ parses it
 // (at most 1 MiB, keys of at most 32 dotted parts): configurations and
 // sweep files. Throws Error naming `name`.

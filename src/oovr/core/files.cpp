@@ -53,7 +53,9 @@ int open_regular(const std::string& path, uint64_t max_bytes, bool follow_links,
 
 // The Error an input that `r` could not read is.
 [[noreturn]] void input_error(const std::string& path, const std::string& what, const FileRead& r) {
-  throw Error("cannot read " + what + " " + quoted(path) + ": " + r.why);
+  const std::string message = "cannot read " + what + " " + quoted(path) + ": " + r.why;
+  if (r.failure == FileRead::Failure::missing) throw NotFoundError(message);
+  throw Error(message);
 }
 
 }  // namespace

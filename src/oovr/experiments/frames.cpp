@@ -21,8 +21,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-uint64_t memory_budget(const WindowRequest& r) {
-  if (r.memory_budget) return r.memory_budget;
+uint64_t memory_budget(const WindowRequest& r) { return r.memory_budget ? r.memory_budget : trace_memory_budget(); }
+
+}  // namespace
+
+uint64_t trace_memory_budget() {
   const char* env = std::getenv("OOVR_TRACE_MEMORY_MB");
   if (!env || !*env) return uint64_t(4096) << 20;
   const auto mb = parse_whole_number(env, 1, 999999999);
@@ -30,6 +33,8 @@ uint64_t memory_budget(const WindowRequest& r) {
     throw Error(std::string("OOVR_TRACE_MEMORY_MB must be a whole number of megabytes from 1 to 999999999, not '") + env + "'");
   return *mb << 20;
 }
+
+namespace {
 
 // A window's traces on disk, one file each, read back on demand; the folder
 // is removed with the last holder of the sequence.
@@ -91,13 +96,13 @@ fs::path stream_folder(const TraceCache& cache, uint64_t bytes, int count) {
 
 }  // namespace
 
-int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what) {
+int measured_window(const std::vector<SchemeRef>& schemes, const Config& config, int frames, const std::string& what) {
   for (const auto& s : schemes) check_scheme_config(s, config);  // before any trace is rendered
   if (frames > 0) {
     for (const auto& s : schemes) {
       const int m = scheme_frames_needed(s, config);
       if (frames % m != 0)
-        throw Error(what + " " + std::to_string(frames) + ": " + s + " renders " + std::to_string(m) +
+        throw Error(what + " " + std::to_string(frames) + ": " + s.name + " renders " + std::to_string(m) +
                     " frames at once (one per GPM), so " + what + " must be a multiple of " + std::to_string(m));
     }
     return frames;
@@ -107,19 +112,32 @@ int measured_window(const std::vector<std::string>& schemes, const Config& confi
   return w;
 }
 
-FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config, const WindowRequest& r) {
-  FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
+int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what) {
+  std::vector<SchemeRef> refs;
+  for (const auto& s : schemes) refs.push_back(find_scheme(s));
+  return measured_window(refs, config, frames, what);
+}
+
+PipelineSettings trace_settings(const Config& config, int aniso) {
   Config probe = config;  // reading the line size must not mark keys used in the caller's config
   PipelineSettings p = PipelineSettings::from_config(probe);
-  p.max_anisotropy = r.aniso;
+  p.max_anisotropy = aniso;
   p.line_bytes = uint32_t(MemorySpec::from_config(probe).line.value);
   p.validate();
-  const int path = int(f.scene.camera.frames.size());
+  return p;
+}
+
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const Config& config, const WindowRequest& r) {
+  if (!scene) throw Error("load_window: no scene");
+  FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
+  const PipelineSettings p = trace_settings(config, r.aniso);
+  const Scene& sc = *f.scene;
+  const int path = int(sc.camera.frames.size());
   if (r.first < 0 || r.first >= path)
     throw Error("frame " + std::to_string(r.first) + " is out of range: the camera path has " + std::to_string(path) + " frames");
   const uint64_t budget = memory_budget(r);
   const TraceCache cache;
-  const uint64_t fingerprint = r.use_cache ? scene_fingerprint(f.scene) : 0;
+  const uint64_t fingerprint = r.use_cache ? scene_fingerprint(sc) : 0;
   std::vector<std::string> rejected;  // entries that did not verify
   std::unique_ptr<StreamedFrames> stream;
   uint64_t held = 0;  // bytes of traces in memory
@@ -128,11 +146,11 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
     const int frame = (r.first + k) % path;
     FrameOutput out;
     try {
-      const StereoView view = make_stereo_view(f.scene.camera, frame, f.rig);
+      const StereoView view = make_stereo_view(sc.camera, frame, f.rig);
       const std::string key = cache.key(fingerprint, frame, view, p);
       bool hit = false;
       if (r.use_cache && !(k == 0 && r.need_first_image)) {
-        TraceLookup found = cache.load(key, f.scene, frame, view, p);
+        TraceLookup found = cache.load(key, sc, frame, view, p);
         if (!found.rejected.empty()) rejected.push_back(std::move(found.rejected));
         if (found.trace) {
           out.trace = std::move(*found.trace);
@@ -141,7 +159,7 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
         }
       }
       if (!hit) {
-        out = render_frame(f.scene, view, p, frame);
+        out = render_frame(sc, view, p, frame);
         if (r.use_cache) cache.store(key, out.trace);
         // Only the first frame's picture is ever used (GPM and traffic
         // images); the others' would be 8 bytes a pixel held for nothing.
@@ -151,7 +169,7 @@ FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config,
         }
       }
     } catch (const std::bad_alloc&) {
-      throw Error(out_of_memory_message("rendering frame " + std::to_string(frame) + " of " + f.scene.name + " at " +
+      throw Error(out_of_memory_message("rendering frame " + std::to_string(frame) + " of " + sc.name + " at " +
                                         std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) + ", with " +
                                         std::to_string(held >> 20) + " MB of traces held"));
     }

@@ -22,7 +22,7 @@
 namespace oovr {
 
 struct FrameWindow {
-  Scene scene;
+  std::shared_ptr<const Scene> scene;  // shared, not copied: a window is cheap to make from a loaded scene
   StereoRig rig;
   // In memory: every frame's output (image and object ids only for the
   // first frame, and only where rendered), and `traces` points at them. Streamed: only the first
@@ -55,12 +55,22 @@ struct WindowRequest {
 // scheme, with `what` naming the setting: "--frames", "frames"); without
 // it, one per GPM, so that AFR's frames in flight and every other scheme
 // see the same frames. Checks each scheme's configuration first.
+int measured_window(const std::vector<SchemeRef>& schemes, const Config& config, int frames, const std::string& what);
 int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what);
 
-// Loads the traces for `scene` (already loaded) with the memory system's
-// line size from `config`. Throws Error when `first` is off the path, when
-// a streamed window does not fit on the disk, or when memory runs out
-// (naming the frame).
-FrameWindow load_window(Scene scene, const StereoRig& rig, const Config& config, const WindowRequest& r);
+// Bytes of traces held in memory: $OOVR_TRACE_MEMORY_MB megabytes (default
+// 4096). Throws Error when the variable is not a whole number.
+uint64_t trace_memory_budget();
+
+// What the pipeline is told when it renders the traces a simulation with
+// `config` replays: the texture storage format it names, the memory
+// system's line size, and `aniso` taps. Reads a copy of `config`, so the
+// caller's keys are not marked used. Throws Error on a bad value.
+PipelineSettings trace_settings(const Config& config, int aniso);
+
+// Loads the traces for `scene` (already loaded) with trace_settings(config).
+// Throws Error when `first` is off the path, when a streamed window does
+// not fit on the disk, or when memory runs out (naming the frame).
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const Config& config, const WindowRequest& r);
 
 }  // namespace oovr

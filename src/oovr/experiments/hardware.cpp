@@ -153,17 +153,17 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
     p.gpu_us.push_back(f.full_us);
   }
   if (c.points.size() < 2) throw Error("hardware data needs at least two (scene, resolution) points to correlate");
-  std::map<std::string, Scene> scenes;
+  std::map<std::string, std::shared_ptr<const Scene>> scenes;
   for (const auto& f : data.frames)
     if (!scenes.count(f.scene)) {
-      Scene s = load_scene(f.scene);
-      if (s.objects.size() != f.draws)
+      auto s = std::make_shared<const Scene>(load_scene(f.scene));
+      if (s->objects.size() != f.draws)
         c.notes.push_back(f.scene + ": the data were measured with " + std::to_string(f.draws) + " draws, oovr's scene has " +
-                          std::to_string(s.objects.size()));
+                          std::to_string(s->objects.size()));
       scenes.emplace(f.scene, std::move(s));
     }
   for (auto& p : c.points) {
-    const Scene& scene = scenes.at(p.scene);
+    const std::shared_ptr<const Scene>& scene = scenes.at(p.scene);
     const StereoRig rig = parse_frame_resolution(p.resolution);
     p.oovr_us.assign(p.frames.size(), 0);
     // Frames are independent runs: in parallel, each into its own slot.
@@ -175,7 +175,7 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
       w.aniso = o.aniso;
       w.use_cache = o.use_cache;
       const FrameWindow f = load_window(scene, rig, o.config, w);
-      p.oovr_us[i] = run_scheme_window(o.scheme, f.scene, *f.frames, o.config, 1).frame_latency_s * 1e6;
+      p.oovr_us[i] = run_scheme_window(o.scheme, *f.scene, *f.frames, o.config, 1).frame_latency_s * 1e6;
       frame_notes[i] = f.notes;
     });
     for (const auto& n : frame_notes)

@@ -201,12 +201,13 @@ PaperResults run_paper(PaperOptions& o) {
   // Each scene's statistics at the sweep resolution, from its first frame
   // (the trace cache has it).
   for (const auto& name : res.scenes) {
-    const Scene scene = load_scene(name);
+    const auto loaded = std::make_shared<const Scene>(load_scene(name));
+    const Scene& scene = *loaded;
     WindowRequest w;
     w.first = o.first_frame;
     w.count = 1;
     w.aniso = o.aniso;
-    const FrameWindow window = load_window(scene, parse_frame_resolution(o.sweep_resolution), o.config, w);
+    const FrameWindow window = load_window(loaded, parse_frame_resolution(o.sweep_resolution), o.config, w);
     PaperSceneStats st;
     st.draws = scene.objects.size();
     for (const auto& ob : scene.objects) st.triangles += scene.meshes[size_t(ob.mesh)].indices.size() / 3;

@@ -304,6 +304,63 @@ Sweep parse_sweep(const std::string& text, const std::string& name, const std::s
   return s;
 }
 
+namespace {
+
+// JSON values as TOML, written into their parent (a table under `key`, or
+// an array); `where` names the value for errors.
+template <class Put>
+void toml_of(const nlohmann::json& j, const std::string& where, int depth, Put put);
+
+void fill_table(toml::table& t, const nlohmann::json& j, const std::string& where, int depth) {
+  for (const auto& [k, v] : j.items())
+    toml_of(v, where + "." + k, depth + 1, [&](auto&& x) { t.insert_or_assign(k, std::forward<decltype(x)>(x)); });
+}
+
+void fill_array(toml::array& a, const nlohmann::json& j, const std::string& where, int depth) {
+  for (size_t i = 0; i < j.size(); ++i)
+    toml_of(j[i], where + "[" + std::to_string(i) + "]", depth + 1, [&](auto&& x) { a.push_back(std::forward<decltype(x)>(x)); });
+}
+
+template <class Put>
+void toml_of(const nlohmann::json& j, const std::string& where, int depth, Put put) {
+  if (depth > 64) throw Error("sweep definition: " + where + " nests too deep");
+  switch (j.type()) {
+    case nlohmann::json::value_t::object: {
+      toml::table t;
+      fill_table(t, j, where, depth);
+      put(std::move(t));
+      return;
+    }
+    case nlohmann::json::value_t::array: {
+      toml::array a;
+      fill_array(a, j, where, depth);
+      put(std::move(a));
+      return;
+    }
+    case nlohmann::json::value_t::string: put(j.get<std::string>()); return;
+    case nlohmann::json::value_t::boolean: put(j.get<bool>()); return;
+    case nlohmann::json::value_t::number_unsigned:
+      if (j.get<uint64_t>() > uint64_t(INT64_MAX)) throw Error("sweep definition: " + where + " is too large");
+      put(j.get<int64_t>());
+      return;
+    case nlohmann::json::value_t::number_integer: put(j.get<int64_t>()); return;
+    case nlohmann::json::value_t::number_float: put(j.get<double>()); return;
+    default: throw Error("sweep definition: " + where + " is " + std::string(j.type_name()) + ", which a sweep file cannot hold");
+  }
+}
+
+}  // namespace
+
+std::string sweep_toml(const nlohmann::json& definition) {
+  if (!definition.is_object())
+    throw Error("a sweep definition is a table of keys (a dict), not " + std::string(definition.type_name()));
+  toml::table t;
+  fill_table(t, definition, "sweep", 0);
+  std::ostringstream out;
+  out << t << "\n";
+  return out.str();
+}
+
 Sweep read_sweep(const std::string& path) {
   const std::string text = read_input_file(path, "sweep", uint64_t(1) << 20);
   return parse_sweep(text, path, fs::path(path).parent_path().string());
@@ -332,6 +389,10 @@ void resolve(SweepPoint& p, const Config& machine) {
     p.canonical = j.dump();
     p.id = stable_id(p.canonical);
     p.config = std::move(c);
+  } catch (const UnknownKeyError& e) {  // the kind kept, for the Python module's KeyError
+    throw UnknownKeyError("point (" + describe(p) + "): " + e.what());
+  } catch (const NotFoundError& e) {
+    throw NotFoundError("point (" + describe(p) + "): " + e.what());
   } catch (const Error& e) {
     throw Error("point (" + describe(p) + "): " + e.what());
   }

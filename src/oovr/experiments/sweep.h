@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "oovr/core/config.h"
 
 namespace oovr {
@@ -53,6 +55,11 @@ struct Sweep {
 // a point that names no scene, two points with the same id).
 Sweep read_sweep(const std::string& path);
 Sweep parse_sweep(const std::string& text, const std::string& name, const std::string& base_dir);
+
+// A sweep definition given as data (the Python module's dicts, as JSON) as
+// the TOML text of a sweep file with the same keys, for parse_sweep. Throws
+// Error naming a value TOML cannot hold (null) or nesting too deep.
+std::string sweep_toml(const nlohmann::json& definition);
 
 // Resolves a point against `machine` (the preset with its keys): applies
 // its settings, checks every key and the scheme, fixes the frame window and

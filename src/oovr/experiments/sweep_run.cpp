@@ -123,8 +123,8 @@ void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRun
     if (!groups.count(g)) order.push_back(g);
     groups[g].push_back(i);
   }
-  std::optional<Scene> scene;  // the last scene loaded, kept for the next group
-  std::string loaded;          // what it was loaded as
+  std::shared_ptr<const Scene> scene;  // the last scene loaded, kept for the next group
+  std::string loaded;                  // what it was loaded as
   for (const std::string& g : order) {
     const std::vector<size_t>& points = groups[g];
     const SweepPoint& first = s.points[points.front()];
@@ -136,7 +136,7 @@ void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRun
         status("loading " + first.scene);
         scene.reset();
         loaded.clear();
-        scene = load_scene(first.scene);
+        scene = std::make_shared<const Scene>(load_scene(first.scene));
         loaded = first.scene;
       }
       status("traces of " + first.scene + " at " + first.resolution);
@@ -146,7 +146,7 @@ void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRun
       req.aniso = first.aniso;
       req.use_cache = o.use_cache;
       req.need_first_image = s.images;
-      frames = load_window(*scene, parse_frame_resolution(first.resolution), first.config, req);
+      frames = load_window(scene, parse_frame_resolution(first.resolution), first.config, req);
     } catch (const Error& e) {
       for (size_t i : points) emit(failed_record(s, i, e.what(), o.command));
       continue;
@@ -162,7 +162,7 @@ void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRun
       RunRecord r = record_of(s, i, o.command);
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        const SchemeResult result = run_scheme_window(p.scheme, frames->scene, *frames->frames, p.config, p.window);
+        const SchemeResult result = run_scheme_window(p.scheme, *frames->scene, *frames->frames, p.config, p.window);
         r.status = "done";
         r.result = to_json(result);
         r.metrics = metrics_of(result);
@@ -179,6 +179,44 @@ void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRun
       emit(r);
     });
   }
+}
+
+SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed) {
+  SweepPlan plan;
+  const auto status = db.run_status();
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    const auto it = status.find(s.points[i].id);
+    if (it == status.end()) plan.todo.push_back(i);
+    else if (retry_failed && it->second == "failed") {
+      plan.todo.push_back(i);
+      ++plan.retried;
+    } else ++plan.held;
+  }
+  if ((plan.held || plan.retried) && !resume && !retry_failed)
+    throw Error("the database " + db.path() + " holds " + std::to_string(plan.held) + " of this sweep's " +
+                std::to_string(s.points.size()) + " points already: give --resume to run the other " +
+                std::to_string(plan.todo.size()) + ", or another --db");
+  // Runs kept from another build: say so rather than mix builds silently.
+  if (plan.held) {
+    const auto commits = db.run_commits();
+    std::map<std::string, size_t> other;
+    for (const auto& p : s.points) {
+      const auto it = commits.find(p.id);
+      if (it != commits.end() && it->second != git_commit() && status.at(p.id) == "done") ++other[it->second];
+    }
+    for (const auto& [commit, n] : other)
+      plan.notes.push_back(std::to_string(n) + " of the runs kept were made by oovr " + commit + ", not by this one (" +
+                           git_commit() + "); start a new database to have every run from one build");
+  }
+  return plan;
+}
+
+void begin_sweep(const Sweep& s, const SweepPlan& plan, ResultsDb& db, const std::string& command) {
+  db.add_sweep(sweep_record(s, command));
+  if (!plan.retried) return;
+  const auto status = db.run_status();
+  for (size_t i : plan.todo)
+    if (status.count(s.points[i].id)) db.remove(s.points[i].id);  // a failed run, retried
 }
 
 }  // namespace oovr

@@ -30,6 +30,24 @@ struct SweepRunOptions {
 // Runs s.points[i] for every i in `which` (resolved: resolve_all).
 void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o);
 
+// What running a sweep into a database that may hold some of its points
+// does: the points to run, and what it keeps.
+struct SweepPlan {
+  std::vector<size_t> todo;  // points to run, in file order
+  size_t held = 0;           // points the database holds and keeps
+  size_t retried = 0;        // failed points among `todo`, run again
+  // Runs kept that another build of oovr made (a point's id is its
+  // configuration, not the model that ran it): one line per build.
+  std::vector<std::string> notes;
+};
+// Decides what to run. Without `resume` or `retry_failed`, a database that
+// holds some of the points is an Error (naming the database and what to
+// do), never run into again. `retry_failed` runs the failed points again.
+SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed);
+// Records the sweep in the database and removes the failed runs the plan
+// retries, before any point runs.
+void begin_sweep(const Sweep& s, const SweepPlan& plan, ResultsDb& db, const std::string& command);
+
 // The sweeps table's row for `s`, run by `command`.
 SweepRecord sweep_record(const Sweep& s, const std::string& command);
 

@@ -31,4 +31,34 @@ SceneInfo scene_info(const Scene& s) {
   return i;
 }
 
+nlohmann::ordered_json scene_info_json(const SceneInfo& i, const std::vector<std::string>& notes) {
+  nlohmann::ordered_json j;
+  j["scene"] = i.name;
+  j["draws"] = i.draws;
+  j["triangles"] = i.triangles;
+  j["vertices"] = i.vertices;
+  j["meshes"] = i.meshes;
+  j["materials"] = i.materials;
+  j["textures"] = i.textures;
+  j["texture_bytes"] = i.texture_bytes;
+  j["camera_frames"] = i.camera_frames;
+  j["texture_layers"] = i.texture_layers;
+  j["lit_draws"] = i.lit_draws;
+  j["max_objects_sharing_a_texture"] = i.max_sharing;
+  nlohmann::ordered_json hist = nlohmann::ordered_json::object();
+  for (const auto& [objects, textures] : i.sharing_histogram) hist[std::to_string(objects)] = textures;
+  j["sharing_histogram"] = hist;
+  nlohmann::ordered_json tex = nlohmann::ordered_json::array();
+  for (const auto& t : i.texture_use)
+    tex.push_back({{"name", t.name},
+                   {"width", t.width},
+                   {"height", t.height},
+                   {"levels", t.levels},
+                   {"bytes", t.bytes},
+                   {"objects", t.objects}});
+  j["texture_list"] = tex;
+  j["notes"] = notes;
+  return j;
+}
+
 }  // namespace oovr

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "oovr/scene/scene.h"
 
 namespace oovr {
@@ -31,5 +33,8 @@ struct SceneInfo {
 };
 
 SceneInfo scene_info(const Scene& s);
+
+// `oovr scene-info --json`: the figures above with the loader's notes.
+nlohmann::ordered_json scene_info_json(const SceneInfo& i, const std::vector<std::string>& notes);
 
 }  // namespace oovr

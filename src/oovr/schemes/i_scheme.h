@@ -118,17 +118,32 @@ struct SchemeFactory {
 };
 using Schemes = Registry<SchemeFactory>;
 
-// Runs a scheme by name on `frames` (rendered with the memory system's
-// line size), continuing from `carried` when given. Throws Error for an
-// unknown scheme.
+// A scheme to run and the name its results carry: a registered one
+// (find_scheme), or one made outside the registry (a scheme written in
+// Python, python/). Every function below taking a name looks it up and
+// runs the SchemeRef.
+struct SchemeRef {
+  std::string name;
+  std::shared_ptr<const Scheme> impl;
+};
+// The registered scheme `name`. Throws Error naming the registered ones
+// when there is none.
+SchemeRef find_scheme(const std::string& name);
+
+// Runs a scheme on `frames` (rendered with the memory system's line size),
+// continuing from `carried` when given. Throws Error for an unknown scheme.
+SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const Config& config, std::shared_ptr<CarriedState> carried = nullptr);
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                         const Config& config, std::shared_ptr<CarriedState> carried = nullptr);
-// Frames of trace `name` needs with this configuration (1 for unknown names:
-// run_scheme reports those).
+// Frames of trace the scheme needs with this configuration (1 for unknown
+// names: run_scheme reports those).
+int scheme_frames_needed(const SchemeRef& scheme, const Config& config);
 int scheme_frames_needed(const std::string& name, const Config& config);
-// Throws the Error a run of `name` on this configuration would, before any
-// trace is rendered: an unknown scheme, a bad key or value, a placement
+// Throws the Error a run of the scheme on this configuration would, before
+// any trace is rendered: an unknown scheme, a bad key or value, a placement
 // policy schemes cannot use.
+void check_scheme_config(const SchemeRef& scheme, const Config& config);
 void check_scheme_config(const std::string& name, const Config& config);
 
 // Consecutive frames' traces handed out one at a time, so that a long
@@ -167,6 +182,8 @@ class FramesInMemory final : public FrameSequence {
 // (frames[0]). `runs`, when given, receives every run's own result. Throws
 // Error when `window` is not a multiple of m or frames are missing.
 // Only the frames of the group being run are held at a time.
+SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const Config& config,
+                               int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames, const Config& config,
                                int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,

@@ -1,4 +1,4 @@
-// Running a scheme by name, on one frame or over a window of frames in
+// Running a scheme (by name or as a SchemeRef), on one frame or over a window of frames in
 // sequence (i_scheme.h).
 #include <algorithm>
 #include <map>
@@ -10,42 +10,51 @@
 
 namespace oovr {
 
-int scheme_frames_needed(const std::string& name, const Config& config) {
-  const SchemeFactory* f = Schemes::find(name);
-  if (!f) return 1;
-  Config c = config;
-  const auto scheme = f->make();
-  scheme->configure(c);
-  return scheme->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms)));
-}
-
-void check_scheme_config(const std::string& name, const Config& config) {
-  const SchemeFactory* f = Schemes::find(name);
-  if (!f) (void)run_scheme(name, Scene{}, {}, config);  // throws the unknown-scheme error
-  Config c = config;
-  f->make()->configure(c);
-  FrameSim::check(c);
-}
-
-SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
-                        const Config& config, std::shared_ptr<CarriedState> carried) {
+SchemeRef find_scheme(const std::string& name) {
   const SchemeFactory* f = Schemes::find(name);
   if (!f) {
     std::string names;
     for (const auto& n : Schemes::names()) names += (names.empty() ? "" : ", ") + n;
     throw Error("unknown scheme '" + name + "' (schemes: " + names + ")");
   }
-  const auto scheme = f->make();
+  return {name, f->make()};
+}
+
+int scheme_frames_needed(const SchemeRef& scheme, const Config& config) {
+  Config c = config;
+  scheme.impl->configure(c);
+  return scheme.impl->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms)));
+}
+
+int scheme_frames_needed(const std::string& name, const Config& config) {
+  return Schemes::find(name) ? scheme_frames_needed(find_scheme(name), config) : 1;
+}
+
+void check_scheme_config(const SchemeRef& scheme, const Config& config) {
+  Config c = config;
+  scheme.impl->configure(c);
+  FrameSim::check(c);
+}
+
+void check_scheme_config(const std::string& name, const Config& config) { check_scheme_config(find_scheme(name), config); }
+
+SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const Config& config, std::shared_ptr<CarriedState> carried) {
   SchemeInput in;
   in.scene = &scene;
   in.frames = frames;
   in.config = config;
   in.carried = std::move(carried);
   // The scheme's own overrides name it as their source in the results.
-  in.config.set_source("scheme " + name);
-  scheme->configure(in.config);
+  in.config.set_source("scheme " + scheme.name);
+  scheme.impl->configure(in.config);
   in.config.set_source("--set");
-  return scheme->run(in);
+  return scheme.impl->run(in);
+}
+
+SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const Config& config, std::shared_ptr<CarriedState> carried) {
+  return run_scheme(find_scheme(name), scene, frames, config, std::move(carried));
 }
 
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
@@ -55,7 +64,13 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
 
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames, const Config& config,
                                int window, std::vector<SchemeResult>* runs) {
-  const int m = scheme_frames_needed(name, config);
+  return run_scheme_window(find_scheme(name), scene, frames, config, window, runs);
+}
+
+SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const Config& config,
+                               int window, std::vector<SchemeResult>* runs) {
+  const std::string& name = scheme.name;
+  const int m = scheme_frames_needed(scheme, config);
   if (window < 1 || window % m != 0)
     throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
                 std::to_string(window) + ") must be a multiple of " + std::to_string(m));
@@ -73,7 +88,7 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
       held.push_back(frames.at(i * size_t(m) + k));
       group.push_back(held.back().get());
     }
-    return run_scheme(name, scene, group, config, carried);
+    return run_scheme(scheme, scene, group, config, carried);
   };
   const auto carried = std::make_shared<CarriedState>();
   std::vector<SchemeResult> all;

@@ -35,16 +35,21 @@ Mat4 to_mat4(const aiMatrix4x4& a) {
   return m;
 }
 
+// The model files oovr reads, by extension.
+bool is_model_path(const std::string& path) {
+  static const char* kSupported[] = {".obj", ".gltf", ".glb", ".ply", ".ac", ".acc", ".ac3d"};
+  const std::string ext = lower_extension(path);
+  return std::find(std::begin(kSupported), std::end(kSupported), ext) != std::end(kSupported);
+}
+
 class AssimpLoader {
  public:
   explicit AssimpLoader(const std::string& path) : m_path(path), m_dir(fs::path(path).parent_path()) {}
 
   Scene load() {
-    const std::string ext = lower_extension(m_path);
-    static const char* kSupported[] = {".obj", ".gltf", ".glb", ".ply", ".ac", ".acc", ".ac3d"};
-    if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
+    if (!is_model_path(m_path))
       throw Error("cannot load '" + m_path + "': unsupported file type (supported: .obj .gltf .glb .ply .ac .acc .ac3d)");
-    if (!fs::exists(m_path)) throw Error("cannot load '" + m_path + "': no such file");
+    if (!fs::exists(m_path)) throw NotFoundError("cannot load '" + m_path + "': no such file");
     precheck_model_file(m_path);  // what assimp would trust: declared counts and lengths
     Assimp::Importer importer;
     // Points and lines are removed; only triangles are drawn.
@@ -217,11 +222,13 @@ class AssimpLoader {
 };
 
 // Model files are asked after the built-in scenes: any name that is an
-// existing file (a path may contain ':', so this runs when no prefix claimed it).
+// existing file (a path may contain ':', so this runs when no prefix claimed
+// it), or that names a model file by its extension, so that a missing one
+// is "no such file", not an unknown scene.
 const SceneSources::Add reg("file", {"model file", "a model file path (OBJ, glTF, PLY, AC3D)", false, 10, nullptr,
                                      [](const std::string& name) {
                                        std::error_code ec;
-                                       return fs::exists(name, ec);
+                                       return fs::exists(name, ec) || is_model_path(name);
                                      },
                                      [](const std::string&, const std::string& path, const SceneOptions&) {
                                        return AssimpLoader(path).load();

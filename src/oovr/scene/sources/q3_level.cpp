@@ -92,8 +92,8 @@ class MapBuilder {
     const std::string path = "maps/" + m_map + ".bsp";
     const auto bytes = m_fs.read(path);
     if (!bytes)
-      throw Error("no map '" + m_map + "' in " + m_game.directory + " (" + std::to_string(list_q3_maps(m_game).size()) +
-                  " maps there; 'oovr scenes' lists them)");
+      throw NotFoundError("no map '" + m_map + "' in " + m_game.directory + " (" + std::to_string(list_q3_maps(m_game).size()) +
+                          " maps there; 'oovr scenes' lists them)");
     const BspMap bsp = parse_bsp(bytes->data(), bytes->size(), path + " in " + m_fs.archive_of(path));
     for (const std::string& script : m_fs.list("scripts/", ".shader")) {
       const auto text = m_fs.read(script);

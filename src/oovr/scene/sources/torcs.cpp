@@ -258,8 +258,8 @@ Scene load_torcs_track(const std::string& name) {
   const auto tracks = list_torcs_tracks();
   const auto it = std::find_if(tracks.begin(), tracks.end(), [&](const TorcsTrack& t) { return t.name == name; });
   if (it == tracks.end())
-    throw Error("no TORCS track '" + name + "' under " + torcs_directory() + "/tracks (" + std::to_string(tracks.size()) +
-                " installed; 'oovr scenes' lists them)");
+    throw NotFoundError("no TORCS track '" + name + "' under " + torcs_directory() + "/tracks (" + std::to_string(tracks.size()) +
+                        " installed; 'oovr scenes' lists them)");
   const fs::path dir = it->directory;
   std::error_code ec;
   fs::path model = dir / (name + ".acc");

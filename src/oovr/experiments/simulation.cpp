@@ -1,0 +1,49 @@
+#include "oovr/experiments/simulation.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "oovr/core/parallel.h"
+#include "oovr/scene/load.h"
+
+namespace oovr {
+
+Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRef>& schemes, const Config& config,
+                          TraceSession* session) {
+  if (schemes.empty()) throw Error("no scheme to simulate");
+  Simulation s;
+  s.frame = r.frame;
+  s.frames = measured_window(schemes, config, r.frames, r.frames_option);
+  WindowRequest w;
+  w.first = r.frame;
+  w.count = s.frames;
+  w.aniso = r.aniso;
+  w.use_cache = r.use_cache;
+  w.need_first_image = r.need_first_image;
+  const auto t0 = std::chrono::steady_clock::now();
+  s.window = session ? session->window(r.scene, r.rig, config, w)
+                     : std::make_shared<const FrameWindow>(
+                           load_window(std::make_shared<const Scene>(load_scene(r.scene)), r.rig, config, w));
+  const auto t1 = std::chrono::steady_clock::now();
+  // Schemes are independent runs: in parallel, each into its own slot.
+  s.results.resize(schemes.size());
+  parallel_for(schemes.size(), r.jobs, [&](size_t i) {
+    s.results[i] = run_scheme_window(schemes[i], *s.window->scene, *s.window->frames, config, s.frames);
+  });
+  const auto t2 = std::chrono::steady_clock::now();
+  s.trace_s = std::chrono::duration<double>(t1 - t0).count();
+  s.simulation_s = std::chrono::duration<double>(t2 - t1).count();
+  return s;
+}
+
+std::vector<std::string> default_compare_schemes() {
+  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "baseline-paged", "afr",        "sfr-v", "sfr-h",
+                                      "object",   "oo-app",       "oo-vr",          "single-gpm", "ideal", "two-pass"};
+  ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
+                ordered.end());
+  for (const auto& n : Schemes::names())
+    if (std::find(ordered.begin(), ordered.end(), n) == ordered.end()) ordered.push_back(n);
+  return ordered;
+}
+
+}  // namespace oovr

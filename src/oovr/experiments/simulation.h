@@ -1,0 +1,51 @@
+// One simulation as `oovr simulate` and `oovr compare` run it, and as the
+// Python module's simulate() and compare() run it: the traces of a window
+// of frames (rendered once, or from the trace cache, or held by a session),
+// replayed through each scheme, the schemes in parallel. The CLI prints
+// what this returns (result_text.h); the Python module hands it over.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "oovr/core/config.h"
+#include "oovr/experiments/frames.h"
+#include "oovr/experiments/session.h"
+#include "oovr/schemes/i_scheme.h"
+
+namespace oovr {
+
+struct SimulationRequest {
+  std::string scene;  // as load_scene takes it
+  StereoRig rig;      // 1280x1024 stereo unless set
+  int frame = 0;      // first frame of the camera path
+  int frames = 0;     // frames measured; 0: one per GPM (measured_window)
+  int aniso = 16;
+  bool use_cache = true;                   // the on-disk trace cache
+  bool need_first_image = false;           // the first frame's picture, for GPM and traffic images
+  unsigned jobs = 0;                       // schemes run at once (0: every core)
+  std::string frames_option = "--frames";  // how messages name `frames`
+};
+
+struct Simulation {
+  std::shared_ptr<const FrameWindow> window;
+  int frame = 0;                      // first frame measured
+  int frames = 0;                     // frames measured
+  std::vector<SchemeResult> results;  // in the order the schemes were given
+  double trace_s = 0;                 // getting the traces
+  double simulation_s = 0;            // replaying them
+};
+
+// Checks every scheme against `config` (before any trace is rendered), gets
+// the window's traces (through `session` when given, else loaded for this
+// call) and runs each scheme over them. Throws Error naming what is wrong.
+Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRef>& schemes, const Config& config,
+                          TraceSession* session = nullptr);
+
+// What `oovr compare` runs without --schemes: the paper's schemes in the
+// paper's order (Sections 3 and 4), then the bounds, then any other
+// registered scheme by name.
+std::vector<std::string> default_compare_schemes();
+
+}  // namespace oovr
