@@ -92,6 +92,8 @@ TEST(Config, UnknownKeysAreErrorsNamingThem) {
   EXPECT_NE(m.find("link.bandwdith"), std::string::npos) << m;
   EXPECT_NE(m.find("t.toml:3"), std::string::npos) << m;
   EXPECT_NE(m.find("cache.l3.size"), std::string::npos) << m;
+  EXPECT_THROW(c.check_all_used(), UnknownKeyError) << "its own kind: the Python module's KeyError";
+  EXPECT_THROW(Config::from_toml_file("/no/such/preset.toml"), NotFoundError);
 }
 
 TEST(Config, IllTypedValuesAreErrorsNamingTheKey) {

@@ -5,6 +5,7 @@
 #include "oovr/scene/builtin.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
+#include "test_util.h"
 
 namespace oovr {
 namespace {
@@ -82,6 +83,10 @@ TEST(Scenes, UnknownSceneIsAnError) {
     EXPECT_NE(std::string(e.what()).find("unknown scene 'no-such-scene'"), std::string::npos);
   }
   EXPECT_THROW(load_scene(""), Error);
+  // A model file's path that is not there is a missing file, not an unknown scene.
+  const std::string m = test::message_of([] { (void)load_scene("/no/such/model.obj"); });
+  EXPECT_NE(m.find("cannot load '/no/such/model.obj': no such file"), std::string::npos) << m;
+  EXPECT_THROW(load_scene("/no/such/model.obj"), NotFoundError);
 }
 
 }  // namespace

@@ -160,6 +160,47 @@ RunRecord sample_record(const std::string& id, double value) {
   return r;
 }
 
+// A sweep given as data (the Python module's dicts) reads as the file with
+// the same keys: the same points, ids and columns; what TOML cannot hold is
+// refused naming it; an unknown key keeps its kind (KeyError in Python).
+TEST(Sweep, ADefinitionGivenAsDataIsTheFileWithItsKeys) {
+  const auto j = nlohmann::json::parse(R"({"name": "d", "scenes": ["crowd"], "schemes": ["baseline", "afr"],
+    "resolutions": ["160x128"], "frames": 4, "images": true, "set": {"gpm.draw_cycles": 0.5},
+    "sweep": {"link.bandwidth": ["32GBps", "1TBps"], "gpms": [2, 4]},
+    "point": [{"scheme": "object", "sweep": {}}]})");
+  Sweep a = parse_sweep(sweep_toml(j), "d", "");
+  Sweep b = parse(R"(
+name = "d"
+scenes = ["crowd"]
+schemes = ["baseline", "afr"]
+resolutions = ["160x128"]
+frames = 4
+images = true
+[set]
+"gpm.draw_cycles" = 0.5
+[sweep]
+"link.bandwidth" = ["32GBps", "1TBps"]
+gpms = [2, 4]
+[[point]]
+scheme = "object"
+sweep = {}
+)");
+  resolve_all(a);
+  resolve_all(b);
+  ASSERT_EQ(a.points.size(), 9u);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i].id, b.points[i].id) << i;
+  EXPECT_EQ(a.swept_keys, b.swept_keys);
+  EXPECT_TRUE(a.images);
+  EXPECT_NE(message_of([&] { (void)sweep_toml(nlohmann::json::parse(R"({"frames": null})")); }).find("sweep.frames is null"),
+            std::string::npos);
+  EXPECT_THROW(sweep_toml(nlohmann::json::parse("[1, 2]")), Error);
+  Sweep unknown = parse_sweep(sweep_toml(nlohmann::json::parse(R"({"scenes": ["crowd"], "schemes": ["baseline"],
+    "set": {"no.such.key": 1}})")),
+                              "u", "");
+  EXPECT_THROW(resolve_all(unknown), UnknownKeyError);
+}
+
 TEST(ResultsDb, RunsRoundTripAndAreStoredOnce) {
   test::TempDir dir;
   const std::string path = dir.file("r.db");
