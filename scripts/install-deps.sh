@@ -28,6 +28,9 @@ packages=(
   libsqlite3-dev sqlite3
   # oovr report's plots
   python3-matplotlib python3-numpy
+  # the Python module (docs/python.md): pybind11 and Python's headers to
+  # build it, pandas for DataFrames, pytest for its tests
+  pybind11-dev python3-pybind11 python3-dev python3-pandas python3-pytest
   # libzip's CMake files need its tools installed too
   libzip-dev zipcmp zipmerge ziptool
   # tests and benchmarks

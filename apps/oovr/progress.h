@@ -46,14 +46,8 @@ class Progress {
       draw();
       return;
     }
-    std::string swept;
-    for (const auto& [k, v] : r.swept) {
-      // As readable as the configuration prints it ("32 GB/s").
-      const auto c = r.config.find(k);
-      swept += " " + k + "=" + (c != r.config.end() && c->contains("value") ? (*c)["value"].get<std::string>() : v.dump());
-    }
     fmt::print(stderr, "  [{}/{}] {} {} {} {}{} ({:.1f} s){}; {}\n", m_done + m_failed, m_total, r.status, r.scene, r.scheme,
-               r.resolution, swept, r.wall_s, r.error.empty() ? "" : ": " + r.error, left());
+               r.resolution, swept_text(r), r.wall_s, r.error.empty() ? "" : ": " + r.error, left());
     std::fflush(stderr);
   }
   void finish() {

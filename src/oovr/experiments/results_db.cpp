@@ -473,4 +473,14 @@ RunRecord run_record_from_json(const nlohmann::ordered_json& j) {
   }
 }
 
+std::string swept_text(const RunRecord& r) {
+  std::string out;
+  for (const auto& [k, v] : r.swept) {
+    // As readable as the configuration prints it ("32 GB/s"), else as stored.
+    const auto c = r.config.find(k);
+    out += " " + k + "=" + (c != r.config.end() && c->contains("value") ? (*c)["value"].get<std::string>() : v.dump());
+  }
+  return out;
+}
+
 }  // namespace oovr

@@ -52,6 +52,10 @@ struct RunRecord {
   std::vector<RunImage> images;
 };
 
+// The record's swept settings as the configuration prints them, each
+// " key=value" ("link.bandwidth=32 GB/s"): what progress lines show.
+std::string swept_text(const RunRecord& r);
+
 // A record as one line of JSON (the SLURM tasks' result files), with
 // "schema": "oovr.run" and the schema version, and back; from_json throws
 // Error on a malformed record or one of a newer schema.

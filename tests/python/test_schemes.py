@@ -1,0 +1,197 @@
+"""Schemes written in Python: the examples match their C++ twins exactly, and mistakes are
+Python exceptions, never a crash."""
+
+import importlib.util
+import os
+
+import pytest
+
+import oovr
+from conftest import ROOT
+
+
+def example(name):
+    spec = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "examples", name + ".py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def same_but_name(a, b):
+    da, db = a.to_dict(), b.to_dict()
+    da.pop("scheme")
+    db.pop("scheme")
+    return da == db
+
+
+@pytest.mark.parametrize("scene, resolution, settings", [
+    ("courtyard", "640x480", {}),
+    ("crowd", "320x240", {"gpms": 8, "link.topology": "ring"}),
+    ("courtyard", "320x240", {"composition.payload": "colour+depth", "composition.granularity": "pixel"}),
+])
+def test_object_level_in_python_is_the_cpp_scheme(scene, resolution, settings):
+    ObjectLevel = example("object_level").ObjectLevel
+    c = oovr.compare(scene, ["object", ObjectLevel()], oovr.config(overrides=settings), resolution=resolution)
+    cpp, py = c.results
+    assert py.scheme == "object-py"
+    assert same_but_name(cpp, py)
+
+
+def test_the_object_level_example_says_identical(capsys):
+    assert example("object_level").main(["crowd", "--resolution", "160x128"]) == 0
+    assert "identical" in capsys.readouterr().out
+
+
+class SfrV(oovr.Scheme):
+    """Tile SFR with vertical strips, through the shared sort-first machinery (sfr_v.cpp)."""
+
+    name = "sfr-v-py"
+
+    def run(self, input):
+        sim = oovr.FrameSim(input)
+        n, tiles_x = sim.gpms, sim.frame().tiles_x
+        oovr.sort_first(sim, lambda x, y, eye: oovr.vertical_strip_owner(x, tiles_x, n), "duplicated_per_eye")
+        return sim.finish(self.name)
+
+
+class FastLinks(oovr.Scheme):
+    """baseline-1tb's override made in Python, the work done by hand as SfrV does."""
+
+    name = "fast-links"
+
+    def configure(self, config):
+        config.set("link.bandwidth", "1TBps")
+
+    def run(self, input):
+        return SfrV().run(input)
+
+
+def test_sort_first_and_configure_match_the_cpp_schemes():
+    c = oovr.compare("crowd", ["sfr-v", SfrV(), FastLinks()], resolution="320x240")
+    cpp, py, fast = c.results
+    assert same_but_name(cpp, py)
+    assert fast.config["link.bandwidth"]["source"] == "scheme fast-links"
+    assert fast.config["link.bandwidth"]["base"] == 1e12
+    ref = oovr.simulate("crowd", "sfr-v", oovr.config(link__bandwidth="1TBps"), resolution="320x240")
+    assert fast.frame_latency_s == ref.frame_latency_s
+
+
+class Afr(oovr.Scheme):
+    """AFR (afr.cpp) in Python: machine overrides, frames in flight, and latencies restated after finish()."""
+
+    name = "afr-py"
+
+    def configure(self, config):
+        config.set("memory.placement", "replicated")
+
+    def frames_needed(self, gpms):
+        return gpms
+
+    def run(self, input):
+        n = input.gpms
+        sim = oovr.FrameSim(input, n)
+        records = [sim.frame(g).records_by_object() for g in range(n)]
+        for o in range(input.objects):
+            for g in range(n):
+                f = sim.frame(g)
+                left, right = records[g][o]
+                sim.command(g)
+                geometry = sim.geometry(g, o, 1, f.triangles_set_up(o, 0) + f.triangles_set_up(o, 1))
+                both = left + right
+                if len(both):
+                    sim.tiles(g, both, g, [geometry])
+                sim.end_draw(g)
+        r = sim.finish(self.name, n)
+        r.frame_latencies_s = r.gpm_busy_s
+        r.frame_latency_s = sum(r.gpm_busy_s) / n
+        r.throughput_fps = n / r.frame_latency_s
+        r.notes = r.notes + [f"{n} frames in flight, one per GPM; every GPM holds a copy of all data"]
+        return r
+
+
+def test_afr_in_python_is_the_cpp_scheme():
+    c = oovr.compare("crowd", ["afr", Afr()], resolution="192x128", frames=8)
+    cpp, py = c.results
+    assert py.frames_in_flight == 4 and len(py.frame_latencies_s) == 8
+    assert py.config["memory.placement"] == {"value": "replicated", "source": "scheme afr-py"}
+    cpp_d, py_d = cpp.to_dict(), py.to_dict()
+    for d in (cpp_d, py_d):
+        d.pop("scheme")
+        d["config"]["memory.placement"].pop("source")  # "scheme afr" there, "scheme afr-py" here
+    assert cpp_d == py_d
+    with pytest.raises(ValueError, match="afr-py renders 4 frames at once"):
+        oovr.simulate("crowd", Afr(), resolution="160x128", frames=2)
+
+
+class Broken(oovr.Scheme):
+    def __init__(self, mistake):
+        self.mistake = mistake
+        self.name = "broken-" + mistake
+
+    def run(self, input):
+        global kept
+        sim = oovr.FrameSim(input)
+        f = sim.frame()
+        left = f.records_by_object()[0][0]
+        if self.mistake == "gpm":
+            sim.command(sim.gpms)
+        elif self.mistake == "object":
+            sim.geometry(0, f.objects, 1, 0)
+        elif self.mistake == "unit":
+            sim.geometry(0, 0, 1, 0, after=[1000])
+        elif self.mistake == "framebuffer":
+            sim.tiles(0, left, fb=1)
+        elif self.mistake == "category":
+            sim.transfer(0, 1, 10, "gossip")
+        elif self.mistake == "result":
+            return 42
+        elif self.mistake == "raise":
+            return 1 / 0
+        elif self.mistake == "after_finish":
+            sim.finish(self.name)
+            sim.command(0)
+        elif self.mistake == "keep":
+            kept = (sim, left, oovr.TileJob(0, left))
+        return sim.finish(self.name)
+
+
+@pytest.mark.parametrize("mistake, error, message", [
+    ("gpm", ValueError, "GPM 4 does not exist"),
+    ("object", ValueError, "object [0-9]+ does not exist"),
+    ("unit", ValueError, "unit 1000 has not been added"),
+    ("framebuffer", ValueError, "framebuffer 1 does not exist"),
+    ("category", ValueError, "unknown traffic category 'gossip'"),
+    ("result", TypeError, "must return what FrameSim.finish"),
+    ("raise", ZeroDivisionError, "division by zero"),
+    ("after_finish", RuntimeError, "no more work can be added"),
+])
+def test_a_mistake_in_a_python_scheme_is_an_exception(mistake, error, message):
+    with pytest.raises(error, match=message):
+        oovr.compare("crowd", ["baseline", Broken(mistake)], resolution="160x128", jobs=2)
+
+
+def test_what_a_run_handed_out_is_dead_after_it():
+    oovr.simulate("crowd", Broken("keep"), resolution="160x128", frames=1)
+    sim, records, job = kept
+    with pytest.raises(RuntimeError, match="scheme run that has ended"):
+        sim.command(0)
+    with pytest.raises(RuntimeError, match="scheme run that has ended"):
+        len(records)
+    with pytest.raises(RuntimeError, match="scheme run that has ended"):
+        records[0].object
+    # A job of an ended run given to another run's sim is refused.
+    class Reuse(oovr.Scheme):
+        name = "reuse"
+
+        def run(self, input):
+            sim = oovr.FrameSim(input)
+            sim.tiles_together([job])
+            return sim.finish(self.name)
+
+    with pytest.raises(RuntimeError):
+        oovr.simulate("crowd", Reuse(), resolution="160x128", frames=1)
+
+
+def test_an_object_without_run_is_not_a_scheme():
+    with pytest.raises(TypeError, match="run\\(input\\)"):
+        oovr.simulate("crowd", object(), resolution="160x128")
