@@ -123,6 +123,73 @@ def test_afr_in_python_is_the_cpp_scheme():
         oovr.simulate("crowd", Afr(), resolution="160x128", frames=2)
 
 
+class EarliestFree(oovr.Scheme):
+    """A runtime scheduler: each GPM takes the next object when its last one ends (on_finish),
+    as OO-VR's distribution engine sends batches to the GPM free first."""
+
+    name = "earliest-free"
+
+    def run(self, input):
+        sim = oovr.FrameSim(input)
+        frame = sim.frame()
+        queue = list(enumerate(frame.records_by_object()))
+        last = {}  # unit -> GPM whose last object it ends
+
+        def issue(g):
+            if not queue:
+                return
+            o, (left, right) = queue.pop(0)
+            sim.command(g)
+            geometry = sim.geometry(g, o, 1, frame.triangles_set_up(o, 0) + frame.triangles_set_up(o, 1))
+            both = left + right
+            unit = sim.tiles(g, both, after=[geometry]) if len(both) else geometry
+            sim.end_draw(g)
+            last[unit] = g
+
+        for g in range(sim.gpms):
+            issue(g)
+
+        def on_finish(unit):
+            if unit in last:
+                issue(last.pop(unit))
+
+        self.left = queue
+        return sim.finish(self.name, on_finish=on_finish)
+
+
+def test_a_runtime_scheduler_adds_work_as_units_end():
+    s = EarliestFree()
+    a = oovr.simulate("crowd", s, resolution="192x128", frames=1)
+    assert s.left == []
+    b = oovr.simulate("crowd", EarliestFree(), resolution="192x128", frames=1)
+    assert a.to_dict() == b.to_dict()
+    every = oovr.simulate("crowd", "object", resolution="192x128", frames=1)
+    assert a.covered_fragments == every.covered_fragments  # every object's tiles, once
+    assert a.draws_received == every.draws_received // 2  # one draw per object here, one per view there
+
+
+class FinishTwice(oovr.Scheme):
+    name = "finish-twice"
+
+    def run(self, input):
+        sim = oovr.FrameSim(input)
+        sim.command(0)
+
+        def on_finish(unit):
+            raise LookupError("from on_finish")
+
+        try:
+            sim.finish(self.name, on_finish=on_finish)
+        except LookupError:
+            pass
+        return sim.finish(self.name)
+
+
+def test_finish_runs_once_even_after_on_finish_raised():
+    with pytest.raises(RuntimeError, match="finish\(\) runs once"):
+        oovr.simulate("crowd", FinishTwice(), resolution="160x128", frames=1)
+
+
 class Broken(oovr.Scheme):
     def __init__(self, mistake):
         self.mistake = mistake

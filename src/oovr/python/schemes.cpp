@@ -83,16 +83,17 @@ struct PySim {
   int framebuffers = 1;
   std::vector<const FrameTrace*> frames;
   size_t objects = 0;
-  bool finished = false;
+  // Work is added while building, and while finish() runs from its
+  // on_finish; the engine runs once (an exception from on_finish ends it).
+  enum class State { building, running, done } state = State::building;
 
   FrameSim& get() {
     check_alive(token, "a FrameSim");
     return *sim;
   }
-  // For calls that add work: not after finish() (but from its on_finish).
   FrameSim& adding() {
     FrameSim& s = get();
-    if (finished) throw std::runtime_error("FrameSim.finish() has run: no more work can be added");
+    if (state == State::done) throw std::runtime_error("FrameSim.finish() has run: no more work can be added");
     return s;
   }
   void gpm(int g, const char* what) const {
@@ -504,14 +505,19 @@ void bind_schemes(py::module_& m) {
       .def(
           "finish",
           [](PySim& s, const std::string& name, int frames_in_flight, const std::optional<std::function<void(int)>>& on_finish) {
-            FrameSim& f = s.adding();
+            FrameSim& f = s.get();
+            if (s.state != PySim::State::building)
+              throw std::runtime_error("FrameSim.finish() runs once (it has run, or it is running: on_finish adds work)");
             if (frames_in_flight < 1 || frames_in_flight > int(s.frames.size()))
               bad("finish: frames_in_flight must be 1 to the frames given (" + std::to_string(s.frames.size()) + ")");
             std::function<void(int)> hook;
             if (on_finish) hook = *on_finish;
-            PyResult r{f.finish(name, frames_in_flight, hook)};
-            s.finished = true;
-            return r;
+            s.state = PySim::State::running;
+            struct Done {  // however the engine's run ends
+              PySim& s;
+              ~Done() { s.state = PySim::State::done; }
+            } done{s};
+            return PyResult{f.finish(name, frames_in_flight, hook)};
           },
           py::arg("name"), py::arg("frames_in_flight") = 1, py::arg("on_finish") = py::none(),
           "Runs the timing engine over the work added; `on_finish(unit)` is called as units end and may add work. "

@@ -231,8 +231,20 @@ def _run(call: str, scene, schemes_: Sequence, config_: Optional[Config], frames
          resolution: str, eye_resolution: Optional[str], aniso: int, cache: bool, images: bool, jobs: int) -> Comparison:
     if config_ is not None and not isinstance(config_, Config):
         raise TypeError(f"config must be an oovr.Config (oovr.config(...)), not {type(config_).__name__}")
-    if frames is not None and (not isinstance(frames, int) or isinstance(frames, bool) or frames < 1):
-        raise ValueError(f"frames {frames!r}: give a whole number of frames from 1, or None for one per GPM")
+    def whole(name, v, lo=None, hi=None):
+        if not isinstance(v, int) or isinstance(v, bool):
+            raise TypeError(f"{name} takes a whole number, not {type(v).__name__}")
+        if lo is not None and not lo <= v <= hi:
+            raise ValueError(f"{name} {v}: give a whole number from {lo} to {hi}")
+
+    if frames is not None:
+        whole("frames", frames, 1, 1000)  # as the CLI's --frames
+    whole("frame", frame)  # its range is the camera path's, checked there
+    whole("aniso", aniso, 1, 16)
+    whole("jobs", jobs, 0, 1024)
+    for name, v in (("resolution", resolution), ("eye_resolution", eye_resolution)):
+        if v is not None and not isinstance(v, str):
+            raise TypeError(f"{name} takes 'WxH' (a str), not {type(v).__name__}")
     return Comparison(_oovr._simulate(scene, list(schemes_), config_, frames or 0, frame, resolution, eye_resolution,
                                       aniso, cache, images, jobs, call))
 
