@@ -98,6 +98,9 @@ def test_a_failed_point_is_stored_and_the_sweep_goes_on(tmp_path):
     ({"scenes": ["crowd"], "schemes": ["baseline"], "colour": "blue"}, ValueError, "colour"),
     ({"scenes": ["crowd"], "schemes": ["baseline"], "set": {"no.such.key": 1}}, KeyError, "no.such.key"),
     ({"scenes": ["crowd"], "schemes": ["baseline"], "frames": None}, ValueError, "null"),
+    ({"scenes": ["crowd"], "schemes": ["baseline"], "set": {"gpm.draw_cycles": float("nan")}}, ValueError, "NaN"),
+    ({"scenes": ["crowd"], "schemes": ["baseline"], "sweep": {"gpms": list(range(1, 33)),
+      "link.bandwidth": [f"{i}GBps" for i in range(1, 5000)]}}, ValueError, "more than 100000 points"),
     ([1, 2], TypeError, "a sweep file's path or a dict"),
     ("/no/such/sweep.toml", FileNotFoundError, "no/such/sweep.toml"),
 ])

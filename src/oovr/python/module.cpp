@@ -518,7 +518,14 @@ PYBIND11_MODULE(_oovr, m) {
   m.def(
       "_sweep_toml",
       [](const py::object& definition) {
-        const std::string text = py::module_::import("json").attr("dumps")(definition).cast<std::string>();
+        std::string text;
+        try {
+          text = py::module_::import("json").attr("dumps")(definition, py::arg("allow_nan") = false).cast<std::string>();
+        } catch (py::error_already_set& e) {
+          if (!e.matches(PyExc_ValueError)) throw;
+          throw Error("sweep definition: " + std::string(py::str(e.value())) +
+                      " (NaN and infinities are not values a sweep takes)");
+        }
         return sweep_toml(nlohmann::json::parse(text));
       },
       py::arg("definition"), "A sweep definition (a dict) as the text of a sweep file.");
