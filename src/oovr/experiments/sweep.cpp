@@ -312,8 +312,10 @@ template <class Put>
 void toml_of(const nlohmann::json& j, const std::string& where, int depth, Put put);
 
 void fill_table(toml::table& t, const nlohmann::json& j, const std::string& where, int depth) {
-  for (const auto& [k, v] : j.items())
-    toml_of(v, where + "." + k, depth + 1, [&](auto&& x) { t.insert_or_assign(k, std::forward<decltype(x)>(x)); });
+  for (const auto& item : j.items()) {
+    const std::string key = item.key();  // a named copy: clang 14 cannot capture a structured binding
+    toml_of(item.value(), where + "." + key, depth + 1, [&](auto&& x) { t.insert_or_assign(key, std::forward<decltype(x)>(x)); });
+  }
 }
 
 void fill_array(toml::array& a, const nlohmann::json& j, const std::string& where, int depth) {

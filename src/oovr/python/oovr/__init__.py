@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import os
 import sqlite3
-import sys
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
 
 from . import _oovr
