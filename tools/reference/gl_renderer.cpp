@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <string>
 
 #include "oovr/experiments/hardware.h"
@@ -55,73 +56,30 @@ void main() {
 // A deluxe pass (shading 1) samples every layer first, then lights the
 // fragment as scene/material.h writes out (DarkPlaces'
 // MODE_LIGHTDIRECTIONMAP_MODELSPACE).
-const char* kFragmentShader = R"(#version 450 core
+//
+// One program per kind of pass (its layers' coordinates and combines, the
+// shading, which layers light it, the alpha test), as a game's renderer and
+// a driver's state-specialised shaders have it: the pass's structure is
+// constant in the code and its numbers are uniforms. Only alpha-tested
+// passes can discard, so the others keep the early depth test, and no loop
+// indexes samplers at run time; a single program for every pass made
+// llvmpipe 3 to 10 times slower (docs/performance.md).
+const char* kFragmentHead = R"(#version 450 core
 const int kMaxLayers = 8;
-uniform int shading;  // 0 layers, 1 deluxe
-uniform int lit_diffuse, lit_normal, lit_gloss, lit_glow, lit_lightmap, lit_deluxe;  // layer indices, -1 none
 uniform float specular_power, specular_intensity;
 in vec3 v_s, v_t, v_n, v_eye;
 uniform sampler2D layer_tex[kMaxLayers];
-uniform int layer_count;
-uniform bool layer_lightmap_coords[kMaxLayers];
-uniform bool layer_add[kMaxLayers];
 uniform float layer_scale[kMaxLayers];
 uniform vec3 layer_xf_s[kMaxLayers];  // s' = a s + b t + c
 uniform vec3 layer_xf_t[kMaxLayers];  // t' = d s + e t + f
 uniform vec4 colour;
-uniform int alpha_func;  // 0 always, 1 greater, 2 less, 3 gequal
 uniform float alpha_ref;
-uniform bool coverage_only;
 in vec2 v_uv;
 in vec2 v_lm;
 out vec4 frag;
-vec4 deluxe_colour() {
-  vec4 t[kMaxLayers];
-  for (int i = 0; i < layer_count; ++i) {
-    vec2 st = layer_lightmap_coords[i] ? v_lm : v_uv;
-    st = vec2(dot(layer_xf_s[i], vec3(st, 1.0)), dot(layer_xf_t[i], vec3(st, 1.0)));
-    t[i] = texture(layer_tex[i], st);
-  }
-  vec4 d = t[lit_diffuse];
-  vec3 lm_dir = t[lit_deluxe].rgb * 2.0 - 1.0;
-  vec3 l = normalize(vec3(dot(lm_dir, v_s), dot(lm_dir, v_t), dot(lm_dir, v_n)));
-  vec3 lc = t[lit_lightmap].rgb * (layer_scale[lit_lightmap] / max(0.25, l.z));
-  vec3 n = lit_normal >= 0 ? normalize(t[lit_normal].rgb - 0.5) : vec3(0.0, 0.0, 1.0);
-  float diffuse = max(dot(n, l), 0.0);
-  vec3 rgb = d.rgb * diffuse * lc;
-  if (lit_gloss >= 0) {
-    vec4 g = t[lit_gloss];
-    vec3 h = normalize(l + normalize(v_eye));
-    float nh = max(dot(n, h), 0.0);
-    float spec = nh > 0.0 ? pow(nh, specular_power * g.a) : 0.0;
-    rgb += g.rgb * (specular_intensity * spec) * lc;
-  }
-  if (lit_glow >= 0) rgb += t[lit_glow].rgb;
-  return vec4(rgb, d.a) * colour;
-}
-
-void main() {
-  vec4 c = vec4(1.0);
-  for (int i = 0; i < layer_count && shading == 0; ++i) {
-    vec2 st = layer_lightmap_coords[i] ? v_lm : v_uv;
-    st = vec2(dot(layer_xf_s[i], vec3(st, 1.0)), dot(layer_xf_t[i], vec3(st, 1.0)));
-    vec4 s = texture(layer_tex[i], st);
-    if (i == 0) {
-      c = vec4(s.rgb * layer_scale[i], s.a) * colour;
-    } else if (layer_add[i]) {
-      c = vec4(c.rgb + s.rgb * layer_scale[i], c.a * s.a);
-    } else {
-      c = vec4(c.rgb * (s.rgb * layer_scale[i]), c.a * s.a);
-    }
-  }
-  if (layer_count == 0) c = colour;
-  if (shading == 1) c = deluxe_colour();
-  if (!coverage_only) {
-    if (alpha_func == 1 && !(c.a > alpha_ref)) discard;
-    if (alpha_func == 2 && !(c.a < alpha_ref)) discard;
-    if (alpha_func == 3 && !(c.a >= alpha_ref)) discard;
-  }
-  frag = c;
+vec4 sample_layer(int i, vec2 st) {
+  st = vec2(dot(layer_xf_s[i], vec3(st, 1.0)), dot(layer_xf_t[i], vec3(st, 1.0)));
+  return texture(layer_tex[i], st);
 }
 )";
 
@@ -141,17 +99,116 @@ GLuint compile(GLenum type, const char* src) {
   return s;
 }
 
+// The fragment shader of one kind of pass; `coverage`: the coverage run's
+// (nothing discarded).
+std::string fragment_shader(const Pass& pass, bool coverage) {
+  const auto idx = [](int i) { return std::to_string(i); };
+  const auto coords = [&](size_t i) { return pass.layers[i].coords == TexCoords::lightmap ? "v_lm" : "v_uv"; };
+  std::string body;
+  const int n = int(pass.layers.size());
+  if (pass.shading == Shading::deluxe) {
+    const auto lit = [&](LayerKind k) { return pass.layer(k); };
+    for (int i = 0; i < n; ++i) body += "  vec4 t" + idx(i) + " = sample_layer(" + idx(i) + ", " + coords(size_t(i)) + ");\n";
+    const int diffuse = lit(LayerKind::diffuse), deluxe = lit(LayerKind::deluxe), lightmap = lit(LayerKind::lightmap);
+    if (diffuse < 0 || deluxe < 0 || lightmap < 0)
+      throw std::runtime_error("a deluxe pass without its diffuse, lightmap or deluxe layer");
+    body += "  vec4 d = t" + idx(diffuse) + ";\n";
+    body += "  vec3 lm_dir = t" + idx(deluxe) + ".rgb * 2.0 - 1.0;\n";
+    body += "  vec3 l = normalize(vec3(dot(lm_dir, v_s), dot(lm_dir, v_t), dot(lm_dir, v_n)));\n";
+    body += "  vec3 lc = t" + idx(lightmap) + ".rgb * (layer_scale[" + idx(lightmap) + "] / max(0.25, l.z));\n";
+    const int normal = lit(LayerKind::normal);
+    body += normal >= 0 ? "  vec3 n = normalize(t" + idx(normal) + ".rgb - 0.5);\n" : "  vec3 n = vec3(0.0, 0.0, 1.0);\n";
+    body += "  float diffuse = max(dot(n, l), 0.0);\n  vec3 rgb = d.rgb * diffuse * lc;\n";
+    if (const int gloss = lit(LayerKind::gloss); gloss >= 0)
+      body += "  vec4 g = t" + idx(gloss) +
+              ";\n  vec3 h = normalize(l + normalize(v_eye));\n  float nh = max(dot(n, h), 0.0);\n"
+              "  float spec = nh > 0.0 ? pow(nh, specular_power * g.a) : 0.0;\n"
+              "  rgb += g.rgb * (specular_intensity * spec) * lc;\n";
+    if (const int glow = lit(LayerKind::glow); glow >= 0) body += "  rgb += t" + idx(glow) + ".rgb;\n";
+    body += "  vec4 c = vec4(rgb, d.a) * colour;\n";
+  } else if (n == 0) {
+    body += "  vec4 c = colour;\n";
+  } else {
+    body += "  vec4 c;\n";
+    for (int i = 0; i < n; ++i) {
+      const std::string k = idx(i), t = std::string("s").append(k);  // appended: GCC 12 warns falsely on "s" + string
+      body += "  vec4 " + t + " = sample_layer(" + k + ", " + coords(size_t(i)) + ");\n";
+      if (i == 0) body += "  c = vec4(" + t + ".rgb * layer_scale[0], " + t + ".a) * colour;\n";
+      else if (pass.layers[size_t(i)].combine == Combine::add)
+        body += "  c = vec4(c.rgb + " + t + ".rgb * layer_scale[" + k + "], c.a * " + t + ".a);\n";
+      else body += "  c = vec4(c.rgb * (" + t + ".rgb * layer_scale[" + k + "]), c.a * " + t + ".a);\n";
+    }
+  }
+  if (!coverage) {
+    switch (pass.alpha_func) {
+      case AlphaFunc::always: break;
+      case AlphaFunc::greater: body += "  if (!(c.a > alpha_ref)) discard;\n"; break;
+      case AlphaFunc::less: body += "  if (!(c.a < alpha_ref)) discard;\n"; break;
+      case AlphaFunc::gequal: body += "  if (!(c.a >= alpha_ref)) discard;\n"; break;
+    }
+  }
+  return std::string(kFragmentHead) + "void main() {\n" + body + "  frag = c;\n}\n";
+}
+
 }  // namespace
+
+// A linked program for one kind of pass and its uniforms' locations (-1:
+// not in this program).
+struct Program {
+  GLuint id = 0;
+  GLint u_world = -1, u_clip = -1, u_eye = -1, u_colour = -1, u_alpha_ref = -1;
+  GLint u_specular_power = -1, u_specular_intensity = -1;
+  GLint u_layer_scale[kMaxLayers], u_layer_xf_s[kMaxLayers], u_layer_xf_t[kMaxLayers];
+};
 
 struct GlRenderer::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
-  GLuint program = 0;
-  GLint u_shading = -1, u_lit[6] = {-1, -1, -1, -1, -1, -1}, u_specular_power = -1, u_specular_intensity = -1, u_eye = -1;
-  GLint u_world = -1, u_clip = -1, u_layer_count = -1, u_colour = -1, u_alpha_func = -1, u_alpha_ref = -1, u_coverage = -1;
-  GLint u_layer_lm[kMaxLayers], u_layer_add[kMaxLayers], u_layer_scale[kMaxLayers], u_layer_xf_s[kMaxLayers],
-      u_layer_xf_t[kMaxLayers];
+  GLuint vertex_shader = 0;
+  // By the fragment shader's text: a kind of pass's program, made on first use.
+  std::map<std::string, Program> programs;
+  ~Impl() {
+    for (auto& [k, p] : programs) glDeleteProgram(p.id);
+    if (vertex_shader) glDeleteShader(vertex_shader);
+  }
+  const Program& program(const Pass& pass, bool coverage);
 };
+
+const Program& GlRenderer::Impl::program(const Pass& pass, bool coverage) {
+  if (pass.layers.size() > size_t(kMaxLayers))
+    throw std::runtime_error("a pass of more than " + std::to_string(kMaxLayers) + " layers");
+  std::string text = fragment_shader(pass, coverage);
+  const auto it = programs.find(text);
+  if (it != programs.end()) return it->second;
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, text.c_str());
+  Program pr;
+  pr.id = glCreateProgram();
+  glAttachShader(pr.id, vertex_shader);
+  glAttachShader(pr.id, fs);
+  glLinkProgram(pr.id);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(pr.id, GL_LINK_STATUS, &ok);
+  if (!ok) throw std::runtime_error("reference program does not link");
+  const GLuint p = pr.id;
+  glUseProgram(p);
+  for (int i = 0; i < kMaxLayers; ++i) {
+    // Appended, not "[" + std::to_string(i): GCC 12 warns falsely (-Wrestrict) on that.
+    const std::string k = std::string("[").append(std::to_string(i)).append("]");
+    glUniform1i(glGetUniformLocation(p, ("layer_tex" + k).c_str()), i);
+    pr.u_layer_scale[i] = glGetUniformLocation(p, ("layer_scale" + k).c_str());
+    pr.u_layer_xf_s[i] = glGetUniformLocation(p, ("layer_xf_s" + k).c_str());
+    pr.u_layer_xf_t[i] = glGetUniformLocation(p, ("layer_xf_t" + k).c_str());
+  }
+  pr.u_world = glGetUniformLocation(p, "world_from_object");
+  pr.u_clip = glGetUniformLocation(p, "clip_from_world");
+  pr.u_eye = glGetUniformLocation(p, "eye_position");
+  pr.u_colour = glGetUniformLocation(p, "colour");
+  pr.u_alpha_ref = glGetUniformLocation(p, "alpha_ref");
+  pr.u_specular_power = glGetUniformLocation(p, "specular_power");
+  pr.u_specular_intensity = glGetUniformLocation(p, "specular_intensity");
+  return programs.emplace(std::move(text), pr).first->second;
+}
 
 namespace {
 
@@ -306,7 +363,7 @@ void apply_pass_state(const oovr::Pass& pass) {
 }
 
 // Clears the frame and sets the depth test of a run.
-void begin_pass(const StereoView& view, Run pass, GLint u_coverage) {
+void begin_pass(const StereoView& view, Run pass) {
   glScissor(0, 0, view.frame_width, view.frame_height);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
@@ -318,7 +375,6 @@ void begin_pass(const StereoView& view, Run pass, GLint u_coverage) {
   glDepthFunc(pass == Run::covered ? GL_ALWAYS : GL_LESS);
   glDepthMask(pass == Run::covered ? GL_FALSE : GL_TRUE);
   if (pass == Run::covered) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  glUniform1i(u_coverage, pass == Run::covered);
 }
 
 }  // namespace
@@ -344,50 +400,17 @@ GlRenderer::GlRenderer(Platform platform) : m(std::make_unique<Impl>()) {
   if (m->context == EGL_NO_CONTEXT) throw Unavailable("cannot create an OpenGL 4.5 core context");
   if (!eglMakeCurrent(m->display, EGL_NO_SURFACE, EGL_NO_SURFACE, m->context))
     throw Unavailable("eglMakeCurrent without a surface failed");
-  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
-  m->program = glCreateProgram();
-  glAttachShader(m->program, vs);
-  glAttachShader(m->program, fs);
-  glLinkProgram(m->program);
-  GLint ok = 0;
-  glGetProgramiv(m->program, GL_LINK_STATUS, &ok);
-  if (!ok) throw std::runtime_error("reference program does not link");
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  const GLuint p = m->program;
-  glUseProgram(p);
-  for (int i = 0; i < kMaxLayers; ++i) {
-    // Appended, not "[" + std::to_string(i): GCC 12 warns falsely (-Wrestrict) on that.
-    const std::string k = std::string("[").append(std::to_string(i)).append("]");
-    glUniform1i(glGetUniformLocation(p, ("layer_tex" + k).c_str()), i);
-    m->u_layer_lm[i] = glGetUniformLocation(p, ("layer_lightmap_coords" + k).c_str());
-    m->u_layer_add[i] = glGetUniformLocation(p, ("layer_add" + k).c_str());
-    m->u_layer_scale[i] = glGetUniformLocation(p, ("layer_scale" + k).c_str());
-    m->u_layer_xf_s[i] = glGetUniformLocation(p, ("layer_xf_s" + k).c_str());
-    m->u_layer_xf_t[i] = glGetUniformLocation(p, ("layer_xf_t" + k).c_str());
-  }
-  m->u_world = glGetUniformLocation(p, "world_from_object");
-  m->u_clip = glGetUniformLocation(p, "clip_from_world");
-  m->u_layer_count = glGetUniformLocation(p, "layer_count");
-  m->u_colour = glGetUniformLocation(p, "colour");
-  m->u_alpha_func = glGetUniformLocation(p, "alpha_func");
-  m->u_alpha_ref = glGetUniformLocation(p, "alpha_ref");
-  m->u_coverage = glGetUniformLocation(p, "coverage_only");
-  m->u_shading = glGetUniformLocation(p, "shading");
-  const char* lit_names[6] = {"lit_diffuse", "lit_normal", "lit_gloss", "lit_glow", "lit_lightmap", "lit_deluxe"};
-  for (int k = 0; k < 6; ++k) m->u_lit[k] = glGetUniformLocation(p, lit_names[k]);
-  m->u_specular_power = glGetUniformLocation(p, "specular_power");
-  m->u_specular_intensity = glGetUniformLocation(p, "specular_intensity");
-  m->u_eye = glGetUniformLocation(p, "eye_position");
+  m->vertex_shader = compile(GL_VERTEX_SHADER, kVertexShader);
 }
 
 GlRenderer::~GlRenderer() {
-  if (m->program) glDeleteProgram(m->program);
-  if (m->display != EGL_NO_DISPLAY) {
-    eglMakeCurrent(m->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    if (m->context != EGL_NO_CONTEXT) eglDestroyContext(m->display, m->context);
-    eglTerminate(m->display);
+  const EGLDisplay display = m->display;
+  const EGLContext context = m->context;
+  m.reset();  // its programs, while the context is current
+  if (display != EGL_NO_DISPLAY) {
+    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+    eglTerminate(display);
   }
 }
 
@@ -401,7 +424,7 @@ namespace {
 // Issues every object's draw, in scene order, once per eye in `eyes` (bit
 // e: eye e) into that eye's viewport (or a 1x1 scissor at its corner);
 // `around(draw, begin)` brackets each draw (draw = object * 2 + eye).
-void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, const StereoView& view, const Uploaded& up, int eyes,
+void draw_objects(GlRenderer::Impl& m, const Scene& scene, int frame, const StereoView& view, const Uploaded& up, int eyes,
                   bool tiny_scissor, DrawState state, const std::function<void(size_t draw, bool begin)>& around) {
   glEnable(GL_SCISSOR_TEST);
   glFrontFace(GL_CCW);
@@ -413,29 +436,23 @@ void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, cons
     const Pass& pass = scene.pass_of(obj);
     if (pass.layers.size() > size_t(kMaxLayers))
       throw std::runtime_error("material '" + mat.name + "' has a pass of more than " + std::to_string(kMaxLayers) + " layers");
+    const Program& pr = m.program(pass, state == DrawState::coverage);
+    glUseProgram(pr.id);
     glBindVertexArray(up.vao[size_t(obj.mesh)]);
-    glUniformMatrix4fv(m.u_world, 1, GL_FALSE, &obj.world_from_object.m[0][0]);
-    glUniform1i(m.u_layer_count, GLint(pass.layers.size()));
+    glUniformMatrix4fv(pr.u_world, 1, GL_FALSE, &obj.world_from_object.m[0][0]);
     for (size_t i = 0; i < pass.layers.size(); ++i) {
       const TextureLayer& l = pass.layers[i];
       const UvTransform xf = l.transform(seconds);
-      glUniform1i(m.u_layer_lm[i], l.coords == TexCoords::lightmap);
-      glUniform1i(m.u_layer_add[i], l.combine == Combine::add);
-      glUniform1f(m.u_layer_scale[i], l.scale);
-      glUniform3f(m.u_layer_xf_s[i], xf.a, xf.b, xf.c);
-      glUniform3f(m.u_layer_xf_t[i], xf.d, xf.e, xf.f);
+      glUniform1f(pr.u_layer_scale[i], l.scale);
+      glUniform3f(pr.u_layer_xf_s[i], xf.a, xf.b, xf.c);
+      glUniform3f(pr.u_layer_xf_t[i], xf.d, xf.e, xf.f);
       glActiveTexture(GLenum(GL_TEXTURE0 + i));
       glBindTexture(GL_TEXTURE_2D, up.tex[size_t(l.texture)]);
     }
-    glUniform4f(m.u_colour, pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w);
-    glUniform1i(m.u_alpha_func, int(pass.alpha_func));
-    glUniform1i(m.u_shading, pass.shading == Shading::deluxe ? 1 : 0);
-    const LayerKind lit_kinds[6] = {LayerKind::diffuse, LayerKind::normal,   LayerKind::gloss,
-                                    LayerKind::glow,    LayerKind::lightmap, LayerKind::deluxe};
-    for (int k = 0; k < 6; ++k) glUniform1i(m.u_lit[k], pass.layer(lit_kinds[k]));
-    glUniform1f(m.u_specular_power, pass.specular_power);
-    glUniform1f(m.u_specular_intensity, pass.specular_intensity);
-    glUniform1f(m.u_alpha_ref, pass.alpha_ref);
+    glUniform4f(pr.u_colour, pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w);
+    glUniform1f(pr.u_specular_power, pass.specular_power);
+    glUniform1f(pr.u_specular_intensity, pass.specular_intensity);
+    glUniform1f(pr.u_alpha_ref, pass.alpha_ref);
     if (mat.two_sided) glDisable(GL_CULL_FACE);
     else glEnable(GL_CULL_FACE);
     if (state == DrawState::pass) apply_pass_state(pass);
@@ -446,8 +463,8 @@ void draw_objects(const GlRenderer::Impl& m, const Scene& scene, int frame, cons
       glViewport(vp.x, vp.y, vp.width, vp.height);
       if (tiny_scissor) glScissor(vp.x, vp.y, 1, 1);
       else glScissor(vp.x, vp.y, vp.width, vp.height);
-      glUniformMatrix4fv(m.u_clip, 1, GL_FALSE, &view.clip_from_world[e].m[0][0]);
-      glUniform3f(m.u_eye, view.eye_position[e].x, view.eye_position[e].y, view.eye_position[e].z);
+      glUniformMatrix4fv(pr.u_clip, 1, GL_FALSE, &view.clip_from_world[e].m[0][0]);
+      glUniform3f(pr.u_eye, view.eye_position[e].x, view.eye_position[e].y, view.eye_position[e].z);
       if (around) around(o * 2 + size_t(e), true);
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
       if (around) around(o * 2 + size_t(e), false);
@@ -461,7 +478,6 @@ GlFrame GlRenderer::render(const Scene& scene, int frame, const StereoView& view
   const int W = view.frame_width, H = view.frame_height;
   const Target target(W, H);
   const Uploaded up(scene, 1);  // the comparison samples isotropically
-  glUseProgram(m->program);
 
   GlFrame out;
   out.counts.resize(scene.objects.size() * 2);
@@ -475,10 +491,14 @@ GlFrame GlRenderer::render(const Scene& scene, int frame, const StereoView& view
   // outstanding, llvmpipe (Mesa 22.3) was seen to report counts of other
   // draws, e.g. samples passed for a draw that covered nothing.
   std::vector<GLuint64> results(queries.size(), 0);
-  glFinish();  // uploads done before timing starts
+  // An untimed image pass first: llvmpipe compiles its shader variants on
+  // first use, which the timing should not include.
+  begin_pass(view, Run::image);
+  draw_objects(*m, scene, frame, view, up, 3, false, DrawState::pass, {});
+  glFinish();  // uploads and compiles done before timing starts
   const auto start = std::chrono::steady_clock::now();
   for (Run pass : {Run::image, Run::passed, Run::covered}) {
-    begin_pass(view, pass, m->u_coverage);
+    begin_pass(view, pass);
     std::function<void(size_t, bool)> around;
     if (pass != Run::image)
       around = [&](size_t draw, bool begin) {
@@ -504,19 +524,41 @@ GlFrame GlRenderer::render(const Scene& scene, int frame, const StereoView& view
   return out;
 }
 
+double GlRenderer::draw_seconds(const Scene& scene, const std::vector<int>& frames, const std::vector<StereoView>& views,
+                                int aniso) {
+  if (frames.size() != views.size()) throw std::runtime_error("draw_seconds() needs one frame number per view");
+  if (views.empty()) return 0;
+  const int W = views.front().frame_width, H = views.front().frame_height;
+  const Target target(W, H);
+  const Uploaded up(scene, aniso);
+  std::vector<uint8_t> pixels(size_t(W) * size_t(H) * 4);
+  glFinish();  // uploads done before the clock starts
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t k = 0; k < views.size(); ++k) {
+    if (views[k].frame_width != W || views[k].frame_height != H)
+      throw std::runtime_error("every drawn view must have the same size");
+    begin_pass(views[k], Run::image);
+    draw_objects(*m, scene, frames[k], views[k], up, 3, false, DrawState::pass, {});
+    glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+    throw std::runtime_error("OpenGL error " + std::to_string(err) + " while drawing");
+  return seconds;
+}
+
 std::vector<FrameTime> GlRenderer::time(const Scene& scene, const std::vector<int>& frames, const std::vector<StereoView>& views,
                                         int aniso, int repeats) {
   if (frames.size() != views.size()) throw std::runtime_error("time() needs one frame number per view");
   if (views.empty()) return {};
   const Target target(views.front().frame_width, views.front().frame_height);
   const Uploaded up(scene, aniso);
-  glUseProgram(m->program);
   GLuint query = 0;
   glGenQueries(1, &query);
   // GPU time of one pass: the frame's draws inside a GL_TIME_ELAPSED query,
   // the clear outside it.
   const auto timed = [&](int frame, const StereoView& view, int eyes, bool tiny) {
-    begin_pass(view, Run::image, m->u_coverage);
+    begin_pass(view, Run::image);
     glFinish();
     glBeginQuery(GL_TIME_ELAPSED, query);
     draw_objects(*m, scene, frame, view, up, eyes, tiny, DrawState::pass, {});

@@ -70,6 +70,13 @@ class GlRenderer {
   std::vector<FrameTime> time(const Scene& scene, const std::vector<int>& frames, const std::vector<StereoView>& views, int aniso,
                               int repeats);
 
+  // Wall-clock seconds to draw each of `views` in turn as a whole frame:
+  // clear, every draw of both eyes with filtering up to `aniso` taps, and
+  // glReadPixels (a frame is done when its pixels are back, as oovr's is
+  // when its image is written). Textures and buffers are uploaded before
+  // the clock starts. What bench/speed.cpp sets oovr's times beside.
+  double draw_seconds(const Scene& scene, const std::vector<int>& frames, const std::vector<StereoView>& views, int aniso);
+
   struct Impl;  // the EGL context, program and uniforms (gl_renderer.cpp)
 
  private:
