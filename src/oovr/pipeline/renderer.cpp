@@ -421,6 +421,13 @@ detail::Rgba shade_deluxe(const PreparedPass& pp, const detail::Rgba* texel, con
 // gloss, glow, lightmap, deluxe and room for two more).
 constexpr size_t kMaxDeluxeLayers = 8;
 
+// Pixels set in a quad's 4-bit mask. A table: without -mpopcnt (oovr is
+// built for any x86-64) the builtin is a library call.
+inline uint32_t pixels_in(unsigned mask) {
+  static constexpr uint8_t kPixels[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+  return kPixels[mask & 15u];
+}
+
 bool depth_passes(DepthFunc f, float z, float stored) {
   switch (f) {
     case DepthFunc::less: return z < stored;
@@ -562,7 +569,7 @@ class TileRasterizer {
         if (qy < y0) mask &= ~0x3u;
         if (qy + 1 > y1) mask &= ~0xcu;
         if (!mask) continue;
-        m_cur.covered += uint32_t(__builtin_popcount(mask));
+        m_cur.covered += pixels_in(mask);
 
         // Barycentrics and interpolated values at all four pixels (helpers
         // included: they provide the derivatives).
@@ -598,7 +605,7 @@ class TileRasterizer {
           if (!live) continue;
         }
         ++m_cur.quads;
-        m_cur.shaded += uint32_t(__builtin_popcount(live));
+        m_cur.shaded += pixels_in(live);
 
         m_quad_lines.clear();
         detail::QuadLines* lines = record ? &m_quad_lines : nullptr;
@@ -621,9 +628,10 @@ class TileRasterizer {
             }
           }
           const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
+          const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
-            const detail::Rgba s = detail::sample(*L.texture, tu[p], tv[p], d, m_settings.max_anisotropy, lines, m_cur.samples);
+            const detail::Rgba s = detail::sample(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
             if (deluxe) {
               m_texel[p][li] = s;
               continue;

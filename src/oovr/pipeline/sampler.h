@@ -166,29 +166,44 @@ struct Derivs {
   float dudx, dvdx, dudy, dvdy;  // in [0,1] texture units per pixel
 };
 
-// Samples with the quad's derivatives. With max_aniso > 1, takes up to
-// max_aniso isotropic probes along the major axis of the pixel footprint
-// (EXT_texture_filter_anisotropic's reference formulation).
-inline Rgba sample(const SamplerTexture& t, float u, float v, const Derivs& d, int max_aniso, QuadLines* lines,
-                   uint32_t& samples) {
+// How a quad samples a texture, from its derivatives: the level of detail
+// and, with anisotropic filtering, the probes along the major axis of the
+// pixel footprint (EXT_texture_filter_anisotropic's reference
+// formulation). The same for the quad's four pixels, so computed once.
+struct Footprint {
+  float lambda = -1.0f;
+  int probes = 1;        // 1: one isotropic sample
+  float du = 0, dv = 0;  // the major axis, in texture units (probes > 1)
+};
+
+inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_aniso) {
   const float w0 = float(t.levels[0].width), h0 = float(t.levels[0].height);
   const float px = std::sqrt((d.dudx * w0) * (d.dudx * w0) + (d.dvdx * h0) * (d.dvdx * h0));
   const float py = std::sqrt((d.dudy * w0) * (d.dudy * w0) + (d.dvdy * h0) * (d.dvdy * h0));
   const float pmax = std::max(px, py);
+  Footprint f;
   if (max_aniso <= 1 || !t.mipmapped) {
-    const float lambda = pmax > 0 ? std::log2(pmax) : -1.0f;
-    return sample_lod(t, u, v, lambda, lines, samples);
+    f.lambda = pmax > 0 ? std::log2(pmax) : -1.0f;
+    return f;
   }
   const float pmin = std::min(px, py);
   const float ratio = pmin > 0 ? pmax / pmin : float(max_aniso);
-  const int n = std::clamp(int(std::ceil(ratio)), 1, max_aniso);
-  const float lambda = pmax > 0 ? std::log2(pmax / float(n)) : -1.0f;
-  if (n == 1) return sample_lod(t, u, v, lambda, lines, samples);
-  const float du = px >= py ? d.dudx : d.dudy, dv = px >= py ? d.dvdx : d.dvdy;
+  f.probes = std::clamp(int(std::ceil(ratio)), 1, max_aniso);
+  f.lambda = pmax > 0 ? std::log2(pmax / float(f.probes)) : -1.0f;
+  f.du = px >= py ? d.dudx : d.dudy;
+  f.dv = px >= py ? d.dvdx : d.dvdy;
+  return f;
+}
+
+// One pixel's sample with its quad's footprint: an isotropic sample, or the
+// mean of the probes along the major axis.
+inline Rgba sample(const SamplerTexture& t, float u, float v, const Footprint& f, QuadLines* lines, uint32_t& samples) {
+  if (f.probes == 1) return sample_lod(t, u, v, f.lambda, lines, samples);
+  const int n = f.probes;
   Rgba acc;
   for (int i = 0; i < n; ++i) {
     const float o = (float(i) + 0.5f) / float(n) - 0.5f;
-    const Rgba c = sample_lod(t, u + du * o, v + dv * o, lambda, lines, samples);
+    const Rgba c = sample_lod(t, u + f.du * o, v + f.dv * o, f.lambda, lines, samples);
     acc.r += c.r;
     acc.g += c.g;
     acc.b += c.b;
