@@ -385,10 +385,10 @@ TEST(Schemes, DistributedCompositionMovesOnlyPixelsRenderedAwayFromTheirOwner) {
     const SchemeResult s = run_scheme("oo-vr", r.scene, {&t}, c);
     uint64_t lines = 0;
     for (const TileWork& w : t.tiles) {
-      const auto it = s.owner.find({w.object, uint32_t(w.tile_y) * uint32_t(t.tiles_x) + w.tile_x});
-      ASSERT_NE(it, s.owner.end());
+      const int shader = s.owner_of(w.object, uint32_t(w.tile_y) * uint32_t(t.tiles_x) + w.tile_x);
+      ASSERT_GE(shader, 0);
       const int dest = std::string(comp) == "root" ? 0 : vertical_strip_owner(w.tile_x, t.tiles_x, 4);
-      if (it->second != dest) lines += uint64_t(__builtin_popcount(w.colour_write_mask));
+      if (shader != dest) lines += uint64_t(__builtin_popcount(w.colour_write_mask));
     }
     EXPECT_EQ(s.inter_gpm_bytes[size_t(Category::composition)], lines * t.line_bytes) << comp;
     EXPECT_GT(lines, 0u) << comp;

@@ -36,10 +36,10 @@ Image gpm_image(const FrameOutput& out, const SchemeResult& r) {
       const uint32_t obj = out.object_id[size_t(y) * size_t(img.width) + size_t(x)];
       if (obj == kNoObject) continue;
       const uint32_t tile = uint32_t(y / kTileSize) * uint32_t(tiles_x) + uint32_t(x / kTileSize);
-      const auto it = r.owner.find({obj, tile});
-      if (it == r.owner.end()) continue;
+      const int gpm = r.owner_of(obj, tile);
+      if (gpm < 0) continue;
       const float lum = (0.3f * src[0] + 0.59f * src[1] + 0.11f * src[2]) / 255.0f;
-      for (int c = 0; c < 3; ++c) dst[c] = uint8_t(palette[it->second % 16][c] * (0.35f + 0.65f * lum));
+      for (int c = 0; c < 3; ++c) dst[c] = uint8_t(palette[gpm % 16][c] * (0.35f + 0.65f * lum));
     }
   return img;
 }

@@ -39,7 +39,9 @@ SceneLayout::SceneLayout(AddressMap& map, const Scene& scene, const FrameTrace& 
     const TextureLayout l = texture_layout(scene.textures[t], bw, bh);
     m_texture.push_back(
         map.add("texture" + std::to_string(t) + " " + scene.textures[t].name, Category::texture, l.lines * map.line_bytes()));
+    m_texture_base.push_back(map.region(m_texture.back()).base);
   }
+  m_line_bytes = map.line_bytes();
   const uint64_t tile_bytes = uint64_t(kTileSize) * kTileSize * 4;
   m_lines_per_tile = int(tile_bytes / map.line_bytes());
   // Blocks of one page of tiles, as square as a power of two allows.

@@ -66,9 +66,10 @@ class SceneLayout {
   uint32_t colour_region() const { return m_colour; }
   uint32_t depth_region() const { return m_depth; }
 
-  // Address of a texture line recorded in a FrameTrace.
+  // Address of a texture line recorded in a FrameTrace (every texture line
+  // of every replay comes here: the bases are kept beside the region ids).
   uint64_t texture_line(TexLine l) const {
-    return m_map->region(m_texture[tex_line_texture(l)]).base + uint64_t(tex_line_index(l)) * m_map->line_bytes();
+    return m_texture_base[tex_line_texture(l)] + uint64_t(tex_line_index(l)) * m_line_bytes;
   }
   // Address of line `line` (0 .. lines_per_tile-1) of a tile of a framebuffer.
   uint64_t frame_line(uint32_t region, int tile_x, int tile_y, int line) const {
@@ -86,6 +87,8 @@ class SceneLayout {
  private:
   const AddressMap* m_map;
   std::vector<uint32_t> m_vertex, m_index, m_texture;
+  std::vector<uint64_t> m_texture_base;  // per texture, its region's base
+  uint64_t m_line_bytes = 0;
   uint32_t m_colour = 0, m_depth = 0;
   uint64_t tile_slot(int tx, int ty) const {
     return uint64_t(block_of(tx, ty)) * uint64_t(m_block_w * m_block_h) + uint64_t((ty % m_block_h) * m_block_w + tx % m_block_w);

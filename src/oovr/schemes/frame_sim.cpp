@@ -15,6 +15,12 @@ uint64_t SchemeResult::total_inter_gpm_bytes() const {
   return s;
 }
 
+int SchemeResult::owner_of(uint32_t object, uint32_t tile) const {
+  const std::pair<uint32_t, uint32_t> key{object, tile};
+  const auto it = std::lower_bound(owner.begin(), owner.end(), key, [](const auto& e, const auto& k) { return e.first < k; });
+  return it != owner.end() && it->first == key ? it->second : -1;
+}
+
 double SchemeResult::best_to_worst() const {
   double lo = 0, hi = 0;
   bool first = true;
@@ -217,7 +223,7 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
   m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, t);
   if (&frame == m_in.frames[0]) {
     m_result.tile_inter_gpm_bytes[tile] += t.total_inter_gpm_bytes();
-    m_result.owner[{r.object, tile}] = gpm;
+    m_owner_log.push_back({{r.object, tile}, gpm});
   }
   total += t;
   w.covered += r.covered;
@@ -331,6 +337,12 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
     }
     s.gpm_busy_s[size_t(g)] = busy;
   }
+  // The owners logged in replay order, as one entry a key: the last GPM
+  // that shaded it (a stable sort keeps the log's order within a key).
+  std::stable_sort(m_owner_log.begin(), m_owner_log.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  s.owner.clear();
+  for (size_t i = 0; i < m_owner_log.size(); ++i)
+    if (i + 1 == m_owner_log.size() || m_owner_log[i + 1].first != m_owner_log[i].first) s.owner.push_back(m_owner_log[i]);
   // This frame's traffic: the totals since it began.
   const TrafficTotals& t = m_memory->totals();
   for (int c = 0; c < kCategories; ++c)

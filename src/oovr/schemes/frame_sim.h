@@ -152,6 +152,9 @@ class FrameSim {
   std::vector<size_t> m_draws_received;
   std::vector<int> m_unit_gpm;  // per unit: the GPM whose busy time it counts in, or -1
   std::vector<LineAccess> m_scratch;
+  // (object, tile) -> GPM for frames[0], in replay order; finish() makes
+  // SchemeResult::owner of it (a log, not a map: a record each, cheap).
+  std::vector<std::pair<std::pair<uint32_t, uint32_t>, int>> m_owner_log;
   SchemeResult m_result;
 };
 

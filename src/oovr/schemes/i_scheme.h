@@ -85,8 +85,9 @@ struct SchemeResult {
   uint64_t units = 0;
   // Per screen tile of frames[0]: bytes moved between GPMs for its work.
   std::vector<uint64_t> tile_inter_gpm_bytes;
-  // (object, tile index) -> GPM that shaded it, for frames[0].
-  std::map<std::pair<uint32_t, uint32_t>, int> owner;
+  // (object, tile index) -> GPM that shaded it, for frames[0]: sorted by
+  // key, one entry a key (the last GPM that shaded it); owner_of finds one.
+  std::vector<std::pair<std::pair<uint32_t, uint32_t>, int>> owner;
   std::map<std::string, Config::Entry> config;  // resolved configuration, described (Config::entries)
   std::vector<std::string> notes;
   // The scheme's own figures (from run_scheme_window: the window's mean per
@@ -95,6 +96,8 @@ struct SchemeResult {
 
   double frame_latency_cycles() const { return frame_latency_s * frequency_hz; }
   uint64_t total_inter_gpm_bytes() const;
+  // The GPM that shaded `object` in tile `tile` of frames[0]; -1 when none did.
+  int owner_of(uint32_t object, uint32_t tile) const;
   double best_to_worst() const;  // busiest GPM's busy time over the least busy one's
 };
 
