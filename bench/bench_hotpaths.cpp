@@ -76,6 +76,44 @@ void texture_sample(benchmark::State& state, int aniso) {
   state.counters["bilinear/pixel"] = double(samples) / double(n);
 }
 
+// The same probes as quads (the pipeline's trilinear path): each probe's
+// point and its neighbours one pixel right and down, sampled together with
+// the quad's footprint by sample_quad.
+void texture_sample_quad(benchmark::State& state) {
+  const Scene& s = courtyard();
+  size_t ti = 0;
+  while (ti + 1 < s.textures.size() && !s.textures[ti].mipmapped) ++ti;
+  const detail::SamplerTexture tex(uint32_t(ti), s.textures[ti], 8, 4);
+  Rng rng(7);
+  struct Probe {
+    float u[4], v[4];
+    detail::Derivs d;
+  };
+  std::vector<Probe> probes(1024);
+  for (auto& p : probes) {
+    const float scale = float(1 + rng.below(16)) / float(tex.levels[0].width);
+    const float u = float(rng.below(1 << 16)) / 65536.0f, v = float(rng.below(1 << 16)) / 65536.0f;
+    p = {{u, u + scale, u, u + scale}, {v, v, v + scale, v + scale}, {scale, 0, 0, scale}};
+  }
+  detail::QuadLines lines;
+  uint32_t samples = 0;
+  float sum = 0;
+  uint64_t n = 0;
+  detail::Rgba out[4];
+  for (auto _ : state) {
+    for (const Probe& p : probes) {
+      const detail::Footprint f = detail::footprint(tex, p.d, 1);
+      detail::sample_quad(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples, out);
+      sum += out[0].r + out[3].g;
+      lines.clear();
+    }
+    n += 4 * probes.size();
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["pixels/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsRate);
+  state.counters["bilinear/pixel"] = double(samples) / double(n);
+}
+
 // Cache lookups: an L1 (128 KB, 4 ways) and an L2 (1 MB, 16 ways) of the
 // paper's Table 1 with 128-byte lines; a stream that fits (hits) and one
 // over 64 MB (every access a miss and an LRU eviction).
@@ -136,6 +174,7 @@ void event_engine(benchmark::State& state) {
 BENCHMARK(setup)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(texture_sample, trilinear, 1)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(texture_sample, aniso16, 16)->Unit(benchmark::kMicrosecond);
+BENCHMARK(texture_sample_quad)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(cache_lookup, l1_hits, 128 << 10, 4, 512)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(cache_lookup, l2_misses, 1 << 20, 16, 1 << 19)->Unit(benchmark::kMicrosecond);
 BENCHMARK(event_engine)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);

@@ -629,9 +629,17 @@ class TileRasterizer {
           }
           const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
           const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
+          // The live pixels' samples, in pixel order (their lines are recorded so).
+          detail::Rgba texel[4];
+          if (f.probes == 1) {
+            detail::sample_quad(*L.texture, tu, tv, f.lambda, live, lines, m_cur.samples, texel);
+          } else {
+            for (int p = 0; p < 4; ++p)
+              if (live & (1u << p)) texel[p] = detail::sample(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
+          }
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
-            const detail::Rgba s = detail::sample(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
+            const detail::Rgba& s = texel[p];
             if (deluxe) {
               m_texel[p][li] = s;
               continue;

@@ -7,7 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/pipeline/tiled_layout.h"
@@ -93,6 +97,31 @@ struct Rgba {
   float r = 0, g = 0, b = 0, a = 0;  // 0..255
 };
 
+// The four channels as one vector (GCC's and clang's vector extension:
+// SSE on x86-64, NEON on arm64). Each lane does the scalar code's
+// operations in the same order (no fused multiply-add: -ffp-contract=off),
+// so the results are those of channel-by-channel float code, bit for bit.
+using Float4 = float __attribute__((vector_size(16)));
+using Byte4 = uint8_t __attribute__((vector_size(4)));
+
+// An RGBA8 texel's channels as floats (exact: bytes are integers < 2^24).
+[[gnu::always_inline]] inline Float4 texel4(const uint8_t* p) {
+#if defined(__SSE2__)
+  // One load and two unpacks: GCC expands the generic conversion below to
+  // a byte extract and a scalar conversion per channel.
+  int32_t word;
+  std::memcpy(&word, p, 4);
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i w = _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(word), zero), zero);
+  return Float4(_mm_cvtepi32_ps(w));
+#else
+  Byte4 b;
+  std::memcpy(&b, p, 4);
+  return __builtin_convertvector(b, Float4);
+#endif
+}
+inline Rgba to_rgba(Float4 v) { return {v[0], v[1], v[2], v[3]}; }
+
 inline int wrap_coord(int i, int size, int mask, bool repeat) {
   if (repeat) {
     if (mask >= 0) return i & mask;  // two's complement: also right for negative i
@@ -102,30 +131,21 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
   return i < 0 ? 0 : (i >= size ? size - 1 : i);
 }
 
-// Bilinear filtering of one level (GL 4.5 equations 8.9-8.11).
-[[gnu::always_inline]] inline Rgba bilinear(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
-  const LevelView& l = t.levels[size_t(level)];
-  const float s = u * float(l.width) - 0.5f, tt = v * float(l.height) - 0.5f;
-  const float fs = std::floor(s), ft = std::floor(tt);
-  const float a = s - fs, b = tt - ft;
-  // Clamp before converting: coordinates far outside [0, 1] must not
-  // overflow int (repeat wraps modulo the size, which keeps them exact).
-  const float lim = 1 << 30;
-  const int i0r = int(std::clamp(fs, -lim, lim)), j0r = int(std::clamp(ft, -lim, lim));
+// Bilinear filtering of one level (GL 4.5 equations 8.9-8.11), the four
+// channels at once, from the texel (i0r, j0r) left of and above the sample
+// point (before wrapping) and the point's fractions (a, b) past it.
+[[gnu::always_inline]] inline Float4 filter(const SamplerTexture& t, const LevelView& l, int i0r, int j0r, float a, float b,
+                                            QuadLines* lines) {
   const int i0 = wrap_coord(i0r, l.width, l.wrap_mask_x, t.repeat);
   const int i1 = wrap_coord(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
   const int j0 = wrap_coord(j0r, l.height, l.wrap_mask_y, t.repeat);
   const int j1 = wrap_coord(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
-  const uint8_t* p00 = l.rgba + (size_t(j0) * l.width + i0) * 4;
-  const uint8_t* p10 = l.rgba + (size_t(j0) * l.width + i1) * 4;
-  const uint8_t* p01 = l.rgba + (size_t(j1) * l.width + i0) * 4;
-  const uint8_t* p11 = l.rgba + (size_t(j1) * l.width + i1) * 4;
+  const uint8_t* row0 = l.rgba + size_t(j0) * size_t(l.width) * 4;
+  const uint8_t* row1 = l.rgba + size_t(j1) * size_t(l.width) * 4;
   const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
-  Rgba c;
-  c.r = w00 * p00[0] + w10 * p10[0] + w01 * p01[0] + w11 * p11[0];
-  c.g = w00 * p00[1] + w10 * p10[1] + w01 * p01[1] + w11 * p11[1];
-  c.b = w00 * p00[2] + w10 * p10[2] + w01 * p01[2] + w11 * p11[2];
-  c.a = w00 * p00[3] + w10 * p10[3] + w01 * p01[3] + w11 * p11[3];
+  // ((w00 p00 + w10 p10) + w01 p01) + w11 p11 in each channel.
+  const Float4 c =
+      w00 * texel4(row0 + i0 * 4) + w10 * texel4(row0 + i1 * 4) + w01 * texel4(row1 + i0 * 4) + w11 * texel4(row1 + i1 * 4);
   if (lines) {
     const uint32_t base = l.first_line;
     const int bx0 = i0 >> t.block_shift_x, bx1 = i1 >> t.block_shift_x;
@@ -140,25 +160,113 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
   return c;
 }
 
-inline Rgba mix(const Rgba& x, const Rgba& y, float f) {
-  return {x.r + (y.r - x.r) * f, x.g + (y.g - x.g) * f, x.b + (y.b - x.b) * f, x.a + (y.a - x.a) * f};
+// Coordinates far outside [0, 1] are clamped before they are converted, so
+// as not to overflow int (repeat wraps modulo the size, which keeps them exact).
+constexpr float kCoordLimit = 1 << 30;
+
+// One point's bilinear sample of one level.
+[[gnu::always_inline]] inline Float4 bilinear(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
+  const LevelView& l = t.levels[size_t(level)];
+  const float s = u * float(l.width) - 0.5f, tt = v * float(l.height) - 0.5f;
+  const float fs = std::floor(s), ft = std::floor(tt);
+  const int i0r = int(std::clamp(fs, -kCoordLimit, kCoordLimit)), j0r = int(std::clamp(ft, -kCoordLimit, kCoordLimit));
+  return filter(t, l, i0r, j0r, s - fs, tt - ft, lines);
 }
 
-// Isotropic sample at level-of-detail `lambda` (GL 4.5 Section 8.14.2):
-// magnification (lambda <= 0) filters level 0; minification blends the two
-// nearest levels (GL_LINEAR_MIPMAP_LINEAR).
-// `samples` counts bilinear lookups (a texture unit's unit of work).
-inline Rgba sample_lod(const SamplerTexture& t, float u, float v, float lambda, QuadLines* lines, uint32_t& samples) {
-  ++samples;
-  if (!t.mipmapped || !(lambda > 0.0f)) return bilinear(t, 0, u, v, lines);
-  if (lambda >= float(t.max_level)) return bilinear(t, t.max_level, u, v, lines);
-  const int d1 = int(lambda);
-  const float f = lambda - float(d1);
-  const Rgba c1 = bilinear(t, d1, u, v, lines);
-  if (f == 0.0f) return c1;  // the second level has no weight: not fetched
-  ++samples;
-  const Rgba c2 = bilinear(t, d1 + 1, u, v, lines);
-  return mix(c1, c2, f);
+// The levels a sample at level of detail `lambda` filters (GL 4.5 Section
+// 8.14.2): magnification (lambda <= 0) filters level 0; minification blends
+// the two nearest levels (GL_LINEAR_MIPMAP_LINEAR), the second with weight
+// `f`, and fetches it only when that weight is not 0.
+struct LevelChoice {
+  int count = 1;
+  int level[2] = {0, 0};
+  float f = 0;
+};
+
+inline LevelChoice choose_levels(const SamplerTexture& t, float lambda) {
+  LevelChoice c;
+  if (!t.mipmapped || !(lambda > 0.0f)) return c;
+  if (lambda >= float(t.max_level)) {
+    c.level[0] = t.max_level;
+    return c;
+  }
+  c.level[0] = int(lambda);
+  c.f = lambda - float(c.level[0]);
+  if (c.f != 0.0f) {
+    c.count = 2;
+    c.level[1] = c.level[0] + 1;
+  }
+  return c;
+}
+
+// Isotropic sample at level-of-detail `lambda`. `samples` counts bilinear
+// lookups (a texture unit's unit of work).
+inline Float4 sample_lod(const SamplerTexture& t, float u, float v, float lambda, QuadLines* lines, uint32_t& samples) {
+  const LevelChoice c = choose_levels(t, lambda);
+  samples += uint32_t(c.count);
+  const Float4 c1 = bilinear(t, c.level[0], u, v, lines);
+  if (c.count == 1) return c1;
+  const Float4 c2 = bilinear(t, c.level[1], u, v, lines);
+  return c1 + (c2 - c1) * c.f;
+}
+
+// floor() of four floats, exactly std::floor's results (signed zeros, NaN
+// and infinities included).
+inline Float4 floor4(Float4 x) {
+#if defined(__SSE2__)
+  // Truncate, step down where that rounded up, keep the sign of x (-0.0
+  // stays -0.0, (-1, 0) gives -1); values of 2^23 or more, NaN and the
+  // infinities are integers already, or stay what they are.
+  const __m128 v = __m128(x);
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  __m128 r = _mm_cvtepi32_ps(_mm_cvttps_epi32(v));
+  r = _mm_sub_ps(r, _mm_and_ps(_mm_cmpgt_ps(r, v), _mm_set1_ps(1.0f)));
+  r = _mm_or_ps(r, _mm_and_ps(v, sign));
+  const __m128 small = _mm_cmplt_ps(_mm_andnot_ps(sign, v), _mm_set1_ps(8388608.0f));
+  return Float4(_mm_or_ps(_mm_and_ps(small, r), _mm_andnot_ps(small, v)));
+#else
+  return Float4{std::floor(x[0]), std::floor(x[1]), std::floor(x[2]), std::floor(x[3])};
+#endif
+}
+
+// A quad's four points sampled with one level of detail (a quad shares its
+// footprint, so its levels too): the coordinate arithmetic of each level
+// in four lanes, then per live pixel, in pixel order, the fetches,
+// filtering and lines of bilinear() for the first level and the second.
+// Every lane does bilinear()'s operations in its order, so each `out[p]`
+// and the lines recorded are those of sample_lod() pixel by pixel, bit for
+// bit. Pixels not in `live` are not sampled (their coordinates may be
+// anything, NaN included).
+inline void sample_quad(const SamplerTexture& t, const float u[4], const float v[4], float lambda, unsigned live,
+                        QuadLines* lines, uint32_t& samples, Rgba out[4]) {
+  const LevelChoice c = choose_levels(t, lambda);
+  const Float4 u4{u[0], u[1], u[2], u[3]}, v4{v[0], v[1], v[2], v[3]};
+  Float4 fs[2], ft[2], fa[2], fb[2];
+  for (int k = 0; k < c.count; ++k) {
+    const LevelView& l = t.levels[size_t(c.level[k])];
+    const Float4 s = u4 * float(l.width) - 0.5f, tt = v4 * float(l.height) - 0.5f;
+    fs[k] = floor4(s);
+    ft[k] = floor4(tt);
+    fa[k] = s - fs[k];
+    fb[k] = tt - ft[k];
+  }
+  // A level's texel, from the lanes, converted only for live pixels.
+  const auto at = [&](int k, int p) {
+    const LevelView& l = t.levels[size_t(c.level[k])];
+    const int i0r = int(std::clamp(fs[k][p], -kCoordLimit, kCoordLimit));
+    const int j0r = int(std::clamp(ft[k][p], -kCoordLimit, kCoordLimit));
+    return filter(t, l, i0r, j0r, fa[k][p], fb[k][p], lines);
+  };
+  for (int p = 0; p < 4; ++p) {
+    if (!(live & (1u << p))) continue;
+    samples += uint32_t(c.count);
+    Float4 r = at(0, p);
+    if (c.count == 2) {
+      const Float4 r2 = at(1, p);
+      r = r + (r2 - r) * c.f;
+    }
+    out[p] = to_rgba(r);
+  }
 }
 
 // Texture-space derivatives of one quad, in texels of level 0.
@@ -198,19 +306,15 @@ inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_ani
 // One pixel's sample with its quad's footprint: an isotropic sample, or the
 // mean of the probes along the major axis.
 inline Rgba sample(const SamplerTexture& t, float u, float v, const Footprint& f, QuadLines* lines, uint32_t& samples) {
-  if (f.probes == 1) return sample_lod(t, u, v, f.lambda, lines, samples);
+  if (f.probes == 1) return to_rgba(sample_lod(t, u, v, f.lambda, lines, samples));
   const int n = f.probes;
-  Rgba acc;
+  Float4 acc{0, 0, 0, 0};
   for (int i = 0; i < n; ++i) {
     const float o = (float(i) + 0.5f) / float(n) - 0.5f;
-    const Rgba c = sample_lod(t, u + f.du * o, v + f.dv * o, f.lambda, lines, samples);
-    acc.r += c.r;
-    acc.g += c.g;
-    acc.b += c.b;
-    acc.a += c.a;
+    acc += sample_lod(t, u + f.du * o, v + f.dv * o, f.lambda, lines, samples);
   }
   const float inv = 1.0f / float(n);
-  return {acc.r * inv, acc.g * inv, acc.b * inv, acc.a * inv};
+  return to_rgba(acc * inv);
 }
 
 }  // namespace oovr::detail

@@ -1,0 +1,107 @@
+// The quad sampler (four pixels' coordinates in SIMD lanes) against the
+// scalar one, pixel by pixel: the same colours bit for bit, the same lines
+// in the same order and the same sample counts, since traces and images must
+// not change with how the pipeline computes them.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "oovr/pipeline/sampler.h"
+
+namespace {
+
+using namespace oovr;
+
+uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
+
+TEST(Sampler, Floor4IsStdFloorBitForBit) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> xs = {0.0f, -0.0f, 0.5f,       -0.5f,       1.0f,        -1.0f,       -1e-30f, 1e-30f,
+                           2.5f, -2.5f, 8388607.5f, -8388607.5f, 8388608.0f,  -8388608.0f, 1e20f,   -1e20f,
+                           3e9f, -3e9f, inf,        -inf,        0.99999994f, -0.99999994f};
+  std::mt19937 rng(11);
+  for (int i = 0; i < 4000; ++i) {
+    float f;
+    const uint32_t r = rng();
+    std::memcpy(&f, &r, 4);  // any float, NaNs excepted below
+    if (!std::isnan(f)) xs.push_back(f);
+    xs.push_back(float(int32_t(rng() % 2000001) - 1000000) / 256.0f);  // near integers, both signs
+  }
+  for (size_t i = 0; i + 4 <= xs.size(); i += 4) {
+    const detail::Float4 x{xs[i], xs[i + 1], xs[i + 2], xs[i + 3]};
+    const detail::Float4 y = detail::floor4(x);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(bits(y[k]), bits(std::floor(xs[i + size_t(k)]))) << xs[i + size_t(k)];
+  }
+  const detail::Float4 n = detail::floor4(detail::Float4{nan, nan, 1.5f, nan});
+  EXPECT_TRUE(std::isnan(n[0]) && std::isnan(n[1]) && std::isnan(n[3]));
+  EXPECT_EQ(n[2], 1.0f);
+}
+
+Texture noise_texture(int w, int h, Wrap wrap, bool mipmapped, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> px(size_t(w) * size_t(h) * 4);
+  for (auto& b : px) b = uint8_t(rng());
+  return make_texture("noise", "noise", w, h, std::move(px), wrap, mipmapped);
+}
+
+TEST(Sampler, QuadSamplesAreThoseOfFourPixels) {
+  // Power-of-two and odd sizes, repeat and clamp, with and without mips.
+  struct Case {
+    int w, h;
+    Wrap wrap;
+    bool mips;
+  };
+  const Case cases[] = {{256, 128, Wrap::repeat, true},
+                        {37, 91, Wrap::repeat, true},
+                        {64, 64, Wrap::clamp_to_edge, true},
+                        {45, 30, Wrap::clamp_to_edge, true},
+                        {128, 128, Wrap::repeat, false}};
+  std::mt19937 rng(5);
+  const auto uniform = [&](float lo, float hi) { return lo + (hi - lo) * float(rng() >> 8) / float(1u << 24); };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  int compared = 0;
+  for (size_t ci = 0; ci < std::size(cases); ++ci) {
+    const Case& c = cases[ci];
+    const Texture tex = noise_texture(c.w, c.h, c.wrap, c.mips, uint32_t(ci + 1));
+    const detail::SamplerTexture st(uint32_t(ci), tex, 8, 4);
+    for (int q = 0; q < 3000; ++q) {
+      // Quads near and far outside [0, 1], steep and flat, exact levels
+      // (a lambda of 2.0 fetches one level) and magnification.
+      const float span = q % 7 == 0 ? 1e4f : 3.0f;
+      const float u0 = uniform(-span, span), v0 = uniform(-span, span);
+      const float du = uniform(-0.05f, 0.05f), dv = uniform(-0.05f, 0.05f);
+      float u[4] = {u0, u0 + du, u0 + dv * 0.5f, u0 + du + dv * 0.5f};
+      float v[4] = {v0, v0 - dv, v0 + du, v0 + du - dv};
+      float lambda = uniform(-2.0f, float(st.max_level) + 2.0f);
+      if (q % 5 == 0) lambda = std::floor(lambda);
+      const unsigned live = 1u + rng() % 15u;
+      for (int p = 0; p < 4; ++p)
+        if (!(live & (1u << p)) && q % 3 == 0) u[p] = v[p] = nan;  // helpers may be anything
+      detail::QuadLines ql, sl;
+      std::vector<TexLine> quad_lines, scalar_lines;
+      uint32_t quad_samples = 0, scalar_samples = 0;
+      detail::Rgba got[4];
+      detail::sample_quad(st, u, v, lambda, live, &ql, quad_samples, got);
+      ql.flush(quad_lines);
+      for (int p = 0; p < 4; ++p) {
+        if (!(live & (1u << p))) continue;
+        const detail::Rgba want = detail::to_rgba(detail::sample_lod(st, u[p], v[p], lambda, &sl, scalar_samples));
+        ASSERT_EQ(bits(got[p].r), bits(want.r)) << "case " << ci << " quad " << q << " pixel " << p;
+        ASSERT_EQ(bits(got[p].g), bits(want.g));
+        ASSERT_EQ(bits(got[p].b), bits(want.b));
+        ASSERT_EQ(bits(got[p].a), bits(want.a));
+        ++compared;
+      }
+      sl.flush(scalar_lines);
+      ASSERT_EQ(quad_lines, scalar_lines) << "case " << ci << " quad " << q;
+      ASSERT_EQ(quad_samples, scalar_samples);
+    }
+  }
+  EXPECT_GT(compared, 20000);
+}
+
+}  // namespace
