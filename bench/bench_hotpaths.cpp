@@ -40,14 +40,20 @@ void setup(benchmark::State& state) {
   state.counters["triangles/s"] = benchmark::Counter(double(triangles), benchmark::Counter::kIsRate);
 }
 
+// The courtyard's first mip-mapped texture, prepared for sampling with the
+// Table 1 lines (8x4 texel blocks).
+detail::SamplerTexture sampled_texture() {
+  const Scene& s = courtyard();
+  size_t ti = 0;
+  while (ti + 1 < s.textures.size() && !s.textures[ti].mipmapped) ++ti;
+  return detail::SamplerTexture(uint32_t(ti), s.textures[ti], 8, 4);
+}
+
 // One pixel's texture sample with its quad's footprint (trilinear, or 16x
 // anisotropic) on the courtyard's first mip-mapped texture, at minifying
 // scales and random positions, recording the lines touched.
 void texture_sample(benchmark::State& state, int aniso) {
-  const Scene& s = courtyard();
-  size_t ti = 0;
-  while (ti + 1 < s.textures.size() && !s.textures[ti].mipmapped) ++ti;
-  const detail::SamplerTexture tex(uint32_t(ti), s.textures[ti], 8, 4);
+  const detail::SamplerTexture tex = sampled_texture();
   Rng rng(7);
   struct Probe {
     float u, v;
@@ -76,14 +82,11 @@ void texture_sample(benchmark::State& state, int aniso) {
   state.counters["bilinear/pixel"] = double(samples) / double(n);
 }
 
-// The same probes as quads (the pipeline's trilinear path): each probe's
-// point and its neighbours one pixel right and down, sampled together with
-// the quad's footprint by sample_quad.
+// Whole quads (the pipeline's trilinear path) on the same texture: a random
+// point and its neighbours one pixel right and down at a minifying scale,
+// sampled together with the quad's isotropic footprint by sample_quad.
 void texture_sample_quad(benchmark::State& state) {
-  const Scene& s = courtyard();
-  size_t ti = 0;
-  while (ti + 1 < s.textures.size() && !s.textures[ti].mipmapped) ++ti;
-  const detail::SamplerTexture tex(uint32_t(ti), s.textures[ti], 8, 4);
+  const detail::SamplerTexture tex = sampled_texture();
   Rng rng(7);
   struct Probe {
     float u[4], v[4];
