@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "oovr/core/error.h"
@@ -274,40 +275,84 @@ TEST(SweepRun, PointsRunDoneOrFailedAndTheSameWhateverTheJobs) {
   Sweep s = parse(R"(
 scenes = ["crowd", "no-such-scene.obj"]
 schemes = ["baseline", "oo-vr"]
-resolutions = ["96x64"]
+resolutions = ["96x64", "64x48"]
 frames = 4
 [sweep]
 gpms = [2, 4]
 )");
   resolve_all(s);
+  struct Run {
+    std::vector<RunRecord> records;
+    std::vector<SweepTask> tasks;
+    std::vector<std::string> status;
+  };
   const auto run = [&](unsigned jobs) {
-    std::vector<RunRecord> out;
+    Run out;
     SweepRunOptions o;
     o.jobs = jobs;
     o.use_cache = false;
-    o.on_record = [&](const RunRecord& r) { out.push_back(r); };
+    o.on_record = [&](const RunRecord& r) { out.records.push_back(r); };
+    o.on_task = [&](const SweepTask& t) { out.tasks.push_back(t); };
+    o.on_status = [&](const std::string& line) { out.status.push_back(line); };
     std::vector<size_t> all(s.points.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     run_points(s, all, o);
-    std::sort(out.begin(), out.end(), [](const RunRecord& a, const RunRecord& b) { return a.id < b.id; });
+    std::sort(out.records.begin(), out.records.end(), [](const RunRecord& a, const RunRecord& b) { return a.id < b.id; });
     return out;
   };
-  const auto one = run(1), two = run(2);
-  ASSERT_EQ(one.size(), 8u);
+  const Run one = run(1);
+  for (unsigned jobs : {2u, 5u}) {
+    const Run many = run(jobs);
+    ASSERT_EQ(many.records.size(), one.records.size());
+    for (size_t i = 0; i < one.records.size(); ++i) {
+      EXPECT_EQ(many.records[i].status, one.records[i].status);
+      EXPECT_EQ(many.records[i].result.dump(), one.records[i].result.dump()) << jobs << " jobs";
+      ASSERT_EQ(many.records[i].metrics.size(), one.records[i].metrics.size());
+      for (size_t k = 0; k < one.records[i].metrics.size(); ++k)
+        EXPECT_EQ(many.records[i].metrics[k].value, one.records[i].metrics[k].value);
+    }
+    // Each group loads once, each scene once (its two groups share it, the
+    // missing one's failure too), each point runs once, after its group's
+    // load; no more than two groups are held at once.
+    EXPECT_EQ(std::count(many.status.begin(), many.status.end(), "loading crowd"), 1) << jobs << " jobs";
+    EXPECT_EQ(std::count(many.status.begin(), many.status.end(), "loading no-such-scene.obj"), 1) << jobs << " jobs";
+    std::map<size_t, SweepTask> loads;
+    std::map<size_t, double> group_end;
+    size_t points = 0;
+    for (const SweepTask& t : many.tasks) {
+      EXPECT_LT(t.worker, jobs);
+      EXPECT_LE(t.start_s, t.end_s);
+      if (t.kind == SweepTask::Kind::load) {
+        EXPECT_TRUE(loads.emplace(t.group, t).second) << "group " << t.group;
+      } else {
+        ++points;
+      }
+      group_end[t.group] = std::max(group_end[t.group], t.end_s);
+    }
+    EXPECT_EQ(loads.size(), 4u);
+    EXPECT_EQ(points, 8u);  // the missing scene's points do not run
+    for (const SweepTask& t : many.tasks)
+      if (t.kind == SweepTask::Kind::point) {
+        EXPECT_GE(t.start_s, loads.at(t.group).end_s);
+      }
+    for (const auto& [g, l] : loads) {
+      size_t held = 0;
+      for (const auto& [h, m] : loads) held += m.start_s <= l.start_s && group_end[h] > l.start_s;
+      EXPECT_LE(held, 2u) << "when group " << g << " began loading";
+    }
+  }
+  ASSERT_EQ(one.records.size(), 16u);
   size_t failed = 0;
-  for (size_t i = 0; i < one.size(); ++i) {
-    if (one[i].status == "failed") {
+  for (const RunRecord& r : one.records) {
+    if (r.status == "failed") {
       ++failed;
-      EXPECT_EQ(one[i].scene, "no-such-scene.obj");
-      EXPECT_NE(one[i].error.find("no-such-scene.obj"), std::string::npos);
+      EXPECT_EQ(r.scene, "no-such-scene.obj");
+      EXPECT_NE(r.error.find("no-such-scene.obj"), std::string::npos);
       continue;
     }
-    EXPECT_EQ(one[i].status, "done");
-    EXPECT_EQ(one[i].result.dump(), two[i].result.dump());
-    ASSERT_EQ(one[i].metrics.size(), two[i].metrics.size());
-    for (size_t k = 0; k < one[i].metrics.size(); ++k) EXPECT_EQ(one[i].metrics[k].value, two[i].metrics[k].value);
+    EXPECT_EQ(r.status, "done");
     const auto has = [&](const std::string& location, const std::string& metric) {
-      return std::any_of(one[i].metrics.begin(), one[i].metrics.end(),
+      return std::any_of(r.metrics.begin(), r.metrics.end(),
                          [&](const Metric& m) { return m.location == location && m.metric == metric; });
     };
     EXPECT_TRUE(has("frame", "latency"));
@@ -315,13 +360,13 @@ gpms = [2, 4]
     EXPECT_TRUE(has("link[0->1]", "utilisation"));
     EXPECT_TRUE(has("gpm[1]->gpm[0]", "bytes"));
     EXPECT_TRUE(has("gpm[1].dram", "bytes"));
-    if (one[i].scheme == "oo-vr") {
+    if (r.scheme == "oo-vr") {
       EXPECT_TRUE(has("oo-vr", "batches"));
       EXPECT_TRUE(has("oo-vr", "moved_chunks"));
       EXPECT_TRUE(has("oo-vr", "predictor.c2"));
     }
   }
-  EXPECT_EQ(failed, 4u);
+  EXPECT_EQ(failed, 8u);
 }
 
 TEST(SweepRun, AStoredResultReadsBackExactly) {

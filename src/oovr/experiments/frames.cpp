@@ -34,6 +34,16 @@ uint64_t trace_memory_budget() {
   return *mb << 20;
 }
 
+uint64_t trace_bytes(const FrameTrace& t) {
+  return t.objects.size() * sizeof(ObjectWork) + t.tiles.size() * sizeof(TileWork) + t.tex_lines.size() * sizeof(TexLine);
+}
+
+uint64_t window_bytes(const FrameWindow& w) {
+  uint64_t b = 0;
+  for (const FrameOutput& o : w.outputs) b += trace_bytes(o.trace);
+  return b;
+}
+
 namespace {
 
 // A window's traces on disk, one file each, read back on demand; the folder
@@ -173,8 +183,7 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
                                         std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()) + ", with " +
                                         std::to_string(held >> 20) + " MB of traces held"));
     }
-    const uint64_t bytes = out.trace.objects.size() * sizeof(ObjectWork) + out.trace.tiles.size() * sizeof(TileWork) +
-                           out.trace.tex_lines.size() * sizeof(TexLine);
+    const uint64_t bytes = trace_bytes(out.trace);
     // Decided on the first trace: the window's size is about count times it.
     if (k == 0 && bytes * uint64_t(r.count) > budget && r.count > 1) {
       stream = std::make_unique<StreamedFrames>(stream_folder(cache, bytes * uint64_t(r.count), r.count));

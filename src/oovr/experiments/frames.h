@@ -61,6 +61,10 @@ int measured_window(const std::vector<std::string>& schemes, const Config& confi
 // Bytes of traces held in memory: $OOVR_TRACE_MEMORY_MB megabytes (default
 // 4096). Throws Error when the variable is not a whole number.
 uint64_t trace_memory_budget();
+// What a trace holds in memory, as the budget counts it (its records and
+// texture lines), and what a window's traces in memory hold together.
+uint64_t trace_bytes(const FrameTrace& t);
+uint64_t window_bytes(const FrameWindow& w);
 
 // What the pipeline is told when it renders the traces a simulation with
 // `config` replays: the texture storage format it names, the memory

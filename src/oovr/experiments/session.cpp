@@ -10,8 +10,7 @@ namespace {
 uint64_t bytes_of(const FrameWindow& w) {
   uint64_t b = 0;
   for (const FrameOutput& o : w.outputs) {
-    const FrameTrace& t = o.trace;
-    b += t.objects.size() * sizeof(ObjectWork) + t.tiles.size() * sizeof(TileWork) + t.tex_lines.size() * sizeof(TexLine);
+    b += trace_bytes(o.trace);
     b += o.colour.rgba.size() + o.object_id.size() * sizeof(uint32_t);
   }
   return b;

@@ -1,11 +1,15 @@
 #include "oovr/experiments/sweep_run.h"
 
 #include <chrono>
+#include <condition_variable>
 #include <ctime>
+#include <exception>
+#include <future>
 #include <map>
 #include <mutex>
 #include <new>
 #include <optional>
+#include <thread>
 
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
@@ -17,6 +21,7 @@
 #include "oovr/experiments/result_images.h"
 #include "oovr/experiments/result_json.h"
 #include "oovr/experiments/result_metrics.h"
+#include "oovr/experiments/sweep_schedule.h"
 #include "oovr/pipeline/image.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/stereo.h"
@@ -106,79 +111,225 @@ RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, 
   return r;
 }
 
-void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o) {
-  std::mutex record_mutex;
-  const auto emit = [&](const RunRecord& r) {
-    std::lock_guard<std::mutex> lock(record_mutex);
-    if (o.on_record) o.on_record(r);
-  };
-  const auto status = [&](const std::string& line) {
-    if (o.on_status) o.on_status(line);
-  };
-  // Groups of points over the same traces, in the order they first appear.
-  std::vector<std::string> order;
-  std::map<std::string, std::vector<size_t>> groups;
-  for (size_t i : which) {
-    const std::string g = trace_group(s.points.at(i));
-    if (!groups.count(g)) order.push_back(g);
-    groups[g].push_back(i);
-  }
-  std::shared_ptr<const Scene> scene;  // the last scene loaded, kept for the next group
-  std::string loaded;                  // what it was loaded as
-  for (const std::string& g : order) {
-    const std::vector<size_t>& points = groups[g];
-    const SweepPoint& first = s.points[points.front()];
-    int window = 0;
-    for (size_t i : points) window = std::max(window, s.points[i].window);
-    std::optional<FrameWindow> frames;
-    try {
-      if (!scene || loaded != first.scene) {
-        status("loading " + first.scene);
-        scene.reset();
-        loaded.clear();
-        scene = std::make_shared<const Scene>(load_scene(first.scene));
-        loaded = first.scene;
+namespace {
+
+// One group of points over the same traces (trace_group), as the pool holds it.
+struct Group {
+  std::vector<size_t> points;  // sweep indices, in the order given
+  std::string scene;
+  std::optional<FrameWindow> frames;  // while loaded and held, unless the load failed
+};
+
+// The sweep's points as one pool of work over all groups, handed out as
+// SweepSchedule says (sweep_schedule.h): no barrier at a group's end, and
+// the next group's scene and traces load while the points before it run. A
+// group's scene is loaded once and shared with the groups after it that hold
+// the same one. What each point computes does not depend on any of this:
+// results are those of one job, whatever the order they finish in.
+class PointPool {
+ public:
+  PointPool(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o, unsigned workers)
+      : m_sweep(s),
+        m_options(o),
+        m_start(std::chrono::steady_clock::now()),
+        m_schedule(group_points(s, which, m_groups), workers, trace_memory_budget()) {}
+
+  void work(unsigned worker) {
+    std::unique_lock<std::mutex> lock(m_mutex);
+    for (;;) {
+      if (m_abort) return;
+      const SweepSchedule::Action a = m_schedule.next();
+      switch (a.kind) {
+        case SweepSchedule::Action::Kind::stop: return;
+        case SweepSchedule::Action::Kind::wait: m_changed.wait(lock); continue;
+        case SweepSchedule::Action::Kind::load: {
+          Group& g = m_groups[a.group];
+          std::shared_future<std::shared_ptr<const Scene>> scene;
+          std::optional<std::promise<std::shared_ptr<const Scene>>> promise;  // when this load loads the scene
+          if (const auto it = m_scenes.find(g.scene); it != m_scenes.end()) scene = it->second;
+          else {
+            promise.emplace();
+            scene = m_scenes[g.scene] = promise->get_future().share();
+          }
+          lock.unlock();
+          guarded(lock, [&] { load(a.group, scene, promise ? &*promise : nullptr, worker); });
+          m_schedule.loaded(a.group, g.frames.has_value(), g.frames ? window_bytes(*g.frames) : 0);
+          if (!g.frames) forget_scenes();
+          break;
+        }
+        case SweepSchedule::Action::Kind::point: {
+          Group& g = m_groups[a.group];
+          lock.unlock();
+          guarded(lock, [&] { run_point(a.group, g.points[a.point], worker); });
+          if (m_schedule.point_done(a.group)) {
+            g.frames.reset();
+            forget_scenes();
+          }
+          break;
+        }
       }
+      m_changed.notify_all();
+    }
+  }
+
+  void rethrow() {
+    if (m_error) std::rethrow_exception(m_error);
+  }
+
+ private:
+  // Groups of the points in `which`, in the order their first point comes;
+  // returns their sizes.
+  static std::vector<size_t> group_points(const Sweep& s, const std::vector<size_t>& which, std::vector<Group>& groups) {
+    std::map<std::string, size_t> index;
+    for (size_t i : which) {
+      const SweepPoint& p = s.points.at(i);
+      const auto [it, added] = index.emplace(trace_group(p), groups.size());
+      if (added) {
+        groups.emplace_back();
+        groups.back().scene = p.scene;
+      }
+      groups[it->second].points.push_back(i);
+    }
+    std::vector<size_t> sizes;
+    for (const Group& g : groups) sizes.push_back(g.points.size());
+    return sizes;
+  }
+
+  // Runs `f` with the pool's lock released (the caller released it) and
+  // takes it again; an exception that is not a point's failure (a callback's,
+  // a defect's) stops the pool and is rethrown by run_points.
+  template <typename F>
+  void guarded(std::unique_lock<std::mutex>& lock, F&& f) {
+    try {
+      f();
+    } catch (...) {
+      lock.lock();
+      if (!m_error) m_error = std::current_exception();
+      m_abort = true;
+      m_changed.notify_all();
+      return;
+    }
+    lock.lock();
+  }
+
+  // Lets loaded scenes go unless a group held, or the last group to start
+  // loading (the next may share it), has them.
+  void forget_scenes() {
+    for (auto it = m_scenes.begin(); it != m_scenes.end();) {
+      bool used = m_groups[m_schedule.started() - 1].scene == it->first;
+      for (size_t k = 0; k < m_schedule.started() && !used; ++k) used = m_schedule.held(k) && m_groups[k].scene == it->first;
+      it = used ? std::next(it) : m_scenes.erase(it);
+    }
+  }
+
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
+
+  void emit(const RunRecord& r) {
+    std::lock_guard<std::mutex> lock(m_callback_mutex);
+    if (m_options.on_record) m_options.on_record(r);
+  }
+  void status(const std::string& line) {
+    std::lock_guard<std::mutex> lock(m_callback_mutex);
+    if (m_options.on_status) m_options.on_status(line);
+  }
+  void task(const SweepTask& t) {
+    std::lock_guard<std::mutex> lock(m_callback_mutex);
+    if (m_options.on_task) m_options.on_task(t);
+  }
+
+  // Loads a group's traces, and its scene when `promise` is given (else
+  // another load gives it): on failure, every point of the group gets a
+  // failed record and the group no traces.
+  void load(size_t index, const std::shared_future<std::shared_ptr<const Scene>>& scene,
+            std::promise<std::shared_ptr<const Scene>>* promise, unsigned worker) {
+    Group& g = m_groups[index];
+    const double t0 = seconds();
+    const SweepPoint& first = m_sweep.points[g.points.front()];
+    int window = 0;
+    for (size_t i : g.points) window = std::max(window, m_sweep.points[i].window);
+    std::string why;
+    try {
+      if (promise) {
+        status("loading " + first.scene);
+        try {
+          promise->set_value(std::make_shared<const Scene>(load_scene(first.scene)));
+        } catch (...) {
+          promise->set_exception(std::current_exception());
+        }
+      }
+      const std::shared_ptr<const Scene> loaded = scene.get();
       status("traces of " + first.scene + " at " + first.resolution);
       WindowRequest req;
       req.first = first.frame;
       req.count = window;
       req.aniso = first.aniso;
-      req.use_cache = o.use_cache;
-      req.need_first_image = s.images;
-      frames = load_window(scene, parse_frame_resolution(first.resolution), first.config, req);
+      req.use_cache = m_options.use_cache;
+      req.need_first_image = m_sweep.images;
+      g.frames = load_window(loaded, parse_frame_resolution(first.resolution), first.config, req);
     } catch (const Error& e) {
-      for (size_t i : points) emit(failed_record(s, i, e.what(), o.command));
-      continue;
+      why = e.what();
     } catch (const std::bad_alloc&) {
-      const std::string why = out_of_memory_message("loading " + first.scene + " at " + first.resolution);
-      for (size_t i : points) emit(failed_record(s, i, why, o.command));
-      continue;
+      why = out_of_memory_message("loading " + first.scene + " at " + first.resolution);
     }
-    status("running " + std::to_string(points.size()) + " points on " + first.scene);
-    parallel_for(points.size(), o.jobs, [&](size_t k) {
-      const size_t i = points[k];
-      const SweepPoint& p = s.points[i];
-      RunRecord r = record_of(s, i, o.command);
-      const auto t0 = std::chrono::steady_clock::now();
-      try {
-        const SchemeResult result = run_scheme_window(p.scheme, *frames->scene, *frames->frames, p.config, p.window);
-        r.status = "done";
-        r.result = to_json(result);
-        r.metrics = metrics_of(result);
-        if (s.images && !frames->outputs.empty() && !frames->outputs.front().colour.rgba.empty())
-          r.images = images_of(frames->outputs.front(), result);
-      } catch (const Error& e) {
-        r.status = "failed";
-        r.error = e.what();
-      } catch (const std::bad_alloc&) {
-        r.status = "failed";
-        r.error = out_of_memory_message("simulating " + p.scheme + " on " + p.scene);
-      }
-      r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      emit(r);
-    });
+    task({SweepTask::Kind::load, index, g.points.front(), worker, t0, seconds()});
+    if (!why.empty()) {
+      g.frames.reset();
+      for (size_t i : g.points) emit(failed_record(m_sweep, i, why, m_options.command));
+      return;
+    }
+    status("running " + std::to_string(g.points.size()) + " points on " + first.scene);
   }
+
+  void run_point(size_t index, size_t i, unsigned worker) {
+    const SweepPoint& p = m_sweep.points[i];
+    const FrameWindow& frames = *m_groups[index].frames;
+    RunRecord r = record_of(m_sweep, i, m_options.command);
+    const double t0 = seconds();
+    try {
+      const SchemeResult result = run_scheme_window(p.scheme, *frames.scene, *frames.frames, p.config, p.window);
+      r.status = "done";
+      r.result = to_json(result);
+      r.metrics = metrics_of(result);
+      if (m_sweep.images && !frames.outputs.empty() && !frames.outputs.front().colour.rgba.empty())
+        r.images = images_of(frames.outputs.front(), result);
+    } catch (const Error& e) {
+      r.status = "failed";
+      r.error = e.what();
+    } catch (const std::bad_alloc&) {
+      r.status = "failed";
+      r.error = out_of_memory_message("simulating " + p.scheme + " on " + p.scene);
+    }
+    const double t1 = seconds();
+    r.wall_s = t1 - t0;
+    emit(r);
+    task({SweepTask::Kind::point, index, i, worker, t0, t1});
+  }
+
+  const Sweep& m_sweep;
+  const SweepRunOptions& m_options;
+  const std::chrono::steady_clock::time_point m_start;
+  std::vector<Group> m_groups;  // in the order their first point comes
+  std::mutex m_mutex;           // guards everything below, and the groups' frames while loads and points change them
+  std::condition_variable m_changed;
+  SweepSchedule m_schedule;
+  std::map<std::string, std::shared_future<std::shared_ptr<const Scene>>> m_scenes;
+  bool m_abort = false;
+  std::exception_ptr m_error;
+  std::mutex m_callback_mutex;  // one callback at a time
+};
+
+}  // namespace
+
+void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o) {
+  unsigned workers = o.jobs ? o.jobs : default_thread_count();
+  workers = unsigned(std::max<size_t>(1, std::min<size_t>(workers, which.size())));
+  PointPool pool(s, which, o, workers);
+  std::vector<std::thread> threads;
+  threads.reserve(workers - 1);
+  for (unsigned w = 1; w < workers; ++w) threads.emplace_back([&pool, w] { pool.work(w); });
+  pool.work(0);
+  for (auto& t : threads) t.join();
+  pool.rethrow();
 }
 
 SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed) {

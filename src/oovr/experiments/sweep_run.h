@@ -1,9 +1,14 @@
 // The sweep engine: runs resolved sweep points and hands each outcome over
 // as a RunRecord (results_db.h), done or failed. Points that replay the
-// same traces (trace_group) run together: their scene is loaded and their
-// traces rendered (or read from the trace cache) once, and the points run
-// in parallel over them. A point that fails (a scene not installed, memory
-// exhausted) becomes a failed record with its error; the others go on.
+// same traces (trace_group) share them: their scene is loaded and their
+// traces rendered (or read from the trace cache) once. The points of all
+// groups are one pool of work: a worker takes a point of the earliest
+// loaded group that has one left, and the next groups load while the points
+// before them run (sweep_schedule.h: how far ahead, within half the memory
+// budget), so that no worker waits for a group's longest point or for a
+// load. A
+// point that fails (a scene not installed, memory exhausted) becomes a
+// failed record with its error; the others go on.
 #pragma once
 
 #include <functional>
@@ -15,6 +20,18 @@
 
 namespace oovr {
 
+// What a worker did and when (seconds since run_points began): loading a
+// group (its scene, when not loaded already, and its traces) or running one
+// point. For a timeline of a sweep (bench/sweep-schedule).
+struct SweepTask {
+  enum class Kind { load, point };
+  Kind kind;
+  size_t group;  // groups numbered in the order their first point comes
+  size_t point;  // the point run, or the group's first point for a load
+  unsigned worker;
+  double start_s, end_s;
+};
+
 struct SweepRunOptions {
   unsigned jobs = 0;      // points run at once (0: every core)
   bool use_cache = true;  // the trace cache ($OOVR_CACHE_DIR)
@@ -25,6 +42,9 @@ struct SweepRunOptions {
   // What the engine is doing between points ("loading courtyard"), for a
   // progress display; may be empty.
   std::function<void(const std::string&)> on_status;
+  // Called once per load and per point, as it ends, one call at a time
+  // (with the others above); may be empty.
+  std::function<void(const SweepTask&)> on_task;
 };
 
 // Runs s.points[i] for every i in `which` (resolved: resolve_all).
