@@ -199,16 +199,18 @@ PaperResults run_paper(PaperOptions& o) {
   o.workloads = !res.one_pass_scenes.empty();
 
   // Each scene's statistics at the sweep resolution, from its first frame
-  // (the trace cache has it).
-  for (const auto& name : res.scenes) {
-    const auto loaded = std::make_shared<const Scene>(load_scene(name));
+  // (the trace cache has it): scenes loaded at once, on the sweep's workers,
+  // since loading a game level is most of it.
+  std::vector<PaperSceneStats> stats(res.scenes.size());
+  parallel_for(res.scenes.size(), o.jobs, [&](size_t k) {
+    const auto loaded = std::make_shared<const Scene>(load_scene(res.scenes[k]));
     const Scene& scene = *loaded;
     WindowRequest w;
     w.first = o.first_frame;
     w.count = 1;
     w.aniso = o.aniso;
     const FrameWindow window = load_window(loaded, parse_frame_resolution(o.sweep_resolution), o.config, w);
-    PaperSceneStats st;
+    PaperSceneStats& st = stats[k];
     st.draws = scene.objects.size();
     for (const auto& ob : scene.objects) st.triangles += scene.meshes[size_t(ob.mesh)].indices.size() / 3;
     for (const auto& t : scene.textures) st.texture_bytes += t.bytes();
@@ -220,8 +222,8 @@ PaperResults run_paper(PaperOptions& o) {
     for (const auto& tw : trace->tiles)
       fi += timing.fragment_work(tw.quads, uint64_t(tw.quads) * 4 * trace->objects[tw.object].fragment_instructions);
     st.vertex_share = vi + fi > 0 ? vi / (vi + fi) : 0;
-    res.stats[name] = st;
-  }
+  });
+  for (size_t k = 0; k < res.scenes.size(); ++k) res.stats[res.scenes[k]] = stats[k];
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }
