@@ -122,9 +122,9 @@ struct Group {
 
 // The sweep's points as one pool of work over all groups, handed out as
 // SweepSchedule says (sweep_schedule.h): no barrier at a group's end, and
-// the next group's scene and traces load while the points before it run. A
-// group's scene is loaded once and shared with the groups after it that hold
-// the same one. What each point computes does not depend on any of this:
+// later groups' scenes and traces load while the points before them run. A
+// scene is loaded once and shared by the groups held that use it, and by
+// the next group to load. What each point computes does not depend on any of this:
 // results are those of one job, whatever the order they finish in.
 class PointPool {
  public:
