@@ -42,15 +42,6 @@ struct Args {
   bool no_cache = false;
 };
 
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> out(1);
-  for (char c : text) {
-    if (c == sep) out.emplace_back();
-    else out.back() += c;
-  }
-  return out;
-}
-
 std::optional<double> parse_number(const std::string& text) {
   double v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
@@ -78,10 +69,10 @@ std::vector<SweepTask> read_timeline(const std::string& path) {
   const std::string text = read_input_file(path, "timeline", uint64_t(1) << 30);
   std::vector<SweepTask> tasks;
   size_t line_no = 0;
-  for (const std::string& line : split(text, '\n')) {
+  for (const std::string& line : split_fields(text, '\n')) {
     ++line_no;
     if (line_no == 1 || line.empty()) continue;
-    const std::vector<std::string> f = split(line, ',');
+    const std::vector<std::string> f = split_fields(line, ',');
     const auto bad = [&](const std::string& why) {
       return Error(path + ":" + std::to_string(line_no) + ": " + why + " (not a timeline written by --timeline?)");
     };
@@ -147,7 +138,7 @@ int main(int argc, char** argv) {
     Sweep s = a.sweep == "paper" ? paper_sweep() : read_sweep(a.sweep);
     resolve_all(s);
     std::vector<size_t> which;
-    const std::vector<std::string> only = a.scenes.empty() ? std::vector<std::string>{} : split_list(a.scenes);
+    const std::vector<std::string> only = split_list(a.scenes);
     for (size_t i = 0; i < s.points.size(); ++i)
       if (only.empty() || std::find(only.begin(), only.end(), s.points[i].scene) != only.end()) which.push_back(i);
     if (which.empty()) throw Error("no point of the sweep '" + s.name + "' is on the scenes " + a.scenes);

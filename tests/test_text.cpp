@@ -15,6 +15,13 @@ TEST(Text, SplitListDropsEmptyItems) {
   EXPECT_TRUE(split_list(",,").empty());
 }
 
+TEST(Text, SplitFieldsKeepsEmptyFields) {
+  EXPECT_EQ(split_fields("a,b,,c", ','), (std::vector<std::string>{"a", "b", "", "c"}));
+  EXPECT_EQ(split_fields("", ','), (std::vector<std::string>{""}));
+  EXPECT_EQ(split_fields(",", ','), (std::vector<std::string>{"", ""}));
+  EXPECT_EQ(split_fields("x\ny\n", '\n'), (std::vector<std::string>{"x", "y", ""}));
+}
+
 TEST(Text, WholeNumbersAreDigitsOnlyAndInRange) {
   EXPECT_EQ(parse_whole_number("12", 1, 100), 12u);
   for (const char* bad : {" 12", "+12", "-5", "1e3", "12MB", "", "101", "0"})

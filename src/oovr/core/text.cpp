@@ -16,6 +16,18 @@ std::vector<std::string> split_list(const std::string& text) {
   return v;
 }
 
+std::vector<std::string> split_fields(const std::string& text, char separator) {
+  std::vector<std::string> f;
+  size_t i = 0;
+  for (;;) {
+    const size_t c = text.find(separator, i);
+    f.push_back(text.substr(i, c == std::string::npos ? std::string::npos : c - i));
+    if (c == std::string::npos) break;
+    i = c + 1;
+  }
+  return f;
+}
+
 std::string lower_extension(const std::string& path) {
   std::string e = std::filesystem::path(path).extension().string();
   for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));

@@ -11,6 +11,10 @@ namespace oovr {
 // "a,b,,c" -> {"a", "b", "c"}: comma-separated items, empty ones dropped.
 std::vector<std::string> split_list(const std::string& text);
 
+// "a,b,,c" -> {"a", "b", "", "c"}: the fields between separators, empty
+// ones kept (a CSV line without quoting; "" -> {""}).
+std::vector<std::string> split_fields(const std::string& text, char separator);
+
 // The extension of a path's file name, lower case, with its dot ("x/A.TGA"
 // -> ".tga"; "" without one).
 std::string lower_extension(const std::string& path);

@@ -9,27 +9,13 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/text.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
-namespace {
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> f;
-  size_t i = 0;
-  for (;;) {
-    const size_t c = line.find(',', i);
-    f.push_back(line.substr(i, c == std::string::npos ? std::string::npos : c - i));
-    if (c == std::string::npos) break;
-    i = c + 1;
-  }
-  return f;
-}
-
-}  // namespace
 
 double median(std::vector<double> v) {
   if (v.empty()) return std::nan("");
@@ -71,7 +57,7 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    const std::vector<std::string> f = split_csv(line);
+    const std::vector<std::string> f = split_fields(line, ',');
     if (col.empty()) {
       if (f[0] == "renderer") {
         if (f.size() < 2 || f[1].empty()) throw fail("the renderer line names no renderer");

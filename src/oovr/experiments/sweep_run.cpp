@@ -115,8 +115,7 @@ namespace {
 
 // One group of points over the same traces (trace_group), as the pool holds it.
 struct Group {
-  std::vector<size_t> points;  // sweep indices, in the order given
-  std::string scene;
+  std::vector<size_t> points;         // sweep indices, in the order given
   std::optional<FrameWindow> frames;  // while loaded and held, unless the load failed
 };
 
@@ -144,12 +143,13 @@ class PointPool {
         case SweepSchedule::Action::Kind::wait: m_changed.wait(lock); continue;
         case SweepSchedule::Action::Kind::load: {
           Group& g = m_groups[a.group];
+          const std::string& name = scene_of(a.group);
           std::shared_future<std::shared_ptr<const Scene>> scene;
           std::optional<std::promise<std::shared_ptr<const Scene>>> promise;  // when this load loads the scene
-          if (const auto it = m_scenes.find(g.scene); it != m_scenes.end()) scene = it->second;
+          if (const auto it = m_scenes.find(name); it != m_scenes.end()) scene = it->second;
           else {
             promise.emplace();
-            scene = m_scenes[g.scene] = promise->get_future().share();
+            scene = m_scenes[name] = promise->get_future().share();
           }
           lock.unlock();
           guarded(lock, [&] { load(a.group, scene, promise ? &*promise : nullptr, worker); });
@@ -184,10 +184,7 @@ class PointPool {
     for (size_t i : which) {
       const SweepPoint& p = s.points.at(i);
       const auto [it, added] = index.emplace(trace_group(p), groups.size());
-      if (added) {
-        groups.emplace_back();
-        groups.back().scene = p.scene;
-      }
+      if (added) groups.emplace_back();
       groups[it->second].points.push_back(i);
     }
     std::vector<size_t> sizes;
@@ -212,12 +209,14 @@ class PointPool {
     lock.lock();
   }
 
+  const std::string& scene_of(size_t group) const { return m_sweep.points[m_groups[group].points.front()].scene; }
+
   // Lets loaded scenes go unless a group held, or the last group to start
   // loading (the next may share it), has them.
   void forget_scenes() {
     for (auto it = m_scenes.begin(); it != m_scenes.end();) {
-      bool used = m_groups[m_schedule.started() - 1].scene == it->first;
-      for (size_t k = 0; k < m_schedule.started() && !used; ++k) used = m_schedule.held(k) && m_groups[k].scene == it->first;
+      bool used = scene_of(m_schedule.started() - 1) == it->first;
+      for (size_t k = 0; k < m_schedule.started() && !used; ++k) used = m_schedule.held(k) && scene_of(k) == it->first;
       it = used ? std::next(it) : m_scenes.erase(it);
     }
   }
