@@ -43,7 +43,7 @@ TEST(Bsp, PatchesAreTessellatedAtTheRequestedLevel) {
     std::vector<BspVertex> v;
     std::vector<uint32_t> idx;
     bsp_face_triangles(m, m.faces[1], level, v, idx);
-    EXPECT_EQ(v.size(), size_t((level + 1) * (level + 1)));
+    ASSERT_EQ(v.size(), size_t((level + 1) * (level + 1)));
     EXPECT_EQ(idx.size(), size_t(level * level * 6));
     // Corners are interpolated exactly; the middle row bulges toward the
     // control point at y = 80 (a quadratic Bezier reaches half of it).

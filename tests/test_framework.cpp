@@ -117,7 +117,12 @@ TEST(Framework, DependentObjectsJoinTheBatchInOrderWhateverTheCap) {
   const auto c = make_batches(app_of({{10, {0}, {}}, {10, {1}, {}}, {10, {0}, {1}}}), {});
   EXPECT_EQ(members(c), (std::vector<std::vector<uint32_t>>{{0}, {1, 2}}));
   // Every object in exactly one batch, and every batch in order.
-  for (const auto& x : b) EXPECT_TRUE(std::is_sorted(x.objects.begin(), x.objects.end()));
+  std::vector<int> times(4, 0);
+  for (const auto& x : b) {
+    EXPECT_TRUE(std::is_sorted(x.objects.begin(), x.objects.end()));
+    for (uint32_t o : x.objects) ++times[o];
+  }
+  EXPECT_EQ(times, (std::vector<int>{1, 1, 1, 1}));
 }
 
 TEST(Framework, TheCourtyardBatchesItsPillarsAndKeepsItsDecalsWithTheirWalls) {

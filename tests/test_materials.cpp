@@ -89,6 +89,7 @@ TEST(Materials, AdditiveAndFilterBlendsCombineWithTheFrame) {
   EXPECT_NEAR(centre(out)[2], 0.1875 * 255, 1.5);
   // The trace: the first pass writes colour and depth and reads no colour;
   // the blended passes read and write colour and write no depth.
+  ASSERT_FALSE(out.trace.tiles.empty());
   for (const TileWork& w : out.trace.tiles) {
     EXPECT_EQ(w.passed, 256u);
     EXPECT_NE(w.colour_write_mask, 0u);

@@ -9,6 +9,7 @@
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/timing/gpm_model.h"
+#include "test_util.h"
 
 namespace oovr {
 namespace {
@@ -356,10 +357,16 @@ namespace {
 
 TEST(Memory, EveryImplementationIsRegistered) {
   // A policy whose file exists but was not linked in would be missing here.
-  EXPECT_EQ(PlacementPolicies::names(),
-            (std::vector<std::string>{"first-touch", "interleaved", "pinned", "preallocated", "replicated"}));
-  EXPECT_EQ(ReplacementPolicies::names(), (std::vector<std::string>{"fifo", "lru", "random"}));
-  EXPECT_EQ(Topologies::names(), (std::vector<std::string>{"fully-connected", "ring", "switch"}));
+  // Each registry holds exactly what the files of its impl/ folder register.
+  const auto placement = test::registered_in_sources("src/oovr/memory/placement/impl", "PlacementPolicies");
+  const auto replacement = test::registered_in_sources("src/oovr/memory/replacement/impl", "ReplacementPolicies");
+  const auto topologies = test::registered_in_sources("src/oovr/memory/topology/impl", "Topologies");
+  ASSERT_GE(placement.size(), 5u);
+  ASSERT_GE(replacement.size(), 3u);
+  ASSERT_GE(topologies.size(), 3u);
+  EXPECT_EQ(PlacementPolicies::names(), placement);
+  EXPECT_EQ(ReplacementPolicies::names(), replacement);
+  EXPECT_EQ(Topologies::names(), topologies);
 }
 
 }  // namespace

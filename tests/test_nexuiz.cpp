@@ -121,6 +121,7 @@ TEST_F(NexuizDir, AMissingLightmapIsANoteAndAnUnlitSurface) {
   m_files.erase("maps/test/lm_0001.tga");
   const Scene s = load();
   EXPECT_TRUE(noted(s, "name a lightmap the map does not have"));
+  ASSERT_FALSE(s.objects.empty());
   for (const Object& o : s.objects) EXPECT_LT(s.pass_of(o).layer(LayerKind::lightmap), 0);
 }
 

@@ -51,6 +51,7 @@ TEST_P(StereoEqualsMono, ImagesAndCounts) {
       }
     }
     // Every tile record of an eye lies in tiles that overlap its viewport.
+    ASSERT_FALSE(s.trace.tiles.empty());
     for (const auto& t : s.trace.tiles) {
       const int x0 = t.tile_x * kTileSize, x1 = x0 + kTileSize;
       EXPECT_TRUE(x1 > stereo.viewport[t.eye].x && x0 < stereo.viewport[t.eye].x + stereo.viewport[t.eye].width);

@@ -1,8 +1,13 @@
 // Helpers shared by the tests: exact orthographic views and tiny scenes.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +27,25 @@ inline std::string message_of(const std::function<void()>& f) {
     return e.what();
   }
   return "<no error>";
+}
+
+// The names registered in the sources of `folder` (relative to the source
+// tree, every .cpp in it) with `Registry::Add name("NAME", ...)`: what the
+// registry must hold if every file there is compiled and linked, found
+// without a hand-kept list, so that a new file alone passes its test.
+inline std::vector<std::string> registered_in_sources(const std::string& folder, const std::string& registry) {
+  std::vector<std::string> names;
+  const std::regex add(registry + R"re(::Add\s+\w+\(\s*"([^"]+)")re");
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(OOVR_SOURCE_DIR) / folder)) {
+    if (e.path().extension() != ".cpp") continue;
+    std::ifstream in(e.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string t = text.str();
+    for (auto it = std::sregex_iterator(t.begin(), t.end(), add); it != std::sregex_iterator(); ++it) names.push_back((*it)[1]);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 // A one-eye view of a w x h frame (powers of two) in which world (x, y)

@@ -1,6 +1,7 @@
 // oovr correlate: oovr's frame times beside a real GPU's (experiments/hardware.h).
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -13,25 +14,35 @@
 namespace oovr::cli {
 namespace {
 
+// What the GPU drew, for the first line of the output.
+std::string workload(const HardwareWorkload& w) {
+  return fmt::format("{} materials, {} textures, anisotropy {}, scenes of oovr {}", w.materials, w.texture_format, w.aniso,
+                     w.commit);
+}
+
 // Calibration: the correlation at each value of one key; the value that
 // makes oovr most nearly proportional to the GPU (the smallest standard
-// deviation of log(oovr / GPU) over the points) is named.
+// deviation of log(oovr / GPU) over the points) is named; then how general
+// that is: each scene left out of the fit in turn.
 int sweep(const CorrelateArgs& a, const HardwareData& data, CorrelationOptions o) {
   const size_t eq = a.sweep.find('=');
   if (eq == std::string::npos || eq == 0) throw Error("--sweep '" + a.sweep + "' must be key=v1,v2,...");
   const std::string key = a.sweep.substr(0, eq);
   const std::vector<std::string> values = split_list(a.sweep.substr(eq + 1));
   if (values.empty()) throw Error("--sweep '" + a.sweep + "' names no value");
-  fmt::print("{} ({}): {} on {} frames, sweeping {}\n", a.hardware, data.renderer.empty() ? "renderer not named" : data.renderer,
-             a.scheme, data.frames.size(), key);
+  fmt::print("{} ({}; {}): {} on {} frames, sweeping {}\n", a.hardware,
+             data.renderer.empty() ? "renderer not named" : data.renderer, workload(data.workload), a.scheme, data.frames.size(),
+             key);
   fmt::print("  {:>14} {:>10} {:>9} {:>12}\n", "value", "Pearson r", "spread", "sd log ratio");
   std::string best;
   double best_sd = 0;
   const Config base = o.config;
+  std::vector<Correlation> runs;
   for (const auto& v : values) {
     o.config = base;
     o.config.set(key, v);
-    const Correlation c = correlate(data, o);
+    runs.push_back(correlate(data, o));
+    const Correlation& c = runs.back();
     fmt::print("  {:>14} {:>10.3f} {:>8.2f}x {:>12.3f}\n", v, c.r, c.spread, c.log_sd);
     if (best.empty() || c.log_sd < best_sd) {
       best = v;
@@ -39,6 +50,12 @@ int sweep(const CorrelateArgs& a, const HardwareData& data, CorrelationOptions o
     }
   }
   fmt::print("  most proportional: {} = {}\n", key, best);
+  if (runs.front().r_within.size() >= 2) {
+    fmt::print("  leave one scene out: fitted on the other scenes, the ratio oovr/GPU of the scene left out against theirs\n");
+    fmt::print("  {:<30} {:>14} {:>16} {:>10} {:>9}\n", "left out", "fitted value", "its ratio/theirs", "r (all)", "spread");
+    for (const LeftOut& l : leave_one_scene_out(values, runs))
+      fmt::print("  {:<30} {:>14} {:>15.2f}x {:>10.3f} {:>8.2f}x\n", l.scene, l.value, l.held_out, l.r, l.spread);
+  }
   return 0;
 }
 
@@ -54,12 +71,15 @@ int correlate(const CorrelateArgs& a) {
   o.use_cache = !a.no_cache;
   if (!a.sweep.empty()) return sweep(a, data, o);
   const Correlation c = correlate(data, o);
-  fmt::print("{} ({}): {} on {} points, {} frames; medians per point, times in microseconds\n", a.hardware,
-             data.renderer.empty() ? "renderer not named" : data.renderer, c.scheme, c.points.size(), data.frames.size());
-  fmt::print("  {:<18} {:>10} {:>7} {:>9} {:>9} {:>9}\n", "scene", "resolution", "frames", "GPU", "oovr", "oovr/GPU");
+  fmt::print("{} ({}; {}): {} on {} points, {} frames; medians per point, times in microseconds\n", a.hardware,
+             data.renderer.empty() ? "renderer not named" : data.renderer, workload(data.workload), c.scheme, c.points.size(),
+             data.frames.size());
+  size_t w = 5;  // the scene column: as wide as its longest name
+  for (const auto& p : c.points) w = std::max(w, p.scene.size());
+  fmt::print("  {:<{}} {:>10} {:>7} {:>9} {:>9} {:>9}\n", "scene", w, "resolution", "frames", "GPU", "oovr", "oovr/GPU");
   double lo = 0, hi = 0;
   for (const auto& p : c.points) {
-    fmt::print("  {:<18} {:>10} {:>7} {:>9.1f} {:>9.1f} {:>9.3f}\n", p.scene, p.resolution, p.frames.size(), p.gpu_median_us,
+    fmt::print("  {:<{}} {:>10} {:>7} {:>9.1f} {:>9.1f} {:>9.3f}\n", p.scene, w, p.resolution, p.frames.size(), p.gpu_median_us,
                p.oovr_median_us, p.ratio());
     lo = lo == 0 ? p.ratio() : std::min(lo, p.ratio());
     hi = std::max(hi, p.ratio());
@@ -74,10 +94,10 @@ int correlate(const CorrelateArgs& a) {
   }
   fmt::print("\n");
   if (a.per_frame) {
-    fmt::print("  {:<18} {:>10} {:>6} {:>9} {:>9} {:>9}\n", "scene", "resolution", "frame", "GPU", "oovr", "oovr/GPU");
+    fmt::print("  {:<{}} {:>10} {:>6} {:>9} {:>9} {:>9}\n", "scene", w, "resolution", "frame", "GPU", "oovr", "oovr/GPU");
     for (const auto& p : c.points)
       for (size_t i = 0; i < p.frames.size(); ++i)
-        fmt::print("  {:<18} {:>10} {:>6} {:>9.1f} {:>9.1f} {:>9.3f}\n", p.scene, p.resolution, p.frames[i], p.gpu_us[i],
+        fmt::print("  {:<{}} {:>10} {:>6} {:>9.1f} {:>9.1f} {:>9.3f}\n", p.scene, w, p.resolution, p.frames[i], p.gpu_us[i],
                    p.oovr_us[i], p.oovr_us[i] / p.gpu_us[i]);
   }
   for (const auto& n : c.notes) fmt::print("  note: {}\n", n);
@@ -85,6 +105,10 @@ int correlate(const CorrelateArgs& a) {
     nlohmann::ordered_json j = results_header(a.command);  // docs/results.md
     j["hardware"] = a.hardware;
     j["renderer"] = data.renderer;
+    j["workload"] = {{"commit", data.workload.commit},
+                     {"materials", data.workload.materials},
+                     {"texture_format", data.workload.texture_format},
+                     {"aniso", data.workload.aniso}};
     j["scheme"] = c.scheme;
     j["pearson_r"] = c.r;
     j["ratio_spread"] = c.spread;

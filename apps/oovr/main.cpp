@@ -107,18 +107,35 @@ int cmd_config(const ConfigArgs& a) {
   const Config c = cli::machine_config(a.file, a.settings);
   check_config(c);
   if (a.all) {
-    // Every key any component reads, with its default, where its value came
-    // from and what it takes (units included).
-    size_t w[4] = {3, 5, 7, 6};
-    for (const auto& [k, e] : c.entries()) {
-      w[0] = std::max(w[0], k.size());
-      w[1] = std::max(w[1], e.value.size());
-      w[2] = std::max(w[2], e.fallback.size());
-      w[3] = std::max(w[3], e.source.size());
+    // Every key a component declares, with its value, default, where the
+    // value came from, what it takes and what it means. A key whose default
+    // is the scheme's (OO-VR's switches) is listed even when not given.
+    struct Row {
+      std::string key, value, fallback, source, takes, meaning;
+    };
+    std::vector<Row> rows;
+    for (const auto& section : ConfigSections::names())
+      for (const ConfigKey& k : ConfigSections::find(section)->keys) {
+        const auto it = c.entries().find(k.key);
+        if (it != c.entries().end())
+          rows.push_back({k.key, it->second.value, it->second.fallback, it->second.source, it->second.kind, k.meaning});
+        else rows.push_back({k.key, "-", k.user_default, "the scheme's", k.takes, k.meaning});
+      }
+    std::sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.key < y.key; });
+    size_t w[5] = {3, 5, 7, 6, 5};
+    for (const Row& r : rows) {
+      w[0] = std::max(w[0], r.key.size());
+      w[1] = std::max(w[1], r.value.size());
+      w[2] = std::max(w[2], r.fallback.size());
+      w[3] = std::max(w[3], r.source.size());
+      w[4] = std::max(w[4], r.takes.size());
     }
-    fmt::print("{:<{}}  {:<{}}  {:<{}}  {:<{}}  {}\n", "key", w[0], "value", w[1], "default", w[2], "source", w[3], "takes");
-    for (const auto& [k, e] : c.entries())
-      fmt::print("{:<{}}  {:<{}}  {:<{}}  {:<{}}  {}\n", k, w[0], e.value, w[1], e.fallback, w[2], e.source, w[3], e.kind);
+    const auto line = [&](const Row& r) {
+      fmt::print("{:<{}}  {:<{}}  {:<{}}  {:<{}}  {:<{}}  {}\n", r.key, w[0], r.value, w[1], r.fallback, w[2], r.source, w[3],
+                 r.takes, w[4], r.meaning);
+    };
+    line({"key", "value", "default", "source", "takes", "meaning"});
+    for (const Row& r : rows) line(r);
     return 0;
   }
   // Printed as TOML (dotted keys), so that the output is itself a preset.

@@ -215,10 +215,12 @@ class Broken(oovr.Scheme):
         elif self.mistake == "raise":
             return 1 / 0
         elif self.mistake == "after_finish":
+            oovr.sort_first(sim, lambda x, y, eye: 0, "shared")
             sim.finish(self.name)
             sim.command(0)
         elif self.mistake == "keep":
             kept = (sim, left, oovr.TileJob(0, left))
+            oovr.sort_first(sim, lambda x, y, eye: 0, "shared")  # the frame's work, so that the run is sound
         return sim.finish(self.name)
 
 
@@ -235,6 +237,81 @@ class Broken(oovr.Scheme):
 def test_a_mistake_in_a_python_scheme_is_an_exception(mistake, error, message):
     with pytest.raises(error, match=message):
         oovr.compare("crowd", ["baseline", Broken(mistake)], resolution="160x128", jobs=2)
+
+
+class Idle(oovr.Scheme):
+    """The smallest wrong scheme: it does no work, which would read as an infinite speed-up."""
+
+    name = "idle"
+
+    def run(self, input):
+        return oovr.FrameSim(input).finish(self.name)
+
+
+class Twice(oovr.Scheme):
+    """Sort-first on GPM 0, every record rasterised twice (declared or not)."""
+
+    def __init__(self, declare):
+        self.declare = declare
+        self.name = "twice"
+
+    def run(self, input):
+        sim = oovr.FrameSim(input)
+        if self.declare:
+            sim.declare_repeats(2)
+        f = sim.frame()
+        for o, (left, right) in enumerate(f.records_by_object()):
+            sim.command(0)
+            geometry = sim.geometry(0, o, 1, f.triangles_set_up(o, 0) + f.triangles_set_up(o, 1))
+            both = left + right
+            if len(both):
+                sim.tiles(0, both, after=[geometry])
+                sim.tiles(0, both, after=[geometry])
+            sim.end_draw(0)
+        return sim.finish(self.name)
+
+
+class Uncomposed(oovr.Scheme):
+    """Object-level SFR whose workers never send their pixels to the root, or send them by hand."""
+
+    def __init__(self, by_hand):
+        self.by_hand = by_hand
+        self.name = "uncomposed"
+
+    def run(self, input):
+        n = input.gpms
+        sim = oovr.FrameSim(input, oovr.sort_last_framebuffers(n))
+        f = sim.frame()
+        for o, views in enumerate(f.records_by_object()):
+            g = o % n
+            for eye, records in enumerate(views):
+                sim.command(g)
+                geometry = sim.geometry(g, o, 1, f.triangles_set_up(o, eye))
+                if len(records):
+                    fb = 0 if g == 0 else 1 + g  # the root draws into the final frame, workers into their own buffer
+                    unit = sim.tiles(g, records, fb, [geometry])
+                    if self.by_hand and g != 0:
+                        sim.compose(0, 1, [unit], records=records)
+                sim.end_draw(g)
+        return sim.finish(self.name)
+
+
+def test_a_scheme_that_breaks_a_conservation_law_is_an_error():
+    with pytest.raises(ValueError, match=r"scheme 'idle' breaks a conservation law \(every covered fragment rasterised "
+                                         r"once per eye\): frame 0 of the run: object [0-9]+ .* was never rasterised"):
+        oovr.simulate("crowd", Idle(), resolution="160x128", frames=1)
+    with pytest.raises(ValueError, match="was rasterised twice"):
+        oovr.simulate("crowd", Twice(False), resolution="160x128", frames=1)
+    assert oovr.simulate("crowd", Twice(True), resolution="160x128", frames=1).covered_fragments > 0
+    with pytest.raises(ValueError, match=r"\(every pixel of the final frame composed once\): .* was written into private "
+                                         r"framebuffer [2-4] and never composed"):
+        oovr.simulate("crowd", Uncomposed(False), resolution="160x128", frames=1)
+    assert oovr.simulate("crowd", Uncomposed(True), resolution="160x128", frames=1).covered_fragments > 0
+    with pytest.raises(ValueError, match="declare_repeats: times must be 1 to 1000"):
+        class Zero(Twice):
+            def run(self, input):
+                oovr.FrameSim(input).declare_repeats(0)
+        oovr.simulate("crowd", Zero(True), resolution="160x128", frames=1)
 
 
 def test_what_a_run_handed_out_is_dead_after_it():

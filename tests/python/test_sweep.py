@@ -33,6 +33,9 @@ def dump(path):
     """What two databases of one sweep agree on (tests/cli/dump_runs.sh): not when, where or by which command."""
     con = sqlite3.connect(path)
     try:
+        # The swept columns must exist: SQLite reads a double-quoted name that is no column as a string.
+        columns = {row[1] for row in con.execute("PRAGMA table_info(runs)")}
+        assert {"link.bandwidth", "gpms"} <= columns, columns
         runs = con.execute('SELECT id, sweep, position, scene, scheme, resolution, frame, frames, aniso, config, status, '
                            'error, oovr_version, git_commit, result, "link.bandwidth", gpms FROM runs ORDER BY id').fetchall()
         metrics = con.execute("SELECT * FROM metrics ORDER BY run, location, metric").fetchall()

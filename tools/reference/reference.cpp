@@ -21,6 +21,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
+#include "oovr/core/version.h"
 #include "oovr/experiments/hardware.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/load.h"
@@ -125,6 +126,14 @@ int time_frames(const Args& a) {
   }
   HardwareData data;
   data.renderer = gl->renderer_name();
+  // What is drawn, as the data must say (oovr correlate simulates exactly
+  // that): the scenes as named, their loaders at this commit, textures
+  // uploaded as RGBA8 (GlRenderer), the anisotropy asked for.
+  int one_pass = 0;
+  for (const auto& s : a.scenes) one_pass += s.find("materials=one-pass") != std::string::npos;
+  if (one_pass != 0 && one_pass != int(a.scenes.size()))
+    throw Error("--scene: time the scenes all with their real materials or all as one-pass workloads (materials=one-pass)");
+  data.workload = {git_commit(), one_pass ? "one-pass" : "real", "rgba8", a.aniso};
   fmt::print("timing on {}: {} repetitions after one warm-up, anisotropy {}\n", data.renderer, a.repeat, a.aniso);
   for (const auto& name : a.scenes) {
     const Scene scene = load_scene(name);

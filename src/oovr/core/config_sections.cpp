@@ -2,9 +2,25 @@
 
 namespace oovr {
 
+const ConfigKey* find_config_key(const std::string& key, std::string* section) {
+  for (const auto& name : ConfigSections::names())
+    for (const ConfigKey& k : ConfigSections::find(name)->keys)
+      if (k.key == key) {
+        if (section) *section = name;
+        return &k;
+      }
+  return nullptr;
+}
+
 void check_config(const Config& c) {
   for (const auto& name : ConfigSections::names()) ConfigSections::find(name)->check(c);
   c.check_all_used();
+  // A key a component reads is one a user can set: it must be listed, with
+  // its meaning, by the section that reads it.
+  for (const auto& [key, entry] : c.entries())
+    if (!find_config_key(key))
+      throw Error("configuration key '" + key +
+                  "' is read but no configuration section declares it (core/config_sections.h): an oovr defect");
 }
 
 }  // namespace oovr

@@ -1,12 +1,15 @@
 // Configuration sections: every component that reads configuration keys
 // declares them in its own file, with the check that reads (and so
-// validates) them:
+// validates) them and a one-line meaning for each key:
 //
-//   const ConfigSections::Add reg("memory", {"...", [](const Config& c) { (void)MemorySpec::from_config(c); }});
+//   const ConfigSections::Add reg("memory", {"...", [](const Config& c) { (void)MemorySpec::from_config(c); },
+//                                            {{"gpms", "GPU modules (GPMs) of the machine"}, ...}});
 //
 // check_config() runs every section's check, then reports each key that no
 // section read as unknown (as pbrt-v4 reports unused parameters and
-// Ramulator 2 rejects undeclared ones). So a component's keys are known and
+// Ramulator 2 rejects undeclared ones), and refuses a key read that no
+// section declares, so that `oovr config --all` lists everything a user
+// can set with what it means. So a component's keys are known and
 // their values checked whatever runs (`oovr compare --set oo.split=false`
 // runs the baseline too), and no shared code names another component's keys:
 // a scheme with settings of its own is one file.
@@ -14,22 +17,40 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "oovr/core/config.h"
 #include "oovr/core/registry.h"
 
 namespace oovr {
 
+// One key a section reads.
+struct ConfigKey {
+  std::string key;
+  std::string meaning;  // one line: what it sets, with its source where it has one
+  // For a key whose default belongs to whoever uses it (OO-VR's switches:
+  // each scheme's own) and which the check reads only when given: that
+  // default, and what the key takes, as `oovr config --all` shows them.
+  std::string user_default = {};
+  std::string takes = {};
+};
+
 struct ConfigSection {
   std::string description;
   // Reads the section's keys (defaults for absent ones, except where a
   // default belongs to whoever uses the key); throws Error on a bad value.
   std::function<void(const Config&)> check;
+  std::vector<ConfigKey> keys;  // every key `check` reads
 };
 using ConfigSections = Registry<ConfigSection>;
 
 // Runs every section's check, then throws Error naming every key no section
-// read. Afterwards c.resolved() holds every value in force.
+// read, or one that was read but that no section declares. Afterwards
+// c.resolved() holds every value in force.
 void check_config(const Config& c);
+
+// The declaration of `key` (null when no section declares it), and the
+// section declaring it.
+const ConfigKey* find_config_key(const std::string& key, std::string* section = nullptr);
 
 }  // namespace oovr

@@ -1,9 +1,11 @@
 #include "oovr/experiments/hardware.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "oovr/core/error.h"
@@ -11,6 +13,7 @@
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
 #include "oovr/experiments/frames.h"
+#include "oovr/pipeline/tiled_layout.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
@@ -43,12 +46,50 @@ double pearson(const std::vector<double>& x, const std::vector<double>& y) {
   return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0;
 }
 
+namespace {
+
+// Text the data carries into messages and documents: printable ASCII only.
+bool printable(const std::string& s) {
+  return std::all_of(s.begin(), s.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+}
+
+// The workload lines before the header: key -> value.
+void workload_line(HardwareData& d, const std::string& key, const std::string& value, std::map<std::string, int>& seen,
+                   const std::function<Error(const std::string&)>& fail) {
+  if (seen[key]++) throw fail("a second '" + key + "' line");
+  if (value.empty() || value.size() > 200 || !printable(value)) throw fail("'" + key + "' needs a value of printable text");
+  if (key == "renderer") {
+    d.renderer = value;
+  } else if (key == "commit") {
+    // As `git describe --always --dirty` gives it, or "unknown".
+    const std::string id = value.size() > 6 && value.ends_with("-dirty") ? value.substr(0, value.size() - 6) : value;
+    const bool hex = id.size() >= 7 && id.size() <= 40 &&
+                     std::all_of(id.begin(), id.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+    if (!hex && value != "unknown")
+      throw fail("'commit' is oovr's commit (7 to 40 hex digits, -dirty after them) or unknown, not '" + value + "'");
+    d.workload.commit = value;
+  } else if (key == "materials") {
+    if (value != "real" && value != "one-pass") throw fail("'materials' is real or one-pass, not '" + value + "'");
+    d.workload.materials = value;
+  } else if (key == "texture_format") {
+    (void)parse_texture_format(value);  // names the formats when it is none of them
+    d.workload.texture_format = value;
+  } else if (key == "aniso") {
+    const auto n = parse_whole_number(value, 1, 16);
+    if (!n) throw fail("'aniso' is a whole number from 1 to 16, not '" + value + "'");
+    d.workload.aniso = int(*n);
+  }
+}
+
+}  // namespace
+
 HardwareData HardwareData::parse(const std::string& text, const std::string& name) {
   HardwareData d;
   std::istringstream in(text);
   std::string line;
   int number = 0;
   std::map<std::string, size_t> col;
+  std::map<std::string, int> seen;
   const char* required[] = {"scene", "resolution", "frame", "full_us", "geom_us", "left_us", "draws", "triangles"};
   const auto fail = [&](const std::string& what) -> Error {
     return Error("hardware data '" + name + "' line " + std::to_string(number) + ": " + what);
@@ -59,11 +100,17 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
     if (line.empty()) continue;
     const std::vector<std::string> f = split_fields(line, ',');
     if (col.empty()) {
-      if (f[0] == "renderer") {
-        if (f.size() < 2 || f[1].empty()) throw fail("the renderer line names no renderer");
-        d.renderer = line.substr(line.find(',') + 1);
+      if (f[0] == "renderer" || f[0] == "commit" || f[0] == "materials" || f[0] == "texture_format" || f[0] == "aniso") {
+        // A renderer's name may hold commas; the other values may not.
+        if (f[0] != "renderer" && f.size() != 2)
+          throw fail("'" + f[0] + "' line has " + std::to_string(f.size()) + " fields, not 2");
+        workload_line(d, f[0], f.size() < 2 ? "" : line.substr(line.find(',') + 1), seen, fail);
         continue;
       }
+      for (const char* k : {"commit", "materials", "texture_format", "aniso"})
+        if (!seen.count(k))
+          throw fail(std::string("the data do not say what the GPU drew: no '") + k +
+                     "' line before the header (docs/data/hardware/README.md)");
       for (size_t i = 0; i < f.size(); ++i) col[f[i]] = i;
       for (const char* r : required)
         if (!col.count(r)) throw fail(std::string("the header has no column '") + r + "'");
@@ -75,6 +122,7 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
     h.scene = f[col["scene"]];
     h.resolution = f[col["resolution"]];
     if (h.scene.empty()) throw fail("names no scene");
+    if (h.scene.size() > 1000 || !printable(h.scene)) throw fail("a scene name of other than printable text");
     (void)parse_frame_resolution(h.resolution);
     const auto number_of = [&](const char* key, auto& out) {
       const std::string& s = f[col[key]];
@@ -106,6 +154,8 @@ HardwareData HardwareData::read(const std::string& path) {
 std::string HardwareData::csv() const {
   std::ostringstream s;
   if (!renderer.empty()) s << "renderer," << renderer << "\n";
+  s << "commit," << workload.commit << "\nmaterials," << workload.materials << "\ntexture_format," << workload.texture_format
+    << "\naniso," << workload.aniso << "\n";
   s << "scene,resolution,frame,full_us,geom_us,left_us,draws,triangles\n";
   char buf[64];
   const auto us = [&](double v) {
@@ -123,6 +173,17 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
     throw Error("oovr correlate compares one frame at a time: scheme '" + o.scheme + "' renders several frames at once");
   Correlation c;
   c.scheme = o.scheme;
+  c.workload = data.workload;
+  // Textures stored as the GPU stored them, unless the configuration says
+  // otherwise (then a note says so).
+  Config config = o.config;
+  if (!config.has("pipeline.texture_format")) {
+    config.set_source("the hardware data");
+    config.set("pipeline.texture_format", data.workload.texture_format);
+  } else if (config.get_string("pipeline.texture_format", "") != data.workload.texture_format) {
+    c.notes.push_back("pipeline.texture_format is " + config.get_string("pipeline.texture_format", "") +
+                      "; the GPU stored its textures as " + data.workload.texture_format);
+  }
   // The points, in the order the data lists them.
   std::map<std::pair<std::string, std::string>, size_t> index;
   for (const auto& f : data.frames) {
@@ -139,15 +200,24 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
     p.gpu_us.push_back(f.full_us);
   }
   if (c.points.size() < 2) throw Error("hardware data needs at least two (scene, resolution) points to correlate");
+  // Each scene must be the one the GPU drew: a loader or material change
+  // since the data were measured changes the draws or the triangles.
   std::map<std::string, std::shared_ptr<const Scene>> scenes;
-  for (const auto& f : data.frames)
+  std::map<std::string, uint64_t> triangles;
+  for (const auto& f : data.frames) {
     if (!scenes.count(f.scene)) {
       auto s = std::make_shared<const Scene>(load_scene(f.scene));
-      if (s->objects.size() != f.draws)
-        c.notes.push_back(f.scene + ": the data were measured with " + std::to_string(f.draws) + " draws, oovr's scene has " +
-                          std::to_string(s->objects.size()));
+      triangles[f.scene] = s->triangle_count();
       scenes.emplace(f.scene, std::move(s));
     }
+    const size_t draws = scenes.at(f.scene)->objects.size();
+    if (draws != f.draws || triangles.at(f.scene) != f.triangles)
+      throw Error("scene '" + f.scene + "' is not the workload the GPU drew: the data were measured with " +
+                  std::to_string(f.draws) + " draws and " + std::to_string(f.triangles) + " triangles (oovr " +
+                  data.workload.commit + ", " + data.workload.materials + " materials), oovr's scene has " +
+                  std::to_string(draws) + " draws and " + std::to_string(triangles.at(f.scene)) +
+                  " triangles; measure it again (oovr-reference --time) or name the scene as it was drawn");
+  }
   for (auto& p : c.points) {
     const std::shared_ptr<const Scene>& scene = scenes.at(p.scene);
     const StereoRig rig = parse_frame_resolution(p.resolution);
@@ -158,10 +228,10 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
       WindowRequest w;
       w.first = p.frames[i];
       w.count = 1;
-      w.aniso = o.aniso;
+      w.aniso = data.workload.aniso;
       w.use_cache = o.use_cache;
-      const FrameWindow f = load_window(scene, rig, o.config, w);
-      p.oovr_us[i] = run_scheme_window(o.scheme, *f.scene, *f.frames, o.config, 1).frame_latency_s * 1e6;
+      const FrameWindow f = load_window(scene, rig, config, w);
+      p.oovr_us[i] = run_scheme_window(o.scheme, *f.scene, *f.frames, config, 1).frame_latency_s * 1e6;
       frame_notes[i] = f.notes;
     });
     for (const auto& n : frame_notes)
@@ -174,22 +244,67 @@ Correlation correlate(const HardwareData& data, const CorrelationOptions& o) {
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> within;
   double lo = 0, hi = 0;
   for (const auto& p : c.points) {
+    // A frame oovr simulates as taking no time is a defect, not a ratio.
+    if (!(p.ratio() > 0 && std::isfinite(p.ratio())))
+      throw Error("oovr's frame time for " + p.scene + " at " + p.resolution + " is " + std::to_string(p.oovr_median_us) +
+                  " us: no ratio to the GPU's");
     gpu.push_back(p.gpu_median_us);
     sim.push_back(p.oovr_median_us);
-    lo = lo == 0 ? p.ratio() : std::min(lo, p.ratio());
+    lo = gpu.size() == 1 ? p.ratio() : std::min(lo, p.ratio());
     hi = std::max(hi, p.ratio());
     auto& w = within[p.scene];
     w.first.insert(w.first.end(), p.gpu_us.begin(), p.gpu_us.end());
     w.second.insert(w.second.end(), p.oovr_us.begin(), p.oovr_us.end());
   }
   c.r = pearson(gpu, sim);
-  c.spread = lo > 0 ? hi / lo : 0;
+  c.spread = hi / lo;
   double mean = 0, var = 0;
   for (const auto& p : c.points) mean += std::log(p.ratio()) / double(c.points.size());
   for (const auto& p : c.points) var += (std::log(p.ratio()) - mean) * (std::log(p.ratio()) - mean) / double(c.points.size());
   c.log_sd = std::sqrt(var);
   for (const auto& [scene, w] : within) c.r_within[scene] = pearson(w.first, w.second);
   return c;
+}
+
+std::vector<LeftOut> leave_one_scene_out(const std::vector<std::string>& values, const std::vector<Correlation>& runs) {
+  if (values.empty() || values.size() != runs.size()) throw Error("leave-one-scene-out: one correlation per value");
+  std::vector<std::string> scenes;
+  for (const auto& p : runs.front().points)
+    if (std::find(scenes.begin(), scenes.end(), p.scene) == scenes.end()) scenes.push_back(p.scene);
+  if (scenes.size() < 2) throw Error("leave-one-scene-out needs points of at least two scenes");
+  // Mean and spread of log(oovr / GPU) over a selection of points.
+  const auto logs = [](const Correlation& c, const std::function<bool(const CorrelationPoint&)>& take) {
+    std::vector<double> v;
+    for (const auto& p : c.points)
+      if (take(p)) v.push_back(std::log(p.ratio()));
+    return v;
+  };
+  const auto mean = [](const std::vector<double>& v) {
+    double m = 0;
+    for (double x : v) m += x / double(v.size());
+    return m;
+  };
+  std::vector<LeftOut> out;
+  for (const auto& scene : scenes) {
+    const auto others = [&](const CorrelationPoint& p) { return p.scene != scene; };
+    size_t best = 0;
+    double best_sd = 0;
+    for (size_t i = 0; i < runs.size(); ++i) {
+      const std::vector<double> v = logs(runs[i], others);
+      const double m = mean(v);
+      double var = 0;
+      for (double x : v) var += (x - m) * (x - m) / double(v.size());
+      if (i == 0 || std::sqrt(var) < best_sd) {
+        best = i;
+        best_sd = std::sqrt(var);
+      }
+    }
+    const Correlation& c = runs[best];
+    const double theirs = mean(logs(c, others));
+    const double its = mean(logs(c, [&](const CorrelationPoint& p) { return p.scene == scene; }));
+    out.push_back({scene, values[best], std::exp(its - theirs), c.r, c.spread});
+  }
+  return out;
 }
 
 }  // namespace oovr

@@ -26,14 +26,26 @@ struct HardwareFrame {
   uint64_t draws = 0, triangles = 0;
 };
 
+// What the GPU drew, as the data say (docs/data/hardware/README.md): the
+// frames are only comparable with oovr simulating this same workload.
+struct HardwareWorkload {
+  std::string commit;          // oovr's commit whose loaders built the scenes ("unknown" when not built from git)
+  std::string materials;       // "real" or "one-pass": how the rows' scenes were drawn (their names say it too)
+  std::string texture_format;  // how the GPU stored textures (oovr-reference uploads RGBA8: "rgba8")
+  int aniso = 0;               // anisotropic filtering taps, trilinear below them
+};
+
 struct HardwareData {
   std::string renderer;  // GL_RENDERER of the machine measured
+  HardwareWorkload workload;
   std::vector<HardwareFrame> frames;
 
-  // Reads a CSV: an optional first line "renderer,NAME", then a header
-  // naming (at least) scene, resolution, frame, full_us, geom_us, left_us,
-  // draws, triangles, then one row per frame. Throws Error naming the file,
-  // the line and the problem.
+  // Reads a CSV: lines "key,value" naming the renderer and the workload
+  // (renderer, commit, materials, texture_format, aniso; each once, all but
+  // renderer required), then a header naming (at least) scene, resolution,
+  // frame, full_us, geom_us, left_us, draws, triangles, then one row per
+  // frame; `scene` is the name oovr loads the drawn scene by, options
+  // included. Throws Error naming the file, the line and the problem.
   static HardwareData read(const std::string& path);
   static HardwareData parse(const std::string& text, const std::string& name);
   // The CSV text of these frames (the format read() reads).
@@ -52,6 +64,7 @@ struct CorrelationPoint {
 
 struct Correlation {
   std::string scheme;
+  HardwareWorkload workload;  // what the GPU drew, and so what oovr simulated
   std::vector<CorrelationPoint> points;
   double r = 0;                            // Pearson r of the medians, over the points
   double spread = 0;                       // largest ratio oovr / GPU over the smallest, of the medians
@@ -62,17 +75,35 @@ struct Correlation {
 
 struct CorrelationOptions {
   std::string scheme = "single-gpm";
-  Config config;   // the machine (preset and --set)
-  int aniso = 16;  // as the GPU data were measured (the paper's Table 1)
+  Config config;  // the machine (preset and --set)
   bool use_cache = true;
   std::function<void(const std::string&)> progress;
 };
 
 // Simulates every frame of `data` with the scheme (each frame after a
 // warm-up run of itself, as the GPU's median of repetitions after one
-// warm-up) and correlates. Throws Error for an unknown scene or scheme, a
+// warm-up) on the workload the GPU drew: the scenes as the rows name them,
+// textures stored as the data say (pipeline.texture_format, unless the
+// configuration sets it) and the data's anisotropy; then correlates.
+// Throws Error for an unknown scene or scheme, a scene whose draws or
+// triangles differ from those measured (the workload changed since), a
 // scheme with frames in flight, or data with fewer than two points.
 Correlation correlate(const HardwareData& data, const CorrelationOptions& options);
+
+// How general one calibrated value is (docs/validation.md): for each scene,
+// the value of the sweep that makes oovr most nearly proportional to the GPU
+// on the other scenes' points, and how far the scene left out then is from
+// them: its median ratio oovr/GPU over the geometric mean ratio of the
+// others (1 when the fit carries over exactly).
+struct LeftOut {
+  std::string scene;
+  std::string value;    // fitted on the other scenes
+  double held_out = 0;  // the scene's geometric mean ratio over the others'
+  double r = 0;         // Pearson r of the medians over all points at that value
+  double spread = 0;    // ratio spread over all points at that value
+};
+// `runs[i]` is the correlation at `values[i]` (of one key). Needs two scenes.
+std::vector<LeftOut> leave_one_scene_out(const std::vector<std::string>& values, const std::vector<Correlation>& runs);
 
 // The median of a series (NaN when empty).
 double median(std::vector<double> v);

@@ -196,6 +196,7 @@ PaperResults run_paper(PaperOptions& o) {
   o.frames = first.window;
   o.aniso = first.aniso;
   o.steps = res.find(res.scenes.front(), o.sweep_resolution, kSteps.front().baseline, kSteps.front().settings) != nullptr;
+  o.copies = res.find(res.scenes.front(), o.sweep_resolution, "oo-vr", copy_variant(kCopyCapacities.front().first)) != nullptr;
   o.workloads = !res.one_pass_scenes.empty();
 
   // Each scene's statistics at the sweep resolution, from its first frame
@@ -417,6 +418,16 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
                          F.speedup(s, o.sweep_resolution, "oo-app", key + "=" + on_value(key)));
     }
   write_file(d / "ablations.csv", abl);
+  if (o.copies) {
+    std::string cp = "scene,copy_capacity_bytes,speedup_vs_baseline,traffic_vs_baseline,copies_peak_bytes\n";
+    for (const auto& s : r.scenes)
+      for (const auto& [cap, bytes] : copy_points()) {
+        const SchemeResult* x = r.find(s, o.sweep_resolution, "oo-vr", cap.empty() ? "" : copy_variant(cap));
+        cp += fmt::format("{},{:.0f},{:.4f},{:.4f},{:.0f}\n", s, bytes, F.copies_speedup(s, cap), F.copies_traffic(s, cap),
+                          x ? scheme_metric(*x, "copies.peak_bytes") : std::nan(""));
+      }
+    write_file(d / "copies.csv", cp);
+  }
 
   write_paper_plots(r, o, dir);
 }
@@ -473,6 +484,22 @@ void write_paper_plots(const PaperResults& r, const PaperOptions& o, const std::
   }
   write_file(d / "fig18-gpms.svg",
              line_chart("Speed-up over one GPM (geomean of scenes)", "GPMs", "speed-up", gx, gn, kSweepSchemes, gv, true));
+  if (o.copies) {
+    std::vector<double> cx;
+    std::vector<std::string> cn;
+    for (const auto& [cap, bytes] : copy_points()) {
+      cx.push_back(bytes);
+      cn.push_back(format_bytes(Bytes{uint64_t(bytes)}));
+    }
+    std::vector<std::vector<double>> cv;
+    for (const auto& s : r.scenes) {
+      cv.emplace_back();
+      for (const auto& point : copy_points()) cv.back().push_back(F.copies_speedup(s, point.first));
+    }
+    write_file(d / "copies.svg",
+               line_chart("OO-VR's speed-up over the baseline against copy capacity per GPM (" + o.sweep_resolution + ")",
+                          "copy capacity per GPM", "speed-up", cx, cn, r.scenes, cv, true));
+  }
 }
 
 }  // namespace oovr

@@ -37,13 +37,15 @@ struct PaperOptions {
   // Derived from the runs by run_paper, for the writers: the resolutions of
   // Figure 15, the one of the sweeps and ablations (the one the link sweep
   // ran at), the frames each run measured from `first_frame`, the filtering,
-  // whether the model's earlier steps and the one-pass workloads ran.
+  // whether the model's earlier steps, OO-VR's copy capacities and the
+  // one-pass workloads ran.
   std::vector<std::string> resolutions;
   std::string sweep_resolution;
   int first_frame = 0;
   int frames = 0;
   int aniso = 16;
   bool steps = false;
+  bool copies = false;
   bool workloads = false;
   Config config;  // the machine as the document describes it (= machine)
 };

@@ -62,6 +62,10 @@ MemorySpec MemorySpec::from_config(const Config& c) {
       throw Error(std::string("configuration key '") + key + "' must be from 1 MB/s to 10000 TB/s, not " + format_bandwidth(b));
   for (const auto& [key, t] : {std::pair{"dram.latency", s.dram_latency}, std::pair{"link.latency", s.link_latency}})
     if (!(t.value >= 0 && t.value <= 1e-3)) throw Error(std::string("configuration key '") + key + "' must be from 0 to 1 ms");
+  s.dram_capacity = c.get_bytes("dram.capacity", d.dram_capacity);
+  if (s.dram_capacity.value < s.page.value || s.dram_capacity.value > (uint64_t(1) << 44))
+    throw Error("configuration key 'dram.capacity' must be from a page (" + format_bytes(s.page) + ") to 16 TB, not " +
+                format_bytes(s.dram_capacity));
   s.copy_capacity = c.get_bytes("memory.copies.capacity", d.copy_capacity);
   if (s.copy_capacity.value != 0 && s.copy_capacity.value < s.page.value)
     throw Error("configuration key 'memory.copies.capacity' must be 0 (no limit) or at least a page (" + format_bytes(s.page) +
@@ -72,8 +76,37 @@ MemorySpec MemorySpec::from_config(const Config& c) {
 
 namespace {
 
+std::vector<ConfigKey> cache_keys(const std::string& prefix, const std::string& what) {
+  return {{prefix + ".size", what + ": capacity"},
+          {prefix + ".ways", what + ": associativity"},
+          {prefix + ".replacement", what + ": replacement policy (memory/replacement/impl)"},
+          {prefix + ".latency", what + ": time from a request to its data on a hit"}};
+}
+
+std::vector<ConfigKey> memory_keys() {
+  std::vector<ConfigKey> k = {
+      {"gpms", "GPU modules (GPMs) of the machine (Table 1: 4)"},
+      {"gpm.sms", "SMs per GPM, each with its own L1 (Table 1: 8)"},
+      {"memory.line", "cache line and transfer size"},
+      {"memory.page", "placement granularity: each page has one home GPM"},
+      {"memory.placement", "placement policy giving each page its home (memory/placement/impl)"},
+      {"cache.remote.invalidate", "when remote caches drop their lines: at each draw's end, each frame's end, or never"},
+      {"dram.bandwidth", "each GPM's local DRAM bandwidth (Table 1: 1 TB/s)"},
+      {"dram.latency", "a DRAM access beyond the L2 (assumed: 100 cycles)"},
+      {"dram.capacity", "each GPM's DRAM: homes first, OO-VR's copies in what they leave (GTX 1080: 8 GB)"},
+      {"link.bandwidth", "each inter-GPM link, per direction (Table 1: 64 GB/s NVLink)"},
+      {"link.latency", "one way, per hop (assumed)"},
+      {"link.topology", "how GPMs are joined (memory/topology/impl)"},
+      {"memory.copies.capacity", "a cap on the copies each GPM keeps ahead of use, for studies (0: none but the DRAM)"},
+      {"memory.copies.eviction", "which copy gives way when copies need room: least recently used or oldest"}};
+  for (auto [prefix, what] : {std::pair{"cache.l1", "L1 per SM"}, std::pair{"cache.l2", "L2 per GPM"},
+                              std::pair{"cache.remote", "remote cache per GPM (MCM-GPU's L1.5)"}})
+    for (ConfigKey& x : cache_keys(prefix, what)) k.push_back(std::move(x));
+  return k;
+}
+
 const ConfigSections::Add reg("memory", {"the memory system: GPMs, caches, DRAM, links, placement and copies",
-                                         [](const Config& c) { (void)MemorySpec::from_config(c); }});
+                                         [](const Config& c) { (void)MemorySpec::from_config(c); }, memory_keys()});
 
 }  // namespace
 

@@ -34,14 +34,18 @@ struct MemorySpec {
   CacheSpec remote{{1 << 20}, 16, "lru", {200e-9}};  // per GPM, lines homed elsewhere (MCM-GPU's L1.5)
   std::string remote_invalidate = "frame";           // draw, frame or never
   BytesPerSecond dram_bandwidth{1e12};               // per GPM (Table 1: 1 TB/s)
-  Seconds dram_latency{100e-9};                      // beyond the L2 (assumed; Accel-Sim's dram_latency: 100 cycles)
-  BytesPerSecond link_bandwidth{64e9};               // per direction per GPM pair (Table 1: 64 GB/s)
-  Seconds link_latency{32e-9};                       // one way, per hop (assumed)
-  std::string topology = "fully-connected";          // fully-connected, ring or switch
-  // Copies made ahead of use (pre-allocation, Section 5.2) live in DRAM the
-  // homes leave unused: at most this many bytes per GPM (0: no limit), the
-  // least recently used (or the oldest, "fifo") dropped to make room.
-  Bytes copy_capacity{16 << 20};
+  // Per GPM. The paper gives no capacity; its GPM "resembles" NVIDIA's
+  // Pascal GTX 1080 (Sections 2 and 3 cite it), which has 8 GB of GDDR5X.
+  Bytes dram_capacity{uint64_t(8) << 30};
+  Seconds dram_latency{100e-9};              // beyond the L2 (assumed; Accel-Sim's dram_latency: 100 cycles)
+  BytesPerSecond link_bandwidth{64e9};       // per direction per GPM pair (Table 1: 64 GB/s)
+  Seconds link_latency{32e-9};               // one way, per hop (assumed)
+  std::string topology = "fully-connected";  // fully-connected, ring or switch
+  // Copies made ahead of use (pre-allocation, Section 5.2) live in "unused
+  // DRAM": what the GPM's homes leave of dram_capacity, the least recently
+  // used (or the oldest, "fifo") dropped to make room. copy_capacity caps
+  // them further, for studies (0: no cap but the DRAM).
+  Bytes copy_capacity{0};
   std::string copy_eviction = "lru";
 
   // Reads every memory key of `c` (defaults above for missing ones) and

@@ -1,5 +1,7 @@
 #include "oovr/memory/memory_system.h"
 
+#include <algorithm>
+
 #include "oovr/core/error.h"
 
 namespace oovr {
@@ -61,6 +63,8 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
   m_home.assign(map.pages(), -1);
   m_copies.assign(map.pages(), 0);
   m_copy_bytes.assign(size_t(spec.gpms), 0);
+  m_copy_peak.assign(size_t(spec.gpms), 0);
+  m_homed_bytes.assign(size_t(spec.gpms), 0);
   m_made.assign(map.pages(), 0);
   m_copy_stamp.assign(map.pages() * size_t(spec.gpms), 0);
   m_copy_lru = spec.copy_eviction == "lru";
@@ -75,6 +79,31 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
 void MemorySystem::set_home(uint64_t page, int gpm) {
   m_home[page] = int8_t(gpm);
   m_copies[page] = m_policy->replicate_all() ? (m_spec.gpms == 32 ? ~0u : (1u << m_spec.gpms) - 1) : (1u << gpm);
+  // The page's data now lives in the DRAM of every GPM holding it; copies
+  // give way to it.
+  const uint64_t bytes = page_data_bytes(page);
+  const uint64_t capacity = m_spec.dram_capacity.value;
+  for (uint32_t m = m_copies[page]; m; m &= m - 1) {
+    const int g = __builtin_ctz(m);
+    uint64_t& homed = m_homed_bytes[size_t(g)];
+    homed += bytes;
+    if (homed > capacity) out_of_dram(g);
+    while (homed + m_copy_bytes[size_t(g)] > capacity)
+      if (!drop_copy(g, true)) out_of_dram(g);
+  }
+}
+
+void MemorySystem::out_of_dram(int gpm) const {
+  throw Error("GPM " + std::to_string(gpm) + "'s DRAM (dram.capacity = " + format_bytes(m_spec.dram_capacity) +
+              ") cannot hold the data placed there: " + format_bytes(Bytes{m_homed_bytes[size_t(gpm)]}) +
+              " of buffers, textures and framebuffers");
+}
+
+uint64_t MemorySystem::copy_room(int gpm) const {
+  const uint64_t capacity = m_spec.dram_capacity.value, homed = m_homed_bytes[size_t(gpm)];
+  uint64_t room = homed < capacity ? capacity - homed : 0;
+  if (m_spec.copy_capacity.value) room = std::min(room, m_spec.copy_capacity.value);
+  return room;
 }
 
 uint64_t MemorySystem::page_data_bytes(uint64_t page) const {
@@ -224,27 +253,33 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   m_totals.home_l2_hits += home_l2_hits;
 }
 
-bool MemorySystem::make_room(int gpm, uint64_t bytes) {
-  const uint64_t capacity = m_spec.copy_capacity.value;
+bool MemorySystem::drop_copy(int gpm, bool any) {
+  // The copy used longest ago (LRU) or made first (FIFO), not one of the
+  // current batch unless `any`; ties to the lowest page.
   const uint64_t n = uint64_t(m_spec.gpms);
-  while (capacity && m_copy_bytes[size_t(gpm)] + bytes > capacity) {
-    // The copy used longest ago (LRU) or made first (FIFO), not one of the
-    // current batch; ties to the lowest page.
-    uint64_t victim = ~uint64_t(0), oldest = ~uint64_t(0);
-    for (uint64_t p = 0; p < m_home.size(); ++p) {
-      if (!(m_made[p] & (1u << gpm))) continue;
-      const uint64_t stamp = m_copy_stamp[p * n + uint64_t(gpm)];
-      if (stamp < m_batch_start && stamp < oldest) {
-        oldest = stamp;
-        victim = p;
-      }
+  const uint64_t limit = any ? ~uint64_t(0) : m_batch_start;
+  uint64_t victim = ~uint64_t(0), oldest = ~uint64_t(0);
+  for (uint64_t p = 0; p < m_home.size(); ++p) {
+    if (!(m_made[p] & (1u << gpm))) continue;
+    const uint64_t stamp = m_copy_stamp[p * n + uint64_t(gpm)];
+    if (stamp < limit && stamp < oldest) {
+      oldest = stamp;
+      victim = p;
     }
-    if (victim == ~uint64_t(0)) return false;
-    m_copies[victim] &= ~(1u << gpm);
-    m_made[victim] &= ~(1u << gpm);
-    m_copy_bytes[size_t(gpm)] -= page_data_bytes(victim);
-    ++m_totals.copies_evicted;
   }
+  if (victim == ~uint64_t(0)) return false;
+  m_copies[victim] &= ~(1u << gpm);
+  m_made[victim] &= ~(1u << gpm);
+  m_copy_bytes[size_t(gpm)] -= page_data_bytes(victim);
+  ++m_totals.copies_evicted;
+  return true;
+}
+
+bool MemorySystem::make_room(int gpm, uint64_t bytes) {
+  const uint64_t room = copy_room(gpm);
+  if (bytes > room) return false;  // not even with every other copy gone
+  while (m_copy_bytes[size_t(gpm)] + bytes > room)
+    if (!drop_copy(gpm, false)) return false;
   return true;
 }
 
@@ -280,6 +315,7 @@ uint64_t MemorySystem::preallocate(uint64_t address, uint64_t bytes, int gpm, Un
     m_copies[page] |= 1u << gpm;
     m_made[page] |= 1u << gpm;
     m_copy_bytes[size_t(gpm)] += bytes_here;
+    m_copy_peak[size_t(gpm)] = std::max(m_copy_peak[size_t(gpm)], m_copy_bytes[size_t(gpm)]);
     m_copy_stamp[page * n + uint64_t(gpm)] = m_clock;
     copied += bytes_here;
   }

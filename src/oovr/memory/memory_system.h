@@ -101,16 +101,22 @@ class MemorySystem {
   // Copies the pages of [address, address + bytes) into GPM `gpm`'s DRAM
   // ahead of use, as whole pages, from their homes; pages already held by
   // `gpm` are not copied again; untouched pages are placed on `gpm`. The
-  // copy's bytes are link traffic of category prealloc. Copies share the
-  // GPM's copy capacity (MemorySpec::copy_capacity): to make room, the
-  // least recently used (or oldest) copies are dropped, never one of the
-  // current batch (since begin_batch()). Returns bytes copied.
+  // copy's bytes are link traffic of category prealloc. Copies live in
+  // what the GPM's homes leave free of its DRAM (MemorySpec::dram_capacity,
+  // capped by copy_capacity when it is set) and persist across frames while
+  // they fit: to make room, the least recently used (or oldest) copies are
+  // dropped, never one of the current batch (since begin_batch()); a page
+  // that finds no room is not copied (copies_refused). Returns bytes copied.
   uint64_t preallocate(uint64_t address, uint64_t bytes, int gpm, UnitTraffic& out);
   // Starts a batch of pre-allocations: what it copies is kept until the
   // next batch begins.
   void begin_batch() { m_batch_start = ++m_clock; }
-  // Bytes of copies each GPM holds now.
+  // Bytes of copies each GPM holds now, and the most it has held.
   uint64_t copy_bytes(int gpm) const { return m_copy_bytes[size_t(gpm)]; }
+  uint64_t copy_peak_bytes(int gpm) const { return m_copy_peak[size_t(gpm)]; }
+  // Bytes each GPM's DRAM holds as the home (or, replicated, a replica) of
+  // its pages: what copies cannot use.
+  uint64_t homed_bytes(int gpm) const { return m_homed_bytes[size_t(gpm)]; }
   // Moves `bytes` from GPM `from` to GPM `to` (composition, commands):
   // counted on every link of the route and once as inter-GPM traffic.
   void transfer(int from, int to, uint64_t bytes, Category category, UnitTraffic& out);
@@ -145,7 +151,15 @@ class MemorySystem {
  private:
   int home(uint64_t page, int requester);
   // Makes `gpm` the home of an untouched page (every GPM's, replicated).
+  // Homes come first in a GPM's DRAM: copies are dropped (any, the least
+  // recently used first) when a new home needs their room; data that does
+  // not fit without them is an Error naming the GPM and dram.capacity.
   void set_home(uint64_t page, int gpm);
+  // Room left for copies on `gpm` (copy cap and DRAM), in bytes.
+  uint64_t copy_room(int gpm) const;
+  // Drops `gpm`'s copy used longest ago (LRU) or made first (FIFO), of an
+  // earlier batch unless `any`; false when there is none.
+  bool drop_copy(int gpm, bool any);
   // A page's data in whole lines: the unused end of a small buffer's page
   // holds nothing to copy.
   uint64_t page_data_bytes(uint64_t page) const;
@@ -157,6 +171,7 @@ class MemorySystem {
   // Drops copies of `gpm` (not of the current batch) until `bytes` more fit;
   // false when they cannot.
   bool make_room(int gpm, uint64_t bytes);
+  [[noreturn]] void out_of_dram(int gpm) const;
   // Sizes `out`'s per-GPM and per-link vectors for this machine when they are not.
   void shape(UnitTraffic& out) const;
 
@@ -169,8 +184,9 @@ class MemorySystem {
   std::vector<uint32_t> m_copies;  // per page: bit g set when GPM g holds a copy
   // Copies ahead of use: bytes per GPM, and per (page, GPM) when the copy
   // was made or (LRU) last read, in batches and units.
-  std::vector<uint64_t> m_copy_bytes;
-  std::vector<uint32_t> m_made;  // per page: bit g set when g's copy was made by preallocate()
+  std::vector<uint64_t> m_copy_bytes, m_copy_peak;
+  std::vector<uint64_t> m_homed_bytes;  // per GPM: homes and replicas
+  std::vector<uint32_t> m_made;         // per page: bit g set when g's copy was made by preallocate()
   std::vector<uint64_t> m_copy_stamp;
   uint64_t m_clock = 1, m_batch_start = 1;
   bool m_copy_lru = true;

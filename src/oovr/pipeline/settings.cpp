@@ -29,8 +29,11 @@ PipelineSettings PipelineSettings::from_config(const Config& c) {
 
 namespace {
 
-const ConfigSections::Add reg("pipeline", {"how the functional pipeline stores textures",
-                                           [](const Config& c) { (void)PipelineSettings::from_config(c); }});
+const ConfigSections::Add reg(
+    "pipeline", {"how the functional pipeline stores textures",
+                 [](const Config& c) { (void)PipelineSettings::from_config(c); },
+                 {{"pipeline.texture_format",
+                   "texture storage: rgba8, bc1, bc3, or bc (BC1 opaque, BC3 with alpha, as the games shipped them)"}}});
 
 }  // namespace
 

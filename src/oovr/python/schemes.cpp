@@ -475,14 +475,29 @@ void bind_schemes(py::module_& m) {
           "prealloc, command); returns the unit.")
       .def(
           "compose",
-          [](PySim& s, int gpm, uint64_t pixels, const std::vector<int>& after) {
+          [](PySim& s, int gpm, uint64_t pixels, const std::vector<int>& after, const std::optional<PyRecords>& records) {
             FrameSim& f = s.adding();
             s.gpm(gpm, "compose");
             s.units(after, "compose");
-            return f.compose(gpm, pixels, after);
+            std::vector<const TileWork*> merged;
+            if (records) {
+              (void)s.own(*records, "compose");
+              merged = records->records;
+            }
+            return f.compose(gpm, merged, pixels, after);
           },
-          py::arg("gpm"), py::arg("pixels"), py::arg("after") = std::vector<int>{},
-          "ROP work merging `pixels` on `gpm` (composition), beside its pipeline; returns the unit.")
+          py::arg("gpm"), py::arg("pixels"), py::arg("after") = std::vector<int>{}, py::arg("records") = py::none(),
+          "ROP work merging `pixels` on `gpm` (composition), beside its pipeline: the pixels that `records` wrote into "
+          "private buffers reach the final frame (the run's check counts each record's pixels composed once). Returns "
+          "the unit.")
+      .def(
+          "declare_repeats",
+          [](PySim& s, int times) {
+            FrameSim& f = s.adding();
+            if (times < 1 || times > 1000) bad("declare_repeats: times must be 1 to 1000");
+            f.declare_repeats(times);
+          },
+          py::arg("times"), "The scheme rasterises some records up to `times` times by design (the run's check allows it).")
       .def(
           "end_draw",
           [](PySim& s, int gpm) {

@@ -15,8 +15,12 @@ CompositionSpec CompositionSpec::from_config(const Config& c) {
 
 namespace {
 
-const ConfigSections::Add reg("composition", {"what sort-last schemes send to the final frame's owners",
-                                              [](const Config& c) { (void)CompositionSpec::from_config(c); }});
+const ConfigSections::Add reg(
+    "composition",
+    {"what sort-last schemes send to the final frame's owners",
+     [](const Config& c) { (void)CompositionSpec::from_config(c); },
+     {{"composition.payload", "sort-last schemes send colour (depth-tested in the final frame) or colour and depth"},
+      {"composition.granularity", "what is sent: whole framebuffer lines written, or 4 bytes per passed pixel"}}});
 
 }  // namespace
 
@@ -54,16 +58,18 @@ uint64_t Composer::pixels(const TileWork& r) const {
 void Composer::send(const FrameSim::TileJob& job, int unit) {
   const int n = m_sim.gpms();
   std::vector<uint64_t> bytes(size_t(n), 0), pixels(size_t(n), 0);
+  std::vector<std::vector<const TileWork*>> sent_to(static_cast<size_t>(n));
   for (const TileWork* r : job.records) {
     const int o = owner(*r);
     if (o == job.gpm) continue;
     bytes[size_t(o)] += this->bytes(*r);
     pixels[size_t(o)] += this->pixels(*r);
+    sent_to[size_t(o)].push_back(r);
   }
   for (int o = 0; o < n; ++o)
     if (bytes[size_t(o)]) {
       const int sent = m_sim.transfer(job.gpm, o, bytes[size_t(o)], Category::composition, {unit});
-      m_sim.compose(o, pixels[size_t(o)], {sent});
+      m_sim.compose(o, sent_to[size_t(o)], pixels[size_t(o)], {sent});
     }
 }
 

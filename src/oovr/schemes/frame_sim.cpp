@@ -1,6 +1,7 @@
 #include "oovr/schemes/frame_sim.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "oovr/core/config_sections.h"
@@ -69,6 +70,15 @@ std::vector<ObjectRecords> records_by_object(const FrameTrace& t, size_t objects
   return r;
 }
 
+namespace {
+
+std::atomic<bool> g_law_checks{true};
+
+}  // namespace
+
+void FrameSim::set_law_checks(bool on) { g_law_checks = on; }
+bool FrameSim::law_checks() { return g_law_checks; }
+
 void FrameSim::check(const Config& config) {
   const MemorySpec memory = MemorySpec::from_config(config);
   (void)TimingSpec::from_config(config);
@@ -128,6 +138,11 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_draws_received.assign(size_t(gpms()), 0);
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
   m_result.config = in.config.entries();
+  if (law_checks()) m_ledger = std::make_unique<RunLedger>(in.frames);
+}
+
+void FrameSim::declare_repeats(int times) {
+  if (m_ledger) m_ledger->allow_repeats(times);
 }
 
 UnitTraffic FrameSim::empty_traffic() const {
@@ -165,6 +180,7 @@ int FrameSim::command(int gpm, int draws) {
   if (i >= ahead && i - ahead < ends.size() && ends[i - ahead] >= 0) u.after.push_back(ends[i - ahead]);
   const int id = m_engine.add_unit(std::move(u));
   m_draw[size_t(gpm)] = id;
+  if (m_ledger) m_ledger->received(id);
   m_unit_gpm.push_back(gpm);
   m_result.draws += uint64_t(draws);
   ++m_result.units;
@@ -185,6 +201,9 @@ void FrameSim::end_draw(int gpm) {
 }
 
 int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after) {
+  if (object >= scene().objects.size()) throw Error("geometry of object " + std::to_string(object) + ", which does not exist");
+  if (gpm < 0 || gpm >= gpms()) throw Error("geometry on GPM " + std::to_string(gpm) + ", which does not exist");
+  if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
   const Object& o = scene().objects[object];
   const Mesh& mesh = scene().meshes[size_t(o.mesh)];
   m_scratch.clear();
@@ -204,6 +223,7 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
 
 void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
                       WorkCounts& w) {
+  if (m_ledger) m_ledger->rasterised(frame, r, gpm, m_draw[size_t(gpm)], colour_fb);
   m_scratch.clear();
   for (uint32_t k = 0; k < r.tex_count; ++k)
     m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + k]), Category::texture, false});
@@ -300,7 +320,9 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
   return add_movement(m_machine->demand(gpm, WorkCounts{}, t), std::move(after), m_memory_spec.link_latency.value);
 }
 
-int FrameSim::compose(int gpm, uint64_t pixels, std::vector<int> after) {
+int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after) {
+  if (m_ledger)
+    for (const TileWork* r : records) m_ledger->composed(*r, gpm);
   WorkCounts w;
   w.composed = pixels;
   return add(gpm, w, empty_traffic(), std::move(after), false);
@@ -379,6 +401,10 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
   if (m_engine.unconverged())
     s.notes.push_back(std::to_string(m_engine.unconverged()) +
                       " resource sharings stopped at the iteration limit: their rates fit the resources but may leave some idle");
+  if (m_ledger) {
+    m_ledger->check(scheme, frames_in_flight);
+    s.laws_checked = true;
+  }
   return s;
 }
 

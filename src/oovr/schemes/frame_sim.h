@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "oovr/memory/memory_system.h"
+#include "oovr/schemes/conservation.h"
 #include "oovr/schemes/i_scheme.h"
 #include "oovr/timing/engine.h"
 #include "oovr/timing/gpm_model.h"
@@ -106,11 +107,15 @@ class FrameSim {
   // one batch): a unit outside the GPM's pipeline, on the links and DRAMs.
   // Returns -1 when there was nothing to copy.
   int preallocate(int gpm, std::span<const uint32_t> regions, std::vector<int> after = {});
-  // ROP work merging `pixels` on `gpm` (composition). It runs beside the
-  // GPM's pipeline, not in its queue (the colour output stage works
-  // asynchronously with shading, paper Section 5.3), sharing its ROPs with
-  // whatever the GPM is rendering; it counts as busy time of the GPM.
-  int compose(int gpm, uint64_t pixels, std::vector<int> after = {});
+  // ROP work merging `pixels` on `gpm` (composition): the pixels that
+  // `records` wrote into private buffers reach the final frame. It runs
+  // beside the GPM's pipeline, not in its queue (the colour output stage
+  // works asynchronously with shading, paper Section 5.3), sharing its ROPs
+  // with whatever the GPM is rendering; it counts as busy time of the GPM.
+  int compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after = {});
+  // The scheme renders some records up to `times` times by design (the
+  // conservation check allows it; schemes/conservation.h).
+  void declare_repeats(int times);
   // GPM `gpm` (-1: every GPM) finished a draw: call it after adding the
   // draw's units on that GPM. Its end bounds how far the front end runs
   // ahead, and it is the boundary at which `cache.remote.invalidate =
@@ -119,11 +124,18 @@ class FrameSim {
   void end_draw(int gpm = -1);
 
   // Runs the timing engine; fills the result's timing, traffic and memory
-  // numbers. `frames_in_flight` frames complete in the makespan.
+  // numbers. `frames_in_flight` frames complete in the makespan. Then
+  // checks the frame's conservation laws (schemes/conservation.h): a run
+  // that breaks one is an Error naming the scheme, the law and where.
   // `on_finish(unit)` is called as units end and may add units (a runtime
   // scheduler); engine() then answers questions about progress.
   SchemeResult finish(const std::string& scheme, int frames_in_flight = 1, const std::function<void(int unit)>& on_finish = {});
   const TimingEngine& engine() const { return m_engine; }
+
+  // Whether runs check their conservation laws (on unless turned off):
+  // for benchmarks that measure the simulation alone, never for results.
+  static void set_law_checks(bool on);
+  static bool law_checks();
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
@@ -155,6 +167,7 @@ class FrameSim {
   // (object, tile) -> GPM for frames[0], in replay order; finish() makes
   // SchemeResult::owner of it (a log, not a map: a record each, cheap).
   std::vector<std::pair<std::pair<uint32_t, uint32_t>, int>> m_owner_log;
+  std::unique_ptr<RunLedger> m_ledger;  // what the run did, for its laws (null: not checked)
   SchemeResult m_result;
 };
 

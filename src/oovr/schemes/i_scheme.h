@@ -93,6 +93,9 @@ struct SchemeResult {
   // The scheme's own figures (from run_scheme_window: the window's mean per
   // frame, for the figures every frame reports).
   std::vector<SchemeMetric> metrics;
+  // Set by FrameSim::finish once the run's conservation laws held
+  // (schemes/conservation.h); run_scheme refuses a result without it.
+  bool laws_checked = false;
 
   double frame_latency_cycles() const { return frame_latency_s * frequency_hz; }
   uint64_t total_inter_gpm_bytes() const;

@@ -49,7 +49,13 @@ SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::
   in.config.set_source("scheme " + scheme.name);
   scheme.impl->configure(in.config);
   in.config.set_source("--set");
-  return scheme.impl->run(in);
+  SchemeResult r = scheme.impl->run(in);
+  // Every run's conservation laws are checked by FrameSim::finish; a result
+  // made some other way could hide a scheme that does no work.
+  if (FrameSim::law_checks() && !r.laws_checked)
+    throw Error("scheme '" + scheme.name +
+                "' returned a result that FrameSim::finish did not make, so its conservation laws were not checked");
+  return r;
 }
 
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,

@@ -33,8 +33,23 @@ TimingSpec TimingSpec::from_config(const Config& c) {
 
 namespace {
 
-const ConfigSections::Add reg("timing", {"the GPMs' resources, shaders, front end and how units share resources",
-                                         [](const Config& c) { (void)TimingSpec::from_config(c); }});
+const ConfigSections::Add reg(
+    "timing", {"the GPMs' resources, shaders, front end and how units share resources",
+               [](const Config& c) { (void)TimingSpec::from_config(c); },
+               {{"frequency", "clock of every GPM (Table 1: 1 GHz)"},
+                {"gpm.lanes", "shader lanes per SM (Table 1: 64)"},
+                {"gpm.texture_units", "texture units per SM, one bilinear lookup per clock each (Table 1: 4)"},
+                {"gpm.rops", "ROPs per GPM (Table 1: 8)"},
+                {"gpm.rop_pixels_per_clock", "pixels each ROP writes per clock (Section 3: 4)"},
+                {"gpm.raster_fragments_per_clock", "fragments a GPM's raster engines produce per clock (assumed)"},
+                {"gpm.setup_triangles_per_clock", "triangles a GPM sets up per clock (assumed)"},
+                {"gpm.requests_in_flight", "memory requests an SM keeps in flight (0: no limit)"},
+                {"gpm.draw_cycles", "front-end cycles per draw a GPM receives (calibrated on an H100)"},
+                {"gpm.draws_ahead", "draws a front end may run ahead of its pipeline (calibrated on an H100)"},
+                {"shader.vertex_instructions", "instructions per vertex (assumed)"},
+                {"shader.fragment_instructions", "instructions per fragment for every pass (0: each pass's own count)"},
+                {"shader.triangle_bytes", "bytes of a set-up triangle handed to another GPM (assumed)"},
+                {"timing.sharing", "how units share a resource: fair (max-min, work-conserving) or equal"}}});
 
 }  // namespace
 

@@ -30,6 +30,7 @@
 // owner: with DHC the owner of their strip, else the root. Every covered
 // fragment is rendered once; nothing is duplicated but the data the split
 // copies.
+#include <algorithm>
 #include <cstdio>
 
 #include "oovr/framework/oo_application.h"
@@ -155,8 +156,11 @@ class OO final : public Scheme {
     }
     OORuntime runtime(spec, n, make_batches(app, {spec.tsl_threshold, uint64_t(spec.batch_triangles)}), records, vertices,
                       machine, rates);
+    const TrafficTotals& totals = sim.memory().totals();
+    const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
     runtime.start();
     SchemeResult r = sim.finish(m_name, 1, [&](int unit) { runtime.on_finish(unit); });
+    copies(r, sim, totals.copies_evicted - evicted, totals.copies_refused - refused);
     if (carried && runtime.fitted()) {
       const Rates& x = *runtime.fitted();
       carried->values[kRatesKey] = {x.c0, x.c1, x.c2};
@@ -166,6 +170,20 @@ class OO final : public Scheme {
   }
 
  private:
+  // Pre-allocated and split copies (Section 5.2): the most one GPM has held
+  // (with no cap, where the scene's copies fit), and this frame's copies
+  // dropped for room and pages refused for want of it.
+  static void copies(SchemeResult& r, FrameSim& sim, uint64_t evicted, uint64_t refused) {
+    uint64_t peak = 0;
+    for (int g = 0; g < sim.gpms(); ++g) peak = std::max(peak, sim.memory().copy_peak_bytes(g));
+    r.metrics.push_back({"copies.peak_bytes", double(peak), "B"});
+    r.metrics.push_back({"copies.evicted", double(evicted), ""});
+    r.metrics.push_back({"copies.refused", double(refused), ""});
+    if (evicted || refused)
+      r.notes.push_back("copies: " + std::to_string(evicted) + " pages dropped for room, " + std::to_string(refused) +
+                        " not copied for want of it (" + format_bytes(Bytes{peak}) + " held at most on one GPM)");
+  }
+
   static void notes(SchemeResult& r, const OOSpec& spec, int n, const FrameSim& sim, const OORuntime& runtime) {
     uint64_t tris = 0;
     const auto& batches = runtime.batches();
