@@ -449,6 +449,52 @@ TEST(Memory, CopiesHaveACapacityAndTheLeastRecentlyUsedMakesRoom) {
   }
 }
 
+// Copies live in what a GPM's homes leave of its DRAM (dram.capacity): the
+// DRAM bounds them with no cap set, a new home takes the room of a copy
+// (the least recently used), and homes beyond the DRAM are an error naming
+// the GPM. Worked by hand in 64 KB pages on a 4-page DRAM.
+TEST(Memory, CopiesLiveInTheDramTheHomesLeave) {
+  Fixture f(spec_with({"memory.placement=preallocated", "dram.capacity=256KB"}));
+  std::vector<uint64_t> base;
+  for (const char* name : {"a", "b", "c", "d", "e", "g", "h"})
+    base.push_back(f.map.region(f.map.add(name, Category::texture, kPage)).base);
+  f.build();
+  for (int k = 0; k < 4; ++k) f.run(1, 0, reads(base[size_t(k)], kPage));  // a-d homed on GPM 1: its DRAM is full
+  f.run(0, 0, reads(base[4], kPage));                                       // e homed on GPM 0: 3 pages left for copies
+  EXPECT_EQ(f.mem->homed_bytes(0), kPage);
+  EXPECT_EQ(f.mem->homed_bytes(1), 4 * kPage);
+  UnitTraffic t;
+  for (int k = 0; k < 4; ++k) {  // a, b, c, then d: a (least recently used) makes room
+    f.mem->begin_batch();
+    EXPECT_EQ(f.mem->preallocate(base[size_t(k)], kPage, 0, t), kPage) << k;
+  }
+  EXPECT_FALSE(f.mem->holds(0, base[0]));
+  EXPECT_TRUE(f.mem->holds(0, base[3]));
+  EXPECT_EQ(f.mem->copy_bytes(0), 3 * kPage);
+  EXPECT_EQ(f.mem->copy_peak_bytes(0), 3 * kPage);
+  EXPECT_EQ(f.mem->totals().copies_evicted, 1u);
+  // A new home on GPM 0 takes the room of its least recently used copy, b.
+  f.run(0, 0, reads(base[5], kPage));
+  EXPECT_EQ(f.mem->homed_bytes(0), 2 * kPage);
+  EXPECT_EQ(f.mem->copy_bytes(0), 2 * kPage);
+  EXPECT_FALSE(f.mem->holds(0, base[1]));
+  EXPECT_TRUE(f.mem->holds(0, base[2]) && f.mem->holds(0, base[3]));
+  EXPECT_EQ(f.mem->totals().copies_evicted, 2u);
+  // GPM 1 is full of homes: one more is an error naming it and the key.
+  EXPECT_EQ(test::message_of([&] { f.run(1, 0, reads(base[6], kPage)); }),
+            "GPM 1's DRAM (dram.capacity = 256 KB) cannot hold the data placed there: 320 KB of buffers, textures and "
+            "framebuffers");
+  // The cap, when set, bounds the copies below what the DRAM leaves.
+  Fixture capped(spec_with({"memory.placement=preallocated", "dram.capacity=8GB", "memory.copies.capacity=64KB"}));
+  const uint64_t x = capped.map.region(capped.map.add("x", Category::texture, 2 * kPage)).base;
+  capped.build();
+  capped.run(1, 0, reads(x, 2 * kPage));
+  capped.mem->begin_batch();
+  UnitTraffic c;
+  EXPECT_EQ(capped.mem->preallocate(x, 2 * kPage, 0, c), kPage);
+  EXPECT_EQ(capped.mem->totals().copies_refused, 1u);
+}
+
 TEST(Memory, TheEndOfADrawOnOneGpmDropsOnlyItsRemoteCache) {
   Fixture f(spec_with({"memory.placement=pinned", "cache.remote.invalidate=draw"}));
   const uint32_t tex = f.map.add("texture", Category::texture, 8 << 10);

@@ -52,9 +52,12 @@ int sweep(const CorrelateArgs& a, const HardwareData& data, CorrelationOptions o
   fmt::print("  most proportional: {} = {}\n", key, best);
   if (runs.front().r_within.size() >= 2) {
     fmt::print("  leave one scene out: fitted on the other scenes, the ratio oovr/GPU of the scene left out against theirs\n");
-    fmt::print("  {:<30} {:>14} {:>16} {:>10} {:>9}\n", "left out", "fitted value", "its ratio/theirs", "r (all)", "spread");
-    for (const LeftOut& l : leave_one_scene_out(values, runs))
-      fmt::print("  {:<30} {:>14} {:>15.2f}x {:>10.3f} {:>8.2f}x\n", l.scene, l.value, l.held_out, l.r, l.spread);
+    const std::vector<LeftOut> left = leave_one_scene_out(values, runs);
+    size_t w = 8;
+    for (const LeftOut& l : left) w = std::max(w, l.scene.size());
+    fmt::print("  {:<{}} {:>14} {:>16} {:>10} {:>9}\n", "left out", w, "fitted value", "its ratio/theirs", "r (all)", "spread");
+    for (const LeftOut& l : left)
+      fmt::print("  {:<{}} {:>14} {:>15.2f}x {:>10.3f} {:>8.2f}x\n", l.scene, w, l.value, l.held_out, l.r, l.spread);
   }
   return 0;
 }

@@ -258,7 +258,13 @@ int compare(const Args& a, const StereoRig& rig) {
   // differently and change depth-test outcomes of later draws by a few
   // fragments: they must match in total (docs/validation.md).
   const double passed_total = pas.gl ? std::abs(double(pas.oovr) - double(pas.gl)) / double(pas.gl) * 100.0 : 0.0;
-  const bool ok = psnr >= a.min_psnr && cov.over == 0 && passed_total <= a.max_draw_diff_percent;
+  // Two empty frames match perfectly and prove nothing: the frame must show
+  // the scene (passed fragments for at least 1% of its pixels; a camera or
+  // loader that draws nothing fails here), unless one object is isolated.
+  const double drawn = double(pas.gl) / (double(view.frame_width) * double(view.frame_height));
+  const bool shows = a.isolate >= 0 || drawn >= 0.01;
+  fmt::print("  drawn: {:.2f} passed fragments per pixel{}\n", drawn, shows ? "" : ", too few to compare (at least 0.01)");
+  const bool ok = shows && psnr >= a.min_psnr && cov.over == 0 && passed_total <= a.max_draw_diff_percent;
   fmt::print("{}\n", ok ? "PASS" : "FAIL");
   return ok ? 0 : 1;
 }

@@ -815,15 +815,15 @@ class Doc {
     if (n_over == 0) out += "\nEvery scene's copies fit in 16 MB per GPM here, so no cap changes anything.";
     else
       out += fmt::format(
-          "\nThe copies of {} outgrow 16 MB per GPM ({}). Capped there, a batch's copies are dropped before the batch\n"
-          "comes back in the next frame, so pre-allocation copies the same data frame after frame: {} of copies per\n"
-          "frame (geometric mean over the scenes) against {} uncapped, and OO-VR's mean speed-up is {} against {}.",
+          "\nThe copies of {} outgrow 16 MB per GPM:\n{}.\nCapped there, a batch's copies are dropped before the batch "
+          "comes back in the next frame, so pre-allocation\ncopies the same data frame after frame: {} of copies per "
+          "frame (geometric mean over the scenes) against\n{} uncapped, and OO-VR's mean speed-up is {} against {}.",
           of_n(n_over), over, mb(prealloc(copy_variant(small))), mb(prealloc("")),
           times(mean([&](auto& s) { return F.copies_speedup(s, small); })),
           times(mean([&](auto& s) { return F.copies_speedup(s, ""); })));
     out += fmt::format(
-        " oovr's model had such a cap\n(16 MB, assumed) as its \"bounded copies\" step until the copies moved into the "
-        "DRAM; the before-and-after table\nno longer has that step, since in {} of DRAM every scene's copies fit.\n\n",
+        " oovr's model had such a cap (16 MB,\nassumed) as its \"bounded copies\" step until the copies moved into the "
+        "DRAM; the before-and-after table no\nlonger has that step, since in {} of DRAM every scene's copies fit.\n\n",
         setting("dram.capacity"));
   }
 
