@@ -460,7 +460,7 @@ TEST(Memory, CopiesLiveInTheDramTheHomesLeave) {
     base.push_back(f.map.region(f.map.add(name, Category::texture, kPage)).base);
   f.build();
   for (int k = 0; k < 4; ++k) f.run(1, 0, reads(base[size_t(k)], kPage));  // a-d homed on GPM 1: its DRAM is full
-  f.run(0, 0, reads(base[4], kPage));                                       // e homed on GPM 0: 3 pages left for copies
+  f.run(0, 0, reads(base[4], kPage));                                      // e homed on GPM 0: 3 pages left for copies
   EXPECT_EQ(f.mem->homed_bytes(0), kPage);
   EXPECT_EQ(f.mem->homed_bytes(1), 4 * kPage);
   UnitTraffic t;
