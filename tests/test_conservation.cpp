@@ -20,25 +20,13 @@
 namespace oovr {
 namespace {
 
-struct Frames {
-  Scene scene;
-  std::vector<FrameOutput> out;
-  std::vector<const FrameTrace*> traces;
-};
+using Frames = test::RenderedFrames;
 
 // Four frames of a built-in scene at 160x96, rendered once per scene.
 const Frames& frames(const std::string& name) {
   static std::map<std::string, std::unique_ptr<Frames>> cache;
   std::unique_ptr<Frames>& f = cache[name];
-  if (!f) {
-    f = std::make_unique<Frames>(Frames{BuiltinScenes::find(name)->make(), {}, {}});
-    StereoRig rig;
-    rig.eye_width = 80;
-    rig.eye_height = 96;
-    for (int k = 0; k < 4; ++k)
-      f->out.push_back(render_frame(f->scene, make_stereo_view(f->scene.camera, 10 + k, rig), PipelineSettings{}, 10 + k));
-    for (const auto& o : f->out) f->traces.push_back(&o.trace);
-  }
+  if (!f) f = test::render_builtin(name, 80, 96, 10, 4);
   return *f;
 }
 
@@ -187,6 +175,28 @@ TEST(Conservation, AFramesPixelsBelongInItsOwnFinalFramebuffer) {
   });
   EXPECT_NE(m.find("frame 1 of the run: object"), std::string::npos) << m;
   EXPECT_NE(m.find("was written into frame 0's final framebuffer"), std::string::npos) << m;
+}
+
+TEST(Conservation, ARecordReplayedAsAnotherFramesIsAnError) {
+  // Frame 1's records handed over as frame 0's: their texture lines would
+  // be read from the wrong frame.
+  const Frames& fr = frames("courtyard");
+  const auto mixed = [](const SchemeInput& in) {
+    FrameSim sim(in);
+    const std::vector<ObjectRecords> objects = records_by_object(sim.frame(1), sim.scene().objects.size());
+    uint32_t o = 0;
+    while (objects[o].eye[0].empty()) ++o;
+    sim.command(0);
+    (void)sim.tiles(0, objects[o].eye[0], 0, sim.frame(0), {sim.geometry(0, o, 1, 0)});
+    return sim.finish("mixed");
+  };
+  const std::string m = test::message_of([&] {
+    (void)run_scheme({"mixed", std::make_shared<Custom>(mixed)}, fr.scene, {fr.traces[0], fr.traces[1]}, {});
+  });
+  EXPECT_NE(m.find("scheme 'mixed' breaks a conservation law (every covered fragment rasterised once per eye): object "),
+            std::string::npos)
+      << m;
+  EXPECT_NE(m.find("was rasterised on GPM 0 as part of a frame it is not of"), std::string::npos) << m;
 }
 
 TEST(Conservation, AResultNotMadeByFinishIsRefused) {

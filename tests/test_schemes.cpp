@@ -19,11 +19,7 @@
 namespace oovr {
 namespace {
 
-struct Rendered {
-  Scene scene;
-  std::vector<FrameOutput> out;
-  std::vector<const FrameTrace*> traces;
-};
+using Rendered = test::RenderedFrames;
 
 const Rendered& courtyard(unsigned threads = 0, TextureFormat format = PipelineSettings{}.texture_format) {
   // Rendered once per thread count and texture format for the whole test
@@ -31,16 +27,10 @@ const Rendered& courtyard(unsigned threads = 0, TextureFormat format = PipelineS
   static std::map<std::pair<unsigned, TextureFormat>, std::unique_ptr<Rendered>> cache;
   std::unique_ptr<Rendered>& r = cache[{threads, format}];
   if (!r) {
-    r = std::make_unique<Rendered>(Rendered{BuiltinScenes::find("courtyard")->make(), {}, {}});
-    StereoRig rig;
-    rig.eye_width = 320;
-    rig.eye_height = 480;
     PipelineSettings p;
     p.threads = threads;
     p.texture_format = format;
-    for (int f = 0; f < 4; ++f)
-      r->out.push_back(render_frame(r->scene, make_stereo_view(r->scene.camera, 30 + f, rig), p, 30 + f));
-    for (const auto& o : r->out) r->traces.push_back(&o.trace);
+    r = test::render_builtin("courtyard", 320, 480, 30, 4, p);
   }
   return *r;
 }

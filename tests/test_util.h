@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -14,6 +15,7 @@
 #include "oovr/core/error.h"
 
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/builtin.h"
 #include "oovr/scene/scene.h"
 #include "oovr/scene/stereo.h"
 
@@ -46,6 +48,27 @@ inline std::vector<std::string> registered_in_sources(const std::string& folder,
   }
   std::sort(names.begin(), names.end());
   return names;
+}
+
+// Consecutive frames of a built-in scene, rendered for scheme tests: the
+// scene, the frames' outputs and their traces (which point into `out`).
+struct RenderedFrames {
+  Scene scene;
+  std::vector<FrameOutput> out;
+  std::vector<const FrameTrace*> traces;
+};
+// Frames first .. first + count - 1 of the built-in scene `name`, each eye
+// eye_width x eye_height.
+inline std::unique_ptr<RenderedFrames> render_builtin(const std::string& name, int eye_width, int eye_height, int first,
+                                                      int count, const PipelineSettings& settings = {}) {
+  auto r = std::make_unique<RenderedFrames>(RenderedFrames{BuiltinScenes::find(name)->make(), {}, {}});
+  StereoRig rig;
+  rig.eye_width = eye_width;
+  rig.eye_height = eye_height;
+  for (int f = first; f < first + count; ++f)
+    r->out.push_back(render_frame(r->scene, make_stereo_view(r->scene.camera, f, rig), settings, f));
+  for (const auto& o : r->out) r->traces.push_back(&o.trace);
+  return r;
 }
 
 // A one-eye view of a w x h frame (powers of two) in which world (x, y)

@@ -74,8 +74,8 @@ void RunLedger::rasterised(const FrameTrace& frame, const TileWork& r, int gpm, 
   if (w.frame < 0 || m_frames[size_t(w.frame)] != &frame) {
     // Replayed against a frame it is not of: its texture lines would be
     // another frame's.
-    if (m_draw_breaches++ == 0)
-      m_draw_breach = describe(r) + " was rasterised on GPM " + std::to_string(gpm) + " as part of a frame it is not of";
+    if (m_frame_breaches++ == 0)
+      m_frame_breach = describe(r) + " was rasterised on GPM " + std::to_string(gpm) + " as part of a frame it is not of";
     return;
   }
   uint16_t& n = m_times[size_t(w.frame)][w.record];
@@ -83,8 +83,7 @@ void RunLedger::rasterised(const FrameTrace& frame, const TileWork& r, int gpm, 
   bump(n);
 }
 
-void RunLedger::composed(const TileWork& r, int gpm) {
-  (void)gpm;
+void RunLedger::composed(const TileWork& r) {
   const Where w = find(r);
   if (w.frame < 0) {
     ++m_stray_composed;
@@ -104,6 +103,7 @@ void RunLedger::check(const std::string& scheme, int frames_in_flight) const {
   if (m_stray_composed)
     breach("every pixel composed once", std::to_string(m_stray_composed) + " records composed that are of no frame of the run", 1,
            "");
+  if (m_frame_breaches) breach("every covered fragment rasterised once per eye", m_frame_breach, m_frame_breaches, "records");
   const size_t in_flight = size_t(std::clamp(frames_in_flight, 0, int(m_frames.size())));
   // Fragments: once per record with coverage, for the frames that complete.
   std::string first;

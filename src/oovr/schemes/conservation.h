@@ -49,8 +49,8 @@ class RunLedger {
   // its colour written into framebuffer `colour_fb`.
   void rasterised(const FrameTrace& frame, const TileWork& r, int gpm, int draw, int colour_fb);
   // Record `r` (of one of the run's frames) had its pixels merged into the
-  // final frame by GPM `gpm`'s ROPs.
-  void composed(const TileWork& r, int gpm);
+  // final frame.
+  void composed(const TileWork& r);
 
   // Throws Error naming `scheme`, the first law broken and where, when the
   // run broke one; `frames_in_flight` frames completed.
@@ -76,9 +76,10 @@ class RunLedger {
   std::vector<std::vector<uint16_t>> m_times;
   std::vector<std::vector<int16_t>> m_fb;
   std::vector<std::vector<uint16_t>> m_composed;
-  // The first breach of the draws law seen as work was added, and how many.
-  std::string m_draw_breach;
-  uint64_t m_draw_breaches = 0;
+  // The first breach of the draws law seen as work was added, and how many;
+  // the same for records replayed as part of a frame they are not of.
+  std::string m_draw_breach, m_frame_breach;
+  uint64_t m_draw_breaches = 0, m_frame_breaches = 0;
   // Records composed that belong to no frame of the run.
   uint64_t m_stray_composed = 0;
 };

@@ -322,7 +322,7 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
 
 int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after) {
   if (m_ledger)
-    for (const TileWork* r : records) m_ledger->composed(*r, gpm);
+    for (const TileWork* r : records) m_ledger->composed(*r);
   WorkCounts w;
   w.composed = pixels;
   return add(gpm, w, empty_traffic(), std::move(after), false);
