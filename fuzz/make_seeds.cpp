@@ -28,7 +28,16 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep"}) fs::create_directories(dir / sub);
+  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep", "hardware"})
+    fs::create_directories(dir / sub);
+  // Hardware data: the first lines of the shipped H100 file and the tests' one.
+  if (argc == 3)
+    for (const char* f : {"docs/data/hardware/h100-gl-frames.csv", "tests/data/hardware-one-point.csv"}) {
+      std::ifstream in(fs::path(argv[2]) / f);
+      std::ofstream out(dir / "hardware" / fs::path(f).filename());
+      std::string line;
+      for (int n = 0; n < 12 && std::getline(in, line); ++n) out << line << '\n';
+    }
   // pk3: a stored and a deflated entry, as the games' archives hold them.
   {
     int err = 0;

@@ -143,6 +143,10 @@ TEST(Hardware, BadDataIsOneClearError) {
   EXPECT_NE(message("").find("no header"), std::string::npos);
   EXPECT_NE(message(head).find("no frames"), std::string::npos);
   EXPECT_NE(message(kWorkload + "scene,frame\nx,1\n").find("no column 'resolution'"), std::string::npos);
+  // A column named twice (found by fuzz_hardware: rows then had as many
+  // fields as distinct names, and columns pointed past them).
+  EXPECT_EQ(message(kWorkload + "scene,resolution,frame,full_us,geom_us,left_us,draws,triangles,draws\n"),
+            "hardware data 'bad.csv' line 5: the header names the column 'draws' twice");
   EXPECT_NE(message(head + "courtyard,640x480,0,fast,1,1,61,5\n").find("line 6: 'full_us' is not a number"), std::string::npos);
   EXPECT_NE(message(head + "courtyard,640x480,0,1,1,1,61\n").find("line 6: has 7 fields"), std::string::npos);
   EXPECT_NE(message(head + "courtyard,640x480,0,-3,1,1,61,5\n").find("'full_us' is not a positive"), std::string::npos);

@@ -111,7 +111,8 @@ HardwareData HardwareData::parse(const std::string& text, const std::string& nam
         if (!seen.count(k))
           throw fail(std::string("the data do not say what the GPU drew: no '") + k +
                      "' line before the header (docs/data/hardware/README.md)");
-      for (size_t i = 0; i < f.size(); ++i) col[f[i]] = i;
+      for (size_t i = 0; i < f.size(); ++i)
+        if (!col.emplace(f[i], i).second) throw fail("the header names the column '" + f[i] + "' twice");
       for (const char* r : required)
         if (!col.count(r)) throw fail(std::string("the header has no column '") + r + "'");
       continue;
