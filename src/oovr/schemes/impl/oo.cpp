@@ -132,6 +132,10 @@ class OO final : public Scheme {
     const OOSpec spec = OOSpec::from_config(in.config, m_mechanisms);
     const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
     FrameSim sim(in, sort_last_framebuffers(n));
+    // Copies dropped and refused during this frame (the memory system's
+    // totals run on from frame to frame).
+    const TrafficTotals& totals = sim.memory().totals();
+    const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
     const FrameTrace& f = sim.frame();
     Composer composer(sim, CompositionSpec::from_config(sim.config()), [&](int tile_x, int) {
       return spec.distributed_composition ? vertical_strip_owner(tile_x, f.tiles_x, n) : 0;
@@ -156,8 +160,6 @@ class OO final : public Scheme {
     }
     OORuntime runtime(spec, n, make_batches(app, {spec.tsl_threshold, uint64_t(spec.batch_triangles)}), records, vertices,
                       machine, rates);
-    const TrafficTotals& totals = sim.memory().totals();
-    const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
     runtime.start();
     SchemeResult r = sim.finish(m_name, 1, [&](int unit) { runtime.on_finish(unit); });
     copies(r, sim, totals.copies_evicted - evicted, totals.copies_refused - refused);
