@@ -2,13 +2,10 @@
 
 namespace oovr {
 
-const ConfigKey* find_config_key(const std::string& key, std::string* section) {
+const ConfigKey* find_config_key(const std::string& key) {
   for (const auto& name : ConfigSections::names())
     for (const ConfigKey& k : ConfigSections::find(name)->keys)
-      if (k.key == key) {
-        if (section) *section = name;
-        return &k;
-      }
+      if (k.key == key) return &k;
   return nullptr;
 }
 

@@ -49,8 +49,7 @@ using ConfigSections = Registry<ConfigSection>;
 // c.resolved() holds every value in force.
 void check_config(const Config& c);
 
-// The declaration of `key` (null when no section declares it), and the
-// section declaring it.
-const ConfigKey* find_config_key(const std::string& key, std::string* section = nullptr);
+// The declaration of `key` (null when no section declares it).
+const ConfigKey* find_config_key(const std::string& key);
 
 }  // namespace oovr

@@ -421,8 +421,8 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
   if (o.copies) {
     std::string cp = "scene,copy_capacity_bytes,speedup_vs_baseline,traffic_vs_baseline,copies_peak_bytes\n";
     for (const auto& s : r.scenes)
-      for (const auto& [cap, bytes] : copy_points()) {
-        const SchemeResult* x = r.find(s, o.sweep_resolution, "oo-vr", cap.empty() ? "" : copy_variant(cap));
+      for (const auto& [cap, bytes] : copy_points(F.dram_bytes())) {
+        const SchemeResult* x = r.find(s, o.sweep_resolution, "oo-vr", copy_variant(cap));
         cp += fmt::format("{},{:.0f},{:.4f},{:.4f},{:.0f}\n", s, bytes, F.copies_speedup(s, cap), F.copies_traffic(s, cap),
                           x ? scheme_metric(*x, "copies.peak_bytes") : std::nan(""));
       }
@@ -487,14 +487,15 @@ void write_paper_plots(const PaperResults& r, const PaperOptions& o, const std::
   if (o.copies) {
     std::vector<double> cx;
     std::vector<std::string> cn;
-    for (const auto& [cap, bytes] : copy_points()) {
+    const auto points = copy_points(F.dram_bytes());
+    for (const auto& [cap, bytes] : points) {
       cx.push_back(bytes);
       cn.push_back(format_bytes(Bytes{uint64_t(bytes)}));
     }
     std::vector<std::vector<double>> cv;
     for (const auto& s : r.scenes) {
       cv.emplace_back();
-      for (const auto& point : copy_points()) cv.back().push_back(F.copies_speedup(s, point.first));
+      for (const auto& point : points) cv.back().push_back(F.copies_speedup(s, point.first));
     }
     write_file(d / "copies.svg",
                line_chart("OO-VR's speed-up over the baseline against copy capacity per GPM (" + o.sweep_resolution + ")",

@@ -763,7 +763,7 @@ class Doc {
   // pre-allocation units copy "to the corresponding unused DRAM"): capped
   // per GPM (kCopyCapacities), and uncapped in the DRAM (the main runs).
   void copies() {
-    const std::vector<std::pair<std::string, double>> points = copy_points();
+    const std::vector<std::pair<std::string, double>> points = copy_points(F.dram_bytes());
     out += "## OO-VR's copies and the memory they live in\n\n";
     out += fmt::format(
         "OO-VR's pre-allocation units copy a batch's data into the GPM that will render it, and the split copies the\n"
@@ -777,7 +777,7 @@ class Doc {
         setting("dram.capacity"), res());
     out += "| scene | held |";
     for (const auto& [cap, bytes] : points)
-      out += " " + (cap.empty() ? format_bytes(Bytes{uint64_t(bytes)}) + " (DRAM)" : format_bytes(Bytes{uint64_t(bytes)})) + " |";
+      out += fmt::format(" {}{} |", format_bytes(Bytes{uint64_t(bytes)}), cap.empty() ? " (DRAM)" : "");
     out += "\n| --- | --- |";
     for (size_t k = 0; k < points.size(); ++k) out += " --- |";
     out += "\n";

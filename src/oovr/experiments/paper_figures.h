@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "oovr/experiments/paper.h"
+#include "oovr/memory/memory_spec.h"
 
 namespace oovr::paper {
 
@@ -64,14 +65,15 @@ inline const std::vector<ModelStep> kSteps = {
      "baseline", ""},
 };
 // OO-VR's copies capped per GPM (memory.copies.capacity), at the sweep
-// resolution; the main runs, uncapped in an 8 GB DRAM, are the last point.
+// resolution; the main runs, uncapped in the GPMs' DRAM, are the last point.
 inline const std::vector<std::pair<std::string, double>> kCopyCapacities = {
     {"16MB", 16.0 * (1 << 20)}, {"64MB", 64.0 * (1 << 20)}, {"256MB", 256.0 * (1 << 20)}, {"1GB", double(1 << 30)}};
-inline std::string copy_variant(const std::string& cap) { return "memory.copies.capacity=" + cap; }
-// The capped points and the main runs' ("" : the DRAM, 8 GB by default).
-inline std::vector<std::pair<std::string, double>> copy_points() {
+// The runs with copies capped at `cap`; "" names the uncapped main runs.
+inline std::string copy_variant(const std::string& cap) { return cap.empty() ? "" : "memory.copies.capacity=" + cap; }
+// The capped points, then the main runs' ("", at the DRAM's `dram_bytes`).
+inline std::vector<std::pair<std::string, double>> copy_points(double dram_bytes) {
   std::vector<std::pair<std::string, double>> v = kCopyCapacities;
-  v.push_back({"", 8.0 * double(1 << 30)});
+  v.push_back({"", dram_bytes});
   return v;
 }
 // A figure a scheme reported of itself (NaN when it did not).
@@ -155,8 +157,8 @@ struct Figures {
     return a && b ? b->frame_latency_s / a->frame_latency_s : std::nan("");
   }
   double traffic(const std::string& scene, const std::string& res, const std::string& scheme,
-                 const std::string& against = "baseline") const {
-    const SchemeResult* a = r.find(scene, res, scheme);
+                 const std::string& against = "baseline", const std::string& variant = "") const {
+    const SchemeResult* a = r.find(scene, res, scheme, variant);
     const SchemeResult* b = r.find(scene, res, against);
     return a && b && b->total_inter_gpm_bytes() ? double(a->total_inter_gpm_bytes()) / double(b->total_inter_gpm_bytes())
                                                 : std::nan("");
@@ -172,14 +174,14 @@ struct Figures {
   // OO-VR with its copies capped at `cap` ("": uncapped, the main run)
   // against the baseline.
   double copies_speedup(const std::string& scene, const std::string& cap) const {
-    return speedup(scene, o.sweep_resolution, "oo-vr", cap.empty() ? "" : copy_variant(cap));
+    return speedup(scene, o.sweep_resolution, "oo-vr", copy_variant(cap));
   }
   double copies_traffic(const std::string& scene, const std::string& cap) const {
-    const SchemeResult* a = r.find(scene, o.sweep_resolution, "oo-vr", cap.empty() ? "" : copy_variant(cap));
-    const SchemeResult* b = r.find(scene, o.sweep_resolution, "baseline");
-    return a && b && b->total_inter_gpm_bytes() ? double(a->total_inter_gpm_bytes()) / double(b->total_inter_gpm_bytes())
-                                                : std::nan("");
+    return traffic(scene, o.sweep_resolution, "oo-vr", "baseline", copy_variant(cap));
   }
+  // Each GPM's DRAM on the document's machine: where the uncapped runs
+  // keep their copies.
+  double dram_bytes() const { return double(MemorySpec::from_config(o.config).dram_capacity.value); }
   std::vector<double> across(const std::function<double(const std::string&)>& f) const {
     std::vector<double> v;
     for (const auto& s : r.scenes) {
