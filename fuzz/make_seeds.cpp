@@ -1,11 +1,13 @@
 // Writes seed corpora for the fuzzers: the synthetic BSP and SGI files of
 // the tests (tests/game_data.h), shader scripts in the styles OpenArena and
 // Nexuiz write them, the configuration presets, a real trace and cache
-// entry, small PLY / GLB / glTF, AC3D and TORCS files of each form the
-// readers know, the sweep files and a run record. Usage: oovr-fuzz-seeds
+// entry, small PLY / GLB / glTF / OBJ / AC3D files of each form the
+// readers know (and assimp's own test models of those formats, where
+// installed), TORCS files, the sweep files and a run record. Usage: oovr-fuzz-seeds
 // DIR [SOURCE_DIR]
 #include <zip.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -93,7 +95,7 @@ int main(int argc, char** argv) {
     std::ofstream(dir / "trace" / "payload.bin", std::ios::binary) << payload;
     std::ofstream(dir / "trace" / "entry.bin", std::ios::binary) << entry;
   }
-  // Models: the first byte picks the format (0 PLY, 1 GLB, 2 glTF).
+  // Models: the first byte picks the format (0 PLY, 1 GLB, 2 glTF, 3 OBJ, 4 AC3D).
   std::ofstream(dir / "model" / "ascii.ply", std::ios::binary)
       << '\0'
       << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
@@ -123,6 +125,44 @@ int main(int argc, char** argv) {
     std::ofstream(dir / "model" / "box.gltf", std::ios::binary)
         << '\2'
         << R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:application/octet-stream;base64,AAAA"}],"accessors":[{"count":1}]})";
+  }
+  // Models again: a one-triangle glTF with a skin, an animation and a
+  // morph target (taken out before assimp reads it), OBJ with groups and a
+  // material library, AC3D (4).
+  std::ofstream(dir / "model" / "skin.gltf", std::ios::binary)
+      << '\2'
+      << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0,"skin":0,"children":[1]},{"mesh":0}],)"
+         R"("skins":[{"joints":[0]}],"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}}],)"
+         R"("samplers":[{"input":0,"output":0}]}],"meshes":[{"weights":[1],"primitives":[{"attributes":{"POSITION":0},)"
+         R"("targets":[{"POSITION":0}]}]}],"buffers":[{"byteLength":36,)"
+         R"("uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],)"
+         R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
+  std::ofstream(dir / "model" / "groups.obj", std::ios::binary)
+      << '\3'
+      << "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+         "o a\ng left\nusemtl red\nf 1/1/1 2/2/1 3/3/1\ng right\nusemtl blue\nf 2 4 3 1\nl 1 2\np 3\n";
+  std::ofstream(dir / "model" / "quad.ac", std::ios::binary)
+      << '\4'
+      << "AC3Db\nMATERIAL \"m\" rgb 1 1 1 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 0 trans 0\n"
+         "OBJECT world\nkids 1\nOBJECT poly\nname \"quad\"\nnumvert 4\n0 0 0\n1 0 0\n1 0 1\n0 0 1\nnumsurf 1\n"
+         "SURF 0x10\nmat 0\nrefs 4\n0 0 0\n1 1 0\n2 1 1\n3 0 1\nkids 0\n";
+  {
+    // assimp's test models (Debian's assimp-testmodels) of the formats
+    // oovr reads through it, up to the fuzzers' 64 KB.
+    const std::pair<const char*, char> kFormats[] = {{".ply", 0}, {".glb", 1}, {".gltf", 2}, {".obj", 3}, {".ac", 4}};
+    std::error_code ec;
+    int n = 0;
+    for (fs::recursive_directory_iterator it("/usr/share/assimp/models", ec), end; !ec && it != end; it.increment(ec)) {
+      if (!it->is_regular_file(ec) || it->file_size(ec) > 65535) continue;
+      std::string ext = it->path().extension().string();
+      for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+      for (const auto& [e, prefix] : kFormats)
+        if (ext == e) {
+          std::ifstream in(it->path(), std::ios::binary);
+          std::ofstream(dir / "model" / ("assimp-" + std::to_string(n++) + ext), std::ios::binary) << prefix << in.rdbuf();
+        }
+    }
   }
   // AC3D: a textured quad in a group, as TORCS writes them.
   std::ofstream(dir / "ac3d" / "quad.ac")

@@ -32,9 +32,10 @@ InputLimits InputLimits::parse(const std::string& text) {
     else if (name == "elements") l.elements = whole(1, uint64_t(1) << 40);
     else if (name == "scene_bytes") l.scene_bytes = bytes();
     else if (name == "nesting") l.nesting = int(whole(1, 100000));
+    else if (name == "draws") l.draws = whole(1, uint64_t(1) << 32);
     else
       throw Error("OOVR_LIMITS: unknown limit '" + name +
-                  "' (limits: image_side, image_texels, file_bytes, elements, scene_bytes, nesting)");
+                  "' (limits: image_side, image_texels, file_bytes, elements, scene_bytes, nesting, draws)");
   }
   return l;
 }
@@ -51,6 +52,10 @@ void check_limit(uint64_t count, uint64_t limit, const char* name, const std::st
   if (count > limit)
     throw Error(what + ": " + std::to_string(count) + " " + things + ", more than the limit of " + std::to_string(limit) +
                 " ($OOVR_LIMITS " + name + ")");
+}
+
+void exceeded_limit(uint64_t limit, const char* name, const std::string& what, const char* things) {
+  throw Error(what + ": more than " + std::to_string(limit) + " " + things + " ($OOVR_LIMITS " + name + ")");
 }
 
 }  // namespace oovr

@@ -141,4 +141,15 @@ CameraPath orbit_camera_path(Vec3 lo, Vec3 hi, int frames) {
   return path;
 }
 
+CameraPath orbit_camera_around(const Scene& s) {
+  Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+  for (const auto& o : s.objects)
+    for (const auto& v : s.meshes.at(size_t(o.mesh)).vertices) {
+      const Vec3 p = transform_point3(o.world_from_object, v.position);
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+  return orbit_camera_path(lo, hi, 120);
+}
+
 }  // namespace oovr

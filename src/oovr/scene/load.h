@@ -25,5 +25,7 @@ std::string scene_data_missing(const std::string& spec);
 // A path of `frames` poses circling the box [lo, hi], looking at its centre
 // from a little above; near and far planes sized to the box.
 CameraPath orbit_camera_path(Vec3 lo, Vec3 hi, int frames);
+// 120 frames of that path around the bounds of the scene's drawn objects.
+CameraPath orbit_camera_around(const Scene& s);
 
 }  // namespace oovr

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "oovr/core/error.h"
+#include "oovr/core/limits.h"
 #include "oovr/core/units.h"
 
 namespace oovr {
@@ -54,6 +55,8 @@ uint32_t Scene::add_draws(const std::string& object_name, int mesh, int material
 
 void Scene::validate() const {
   const auto where = [&](const std::string& what) { return "scene '" + name + "': " + what; };
+  // Every source's scene, before the simulator spends ~18 KB on each draw.
+  check_limit(objects.size(), InputLimits::get().draws, "draws", "scene '" + name + "'", "draws");
   for (size_t i = 0; i < textures.size(); ++i) {
     const Texture& t = textures[i];
     if (t.levels.empty() || t.width() <= 0 || t.height() <= 0) throw Error(where("texture '" + t.name + "' has no image"));

@@ -138,8 +138,9 @@ void check_ply(const std::string& bytes, const std::string& name) {
 }
 
 // glTF 2 JSON: buffers no larger than the bytes that hold them, accessors
-// with counts within the limits.
-void check_gltf_json(const std::string& text, const std::string& name, uint64_t glb_bin_bytes, bool glb) {
+// with counts within the limits, a node graph of bounded depth and
+// instances. Returns the document without what oovr does not draw.
+std::string check_gltf_json(const std::string& text, const std::string& name, uint64_t glb_bin_bytes, bool glb) {
   const InputLimits& lim = InputLimits::get();
   nlohmann::json j;
   try {
@@ -198,9 +199,12 @@ void check_gltf_json(const std::string& text, const std::string& name, uint64_t 
         children[i].push_back(size_t(k.get<uint64_t>()));
       }
     }
-    // Depth of each node's subtree, children first (iterative, so a deep
-    // file cannot overflow this check's stack either).
+    // Depth and instances of each node's subtree, children first
+    // (iterative, so a deep file cannot overflow this check's stack
+    // either). Instances saturate just above the limit.
+    const uint64_t cap = lim.draws + 1;
     std::vector<int> depth(n, -1), state(n, 0);  // state: 0 unseen, 1 on the path, 2 done
+    std::vector<uint64_t> instances(n, 0);
     for (size_t root = 0; root < n; ++root) {
       if (state[root]) continue;
       std::vector<std::pair<size_t, size_t>> stack{{root, 0}};
@@ -217,13 +221,37 @@ void check_gltf_json(const std::string& text, const std::string& name, uint64_t 
           continue;
         }
         int d = 1;
-        for (const size_t c : children[node]) d = std::max(d, depth[c] + 1);
+        uint64_t count = 1;
+        for (const size_t c : children[node]) {
+          d = std::max(d, depth[c] + 1);
+          count = std::min(cap, count + instances[c]);
+        }
         depth[node] = d;
+        instances[node] = count;
         state[node] = 2;
         check_limit(uint64_t(d), uint64_t(lim.nesting), "nesting", "model '" + name + "'", "levels of glTF nodes");
         stack.pop_back();
       }
     }
+    // The instances assimp makes: every subtree under a scene's root, and
+    // under each node without a parent (counted too, to be safe).
+    std::vector<bool> has_parent(n, false), root(n, false);
+    for (const auto& c : children)
+      for (const size_t k : c) has_parent[k] = true;
+    for (size_t i = 0; i < n; ++i) root[i] = !has_parent[i];
+    if (const auto sc = j.find("scenes"); sc != j.end() && sc->is_array())
+      for (const auto& scene : *sc) {
+        const auto nodes = scene.is_object() ? scene.find("nodes") : scene.end();
+        if (!scene.is_object() || nodes == scene.end() || !nodes->is_array()) continue;
+        for (const auto& k : *nodes)
+          if (k.is_number_unsigned() && k.get<uint64_t>() < n) root[size_t(k.get<uint64_t>())] = true;
+      }
+    uint64_t total = 0;
+    for (size_t i = 0; i < n; ++i)
+      if (root[i]) total = std::min(cap, total + instances[i]);
+    if (total > lim.draws)
+      exceeded_limit(lim.draws, "draws", "model '" + name + "'",
+                     "glTF node instances (a node under several parents counts once under each)");
   }
   if (const auto it = j.find("accessors"); it != j.end() && it->is_array()) {
     for (const auto& a : *it) {
@@ -232,6 +260,25 @@ void check_gltf_json(const std::string& text, const std::string& name, uint64_t 
         check_limit(c->get<uint64_t>(), lim.elements, "elements", "model '" + name + "'", "elements in an accessor");
     }
   }
+  // Skins, animations and morph targets move or blend geometry over time;
+  // oovr draws a model's rest pose, so they are taken out here rather than
+  // left to assimp (whose glTF 2 importer crashes on some skins).
+  j.erase("skins");
+  j.erase("animations");
+  const auto drop = [](nlohmann::json& array, std::initializer_list<const char*> keys) {
+    if (!array.is_array()) return;
+    for (auto& item : array)
+      if (item.is_object())
+        for (const char* k : keys) item.erase(k);
+  };
+  if (const auto it = j.find("nodes"); it != j.end()) drop(*it, {"skin", "weights"});
+  if (const auto it = j.find("meshes"); it != j.end() && it->is_array()) {
+    drop(*it, {"weights"});
+    for (auto& mesh : *it)
+      if (mesh.is_object())
+        if (const auto p = mesh.find("primitives"); p != mesh.end()) drop(*p, {"targets"});
+  }
+  return j.dump();
 }
 
 uint32_t le32(const std::string& b, size_t at) {
@@ -240,45 +287,107 @@ uint32_t le32(const std::string& b, size_t at) {
   return v;  // glTF is little-endian, as every machine oovr builds on
 }
 
+void put_le32(std::string& out, uint32_t v) {
+  char c[4];
+  std::memcpy(c, &v, 4);
+  out.append(c, 4);
+}
+
 // GLB: a 12-byte header (magic, version, length) and chunks of (length,
-// type, data); the lengths must match the bytes that are there.
-void check_glb(const std::string& b, const std::string& name) {
+// type, data); the lengths must match the bytes that are there. Returns
+// the GLB rebuilt around the checked JSON, with the first binary chunk.
+std::string check_glb(const std::string& b, const std::string& name) {
   if (b.size() < 12 || b.compare(0, 4, "glTF") != 0) bad(name, "not a GLB file (no 'glTF' magic)");
   if (le32(b, 8) != b.size())
     bad(name, "the GLB header declares " + std::to_string(le32(b, 8)) + " bytes, the file has " + std::to_string(b.size()));
   size_t at = 12;
   std::string json;
-  uint64_t bin = 0;
+  std::string_view bin;
+  bool has_bin = false;
   while (at < b.size()) {
     if (b.size() - at < 8) bad(name, "a truncated GLB chunk header");
     const uint64_t len = le32(b, at), type = le32(b, at + 4);
     if (len > b.size() - at - 8)
       bad(name, "a GLB chunk declares " + std::to_string(len) + " bytes, " + std::to_string(b.size() - at - 8) + " remain");
     if (type == 0x4E4F534Au && json.empty()) json = b.substr(at + 8, size_t(len));  // "JSON"
-    else if (type == 0x004E4942u && bin == 0) bin = len;                            // "BIN\0"
+    else if (type == 0x004E4942u && !has_bin) {                                     // "BIN\0"
+      bin = std::string_view(b).substr(at + 8, size_t(len));
+      has_bin = true;
+    }
     at += 8 + size_t(len);
   }
   if (json.empty()) bad(name, "the GLB file has no JSON chunk");
-  check_gltf_json(json, name, bin, true);
+  std::string checked = check_gltf_json(json, name, bin.size(), true);
+  checked.append((4 - checked.size() % 4) % 4, ' ');  // chunks are 4-byte aligned, JSON padded with spaces
+  std::string out = b.substr(0, 8);
+  put_le32(out, 0);  // the total, set below
+  put_le32(out, uint32_t(checked.size()));
+  put_le32(out, 0x4E4F534Au);
+  out += checked;
+  if (has_bin) {
+    put_le32(out, uint32_t(bin.size()));
+    put_le32(out, 0x004E4942u);
+    out += bin;
+  }
+  if (out.size() > UINT32_MAX) bad(name, "the GLB file is too large");
+  const uint32_t total = uint32_t(out.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  return out;
+}
+
+// OBJ (Wavefront): assimp makes a mesh for every group, object and
+// material change, and keeps every vertex, texture coordinate, normal and
+// face index; these are counted here against the limits before it reads
+// the file. Its material libraries are read through oovr's IO system
+// (regular files within file_bytes only).
+void check_obj(const std::string& bytes, const std::string& name) {
+  const InputLimits& lim = InputLimits::get();
+  uint64_t groups = 0, elements = 0;
+  size_t at = 0;
+  while (at < bytes.size()) {
+    size_t end = bytes.find('\n', at);
+    if (end == std::string::npos) end = bytes.size();
+    std::string_view line = std::string_view(bytes).substr(at, end - at);
+    at = end + 1;
+    while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+    const size_t space = line.find_first_of(" \t");
+    const std::string_view word = line.substr(0, space);
+    if (word == "g" || word == "o" || word == "usemtl") {
+      if (++groups > lim.draws)
+        exceeded_limit(lim.draws, "draws", "model '" + name + "'", "OBJ groups, objects and material changes");
+    } else if (word == "v" || word == "vt" || word == "vn" || word == "vp") {
+      if (++elements > lim.elements) exceeded_limit(lim.elements, "elements", "model '" + name + "'", "OBJ elements");
+    } else if (word == "f" || word == "l" || word == "p") {
+      // Every index of a face is an element; a polygon is triangulated
+      // into as many triangles as it has corners, less two.
+      std::string_view rest = space == std::string_view::npos ? std::string_view() : line.substr(space);
+      while (!rest.empty()) {
+        const size_t b = rest.find_first_not_of(" \t\r\\");
+        if (b == std::string_view::npos) break;
+        rest.remove_prefix(b);
+        ++elements;
+        const size_t e = rest.find_first_of(" \t\r\\");
+        rest = e == std::string_view::npos ? std::string_view() : rest.substr(e);
+      }
+      if (elements > lim.elements) exceeded_limit(lim.elements, "elements", "model '" + name + "'", "OBJ elements");
+    }
+  }
 }
 
 }  // namespace
 
-void precheck_model_bytes(const std::string& bytes, const std::string& name) {
+std::string precheck_model_bytes(const std::string& bytes, const std::string& name) {
   const std::string ext = lower_extension(name);
+  if (ext == ".glb") return check_glb(bytes, name);
+  if (ext == ".gltf") return check_gltf_json(bytes, name, 0, false);
   if (ext == ".ply") check_ply(bytes, name);
-  else if (ext == ".glb") check_glb(bytes, name);
-  else if (ext == ".gltf") check_gltf_json(bytes, name, 0, false);
+  else if (ext == ".obj") check_obj(bytes, name);
+  else bad(name, "not a model file oovr checks (" + (ext.empty() ? std::string("no extension") : ext) + ")");
+  return bytes;
 }
 
-void precheck_model_file(const std::string& path) {
-  const InputLimits& lim = InputLimits::get();
-  const std::string ext = lower_extension(path);
-  // Either way only a regular file within the bound gets to assimp; the
-  // formats with declared sizes are read and checked.
-  if (ext == ".ply" || ext == ".glb" || ext == ".gltf")
-    precheck_model_bytes(read_input_file(path, "model", lim.file_bytes), path);
-  else check_input_file(path, "model", lim.file_bytes);
+std::string precheck_model_file(const std::string& path) {
+  return precheck_model_bytes(read_input_file(path, "model", InputLimits::get().file_bytes), path);
 }
 
 }  // namespace oovr
