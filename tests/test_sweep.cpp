@@ -1,6 +1,7 @@
 // Sweep files, point ids, the sweep engine and the results database
 // (docs/sweeps.md, docs/results.md).
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/experiments/result_json.h"
+#include "oovr/experiments/result_metrics.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
@@ -138,25 +140,41 @@ TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
   EXPECT_NE(error(big).find("more than 100000 points"), std::string::npos);
 }
 
-RunRecord sample_record(const std::string& id, double value) {
+// A record as oovr makes them (check_run_record holds): its result a
+// two-GPM frame of `ms` milliseconds, its metrics those the result gives,
+// its id the hash of its setup (scene "crowd" + `tag`).
+RunRecord sample_record(const std::string& tag, double ms) {
   RunRecord r;
-  r.id = id;
   r.sweep = "t";
-  r.scene = "crowd";
+  r.scene = "crowd" + tag;
   r.scheme = "baseline";
   r.resolution = "160x128";
   r.frames = 4;
   r.swept["link.bandwidth"] = 32e9;
-  r.config = {{"gpms", {{"value", "4"}, {"base", 4.0}, {"source", "default"}}}};
+  r.config = {{"gpms", {{"value", "2"}, {"base", 2.0}, {"source", "default"}}},
+              {"link.bandwidth", {{"value", "32 GB/s"}, {"base", 32e9}, {"unit", "B/s"}, {"source", "sweep"}}}};
   r.status = "done";
   r.oovr_version = "0.1";
   r.git_commit = "abc";
   r.command = "oovr sweep t.toml";
   r.host = "h";
   r.started = "2026-11-24T00:00:00Z";
-  r.result = {{"scheme", "baseline"}, {"throughput_fps", value}};
-  r.metrics = {{"frame", "latency", value, "s"}, {"link[0->1]", "bytes", 1024, "B"}};
+  SchemeResult sr;
+  sr.scheme = "baseline";
+  sr.gpms = 2;
+  sr.frequency_hz = 1e9;
+  sr.frame_latency_s = ms * 1e-3;
+  sr.frame_latencies_s = {ms * 1e-3};
+  sr.throughput_fps = 1e3 / ms;
+  sr.gpm_busy_s = {ms * 1e-3, ms * 0.5e-3};
+  sr.memory.dram_bytes = {4096, 2048};
+  sr.memory.gpm_to_gpm_bytes = {0, 1024, 0, 0};
+  sr.memory.link_names = {"gpm0->gpm1"};
+  sr.memory.link_bytes = {1024};
+  r.result = to_json(sr);
+  r.metrics = metrics_of(sr);
   r.images = {{"gpm", 2, 1, std::string("\x89PNG\0\x01", 6), "{\"gpm0\":\"#e6194b\"}"}};
+  r.id = stable_id(canonical_setup(r));
   return r;
 }
 
@@ -204,38 +222,53 @@ sweep = {}
 TEST(ResultsDb, RunsRoundTripAndAreStoredOnce) {
   test::TempDir dir;
   const std::string path = dir.file("r.db");
+  const RunRecord a = sample_record("a", 1.5), b = sample_record("b", 2.5);
   {
     ResultsDb db(path);
     db.add_sweep({"t", "t.toml", "scenes = ['crowd']", "oovr sweep t.toml", {"link.bandwidth"}, 2});
-    EXPECT_TRUE(db.insert(sample_record("b", 2.5)));
-    EXPECT_TRUE(db.insert(sample_record("a", 1.5)));
-    EXPECT_FALSE(db.insert(sample_record("a", 9.0)));  // already there: kept as it was
+    EXPECT_TRUE(db.insert(b));
+    EXPECT_TRUE(db.insert(a));
+    RunRecord again = sample_record("a", 9.0);
+    EXPECT_EQ(again.id, a.id);
+    EXPECT_FALSE(db.insert(again));  // already there: kept as it was
   }
   ResultsDb db(path);  // reopened
+  db.verify();
   const auto runs = db.runs();
   ASSERT_EQ(runs.size(), 2u);
-  EXPECT_EQ(runs[0].id, "a");
-  EXPECT_EQ(runs[0].result["throughput_fps"], 1.5);
-  EXPECT_EQ(runs[0].swept.at("link.bandwidth"), 32e9);
-  ASSERT_EQ(runs[0].metrics.size(), 2u);
-  EXPECT_EQ(runs[0].metrics[0].location, "frame");
-  EXPECT_EQ(runs[0].metrics[1].location, "link[0->1]");
-  EXPECT_EQ(runs[0].metrics[1].value, 1024);
-  ASSERT_EQ(runs[0].images.size(), 1u);
-  EXPECT_EQ(runs[0].images[0].data, std::string("\x89PNG\0\x01", 6));  // bytes, not text
-  EXPECT_EQ(db.run_status(), (std::map<std::string, std::string>{{"a", "done"}, {"b", "done"}}));
-  db.remove("a");
+  const RunRecord& first = runs[0].id == a.id ? runs[0] : runs[1];
+  EXPECT_EQ(first.id, a.id);
+  EXPECT_EQ(first.result["frame_latency_s"], 1.5e-3);
+  EXPECT_EQ(first.swept.at("link.bandwidth"), 32e9);
+  ASSERT_EQ(first.metrics.size(), a.metrics.size());
+  EXPECT_GT(first.metrics.size(), 5u);
+  ASSERT_EQ(first.images.size(), 1u);
+  EXPECT_EQ(first.images[0].data, std::string("\x89PNG\0\x01", 6));  // bytes, not text
+  EXPECT_EQ(db.run_status(), (std::map<std::string, std::string>{{a.id, "done"}, {b.id, "done"}}));
+  db.remove(a.id);
   EXPECT_EQ(db.runs().size(), 1u);
 }
 
 TEST(ResultsDb, AFailedWriteLeavesNoPartOfTheRun) {
   test::TempDir dir;
-  ResultsDb db(dir.file("r.db"));
-  RunRecord r = sample_record("a", 1);
-  r.metrics.push_back(r.metrics.front());  // the same (location, metric) twice: the insert fails half-way
-  EXPECT_THROW(db.insert(r), Error);
+  const std::string path = dir.file("r.db");
+  { ResultsDb created(path); }
+  {
+    // A write that fails half-way, after the run's row and metrics: the
+    // images table refuses every row.
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "CREATE TRIGGER no_images BEFORE INSERT ON images BEGIN SELECT RAISE(ABORT, 'refused'); END",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(raw);
+  }
+  ResultsDb db(path);
+  EXPECT_NE(message_of([&] { db.insert(sample_record("a", 1)); }).find("refused"), std::string::npos);
   EXPECT_TRUE(db.runs().empty());
-  EXPECT_TRUE(db.insert(sample_record("a", 1)));  // and the database is usable after
+  RunRecord plain = sample_record("a", 1);
+  plain.images.clear();
+  EXPECT_TRUE(db.insert(plain));  // and the database is usable after
   EXPECT_EQ(db.runs().size(), 1u);
 }
 
@@ -267,7 +300,7 @@ TEST(ResultsDb, OtherFilesAreRefused) {
   test::TempDir dir;
   const std::string text = dir.file("notes.txt", "not a database, only some text that is long enough to have a header\n");
   EXPECT_NE(message_of([&] { ResultsDb db(text); }).find("notes.txt"), std::string::npos);
-  EXPECT_NE(message_of([&] { ResultsDb db(dir.path().string()); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(message_of([&] { ResultsDb db(dir.path().string()); }).find("is not a plain file"), std::string::npos);
 }
 
 TEST(SweepRun, PointsRunDoneOrFailedAndTheSameWhateverTheJobs) {

@@ -53,7 +53,8 @@ struct SweepArgs {
   std::string db;    // "": FILE's stem + ".db" in the current folder
   bool resume = false;
   bool retry_failed = false;
-  unsigned jobs = 0;  // points at once (0: every core)
+  bool reconcile = false;  // the database holds this sweep from an edited file: keep what the file still has
+  unsigned jobs = 0;       // points at once (0: every core)
   std::string backend = "local";
   bool no_cache = false;
   bool collect = false;

@@ -18,6 +18,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/out_of_memory.h"
+#include "oovr/core/text.h"
 #include "oovr/core/version.h"
 #include "oovr/experiments/report.h"
 #include "oovr/experiments/simulation.h"
@@ -271,6 +272,8 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--db", sweep.db, "Results database (default: the sweep file's name with .db, here)");
   sweep_cmd->add_flag("--resume", sweep.resume, "Run only the points the database does not hold yet");
   sweep_cmd->add_flag("--retry-failed", sweep.retry_failed, "Run again the points that failed (and those missing)");
+  sweep_cmd->add_flag("--reconcile", sweep.reconcile,
+                      "The database holds this sweep from an edited file: keep the runs the file still has, delete the others");
   sweep_cmd->add_option("--jobs", sweep.jobs, "Points run at once (0 = every core)")->capture_default_str();
   sweep_cmd->add_option("--backend", sweep.backend, "Where the points run")
       ->capture_default_str()
@@ -398,17 +401,17 @@ int main(int argc, char** argv) {
     return rc;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    std::fprintf(stderr, "oovr: error: %s\n", printable(e.what(), true).c_str());
     return 2;
   } catch (const Error& e) {
-    std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    std::fprintf(stderr, "oovr: error: %s\n", printable(e.what(), true).c_str());
     return 1;
   } catch (const std::system_error& e) {
     // fmt::print's failure on a full device or a closed pipe.
     const std::string what = e.what();
     if (what.rfind("cannot write to file", 0) == 0)
       std::fprintf(stderr, "oovr: error: cannot write to standard output: %s\n", e.code().message().c_str());
-    else std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    else std::fprintf(stderr, "oovr: error: %s\n", printable(e.what(), true).c_str());
     return 1;
   } catch (const std::bad_alloc&) {
     // Readers bound what an input may ask for (docs/reliability.md); what
@@ -417,7 +420,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "oovr: error: %s (a scene, resolution or --frames too large for this machine)\n", message.c_str());
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "oovr: error: %s\n", e.what());
+    std::fprintf(stderr, "oovr: error: %s\n", printable(e.what(), true).c_str());
     return 1;
   }
   return 0;

@@ -10,6 +10,7 @@
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
 #include "oovr/experiments/paper.h"
+#include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
 #include "progress.h"
 
@@ -31,8 +32,19 @@ int paper(const PaperArgs& a) {
   if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
   if (!a.doc.empty()) check_output_path(a.doc, "comparison document (--doc)");
   o.db = (fs::path(a.out) / (o.sweep.name + ".db")).string();
-  // Results of another build must not be mixed in: a new run starts afresh.
-  if (!a.resume && fs::exists(o.db, ec)) {
+  // Results of another build must not be mixed in: a new run starts afresh,
+  // removing the database of an earlier one, but never one that holds
+  // anything else (another sweep, or a file that is not oovr's).
+  if (!a.resume && fs::exists(fs::symlink_status(o.db, ec))) {
+    {
+      const ResultsDb earlier(o.db, ResultsDb::Access::read_only);
+      std::string others;
+      for (const auto& [name, definition] : earlier.sweep_definitions())
+        if (name != o.sweep.name) others += (others.empty() ? "'" : ", '") + name + "'";
+      if (!others.empty())
+        throw Error("the database '" + o.db + "' holds other sweeps (" + others +
+                    "), which a new run of the paper would delete: move it away, or give --resume to add to it");
+    }
     fs::remove(o.db, ec);
     if (ec) throw Error("cannot remove the earlier database '" + o.db + "': " + ec.message());
   }

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 
+#include "oovr/core/text.h"
 #include "oovr/experiments/results_db.h"
 
 namespace oovr::cli {
@@ -31,9 +32,9 @@ class Progress {
 
   void status(const std::string& what) {
     std::lock_guard<std::mutex> lock(m_mutex);
-    m_status = what;
+    m_status = printable(what);
     if (m_tty) draw();
-    else fmt::print(stderr, "  {}\n", what);
+    else fmt::print(stderr, "  {}\n", m_status);
   }
   void point(const RunRecord& r) {
     std::lock_guard<std::mutex> lock(m_mutex);
@@ -41,13 +42,15 @@ class Progress {
     if (m_tty) {
       if (r.status != "done") {
         clear();
-        fmt::print(stderr, "  failed: {} ({}, {}, {}): {}\n", r.id, r.scene, r.scheme, r.resolution, r.error);
+        fmt::print(stderr, "  failed: {} ({}, {}, {}): {}\n", r.id, printable(r.scene), printable(r.scheme), r.resolution,
+                   printable(r.error));
       }
       draw();
       return;
     }
-    fmt::print(stderr, "  [{}/{}] {} {} {} {}{} ({:.1f} s){}; {}\n", m_done + m_failed, m_total, r.status, r.scene, r.scheme,
-               r.resolution, swept_text(r), r.wall_s, r.error.empty() ? "" : ": " + r.error, left());
+    fmt::print(stderr, "  [{}/{}] {} {} {} {}{} ({:.1f} s){}; {}\n", m_done + m_failed, m_total, r.status, printable(r.scene),
+               printable(r.scheme), r.resolution, printable(swept_text(r)), r.wall_s,
+               r.error.empty() ? "" : ": " + printable(r.error), left());
     std::fflush(stderr);
   }
   void finish() {

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "oovr/core/error.h"
+#include "oovr/core/text.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
@@ -24,7 +25,7 @@ std::string default_db(const SweepArgs& a) {
 }
 
 int print_collect(const CollectReport& rep, const std::string& db_path, const Sweep* s, ResultsDb& db) {
-  for (const auto& p : rep.problems) fmt::print("  note: {}\n", p);
+  for (const auto& p : rep.problems) fmt::print("  note: {}\n", printable(p));
   fmt::print("collected {} runs from {} task files into {} ({} there already)\n", rep.added, rep.files, db_path, rep.already);
   if (s) {
     const auto status = db.run_status();
@@ -66,10 +67,11 @@ int sweep(const SweepArgs& a) {
   }
   const std::string db_path = default_db(a);
   const std::string slurm_dir = a.slurm_dir.empty() ? db_path + ".slurm" : a.slurm_dir;
-  ResultsDb db(db_path);
+  ResultsDb db(db_path);  // the one writer
+  db.verify();            // whole, before anything is added to it or kept
   if (a.collect) return print_collect(collect_slurm(slurm_dir, db), db_path, &s, db);
 
-  const SweepPlan plan = plan_sweep(s, db, a.resume, a.retry_failed);
+  const SweepPlan plan = plan_sweep(s, db, a.resume, a.retry_failed, a.reconcile);
   for (const auto& n : plan.notes) fmt::print("note: {}\n", n);
   begin_sweep(s, plan, db, a.command);
   const std::vector<size_t>& todo = plan.todo;

@@ -186,7 +186,7 @@ class FinishTwice(oovr.Scheme):
 
 
 def test_finish_runs_once_even_after_on_finish_raised():
-    with pytest.raises(RuntimeError, match="finish\(\) runs once"):
+    with pytest.raises(RuntimeError, match=r"finish\(\) runs once"):
         oovr.simulate("crowd", FinishTwice(), resolution="160x128", frames=1)
 
 

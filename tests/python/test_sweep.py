@@ -83,7 +83,10 @@ def test_a_sweep_resumes_and_refuses_to_run_into_a_database_twice(tmp_path):
     with pytest.raises(ValueError, match="holds 2 of this sweep's 2 points already: give --resume"):
         oovr.sweep(small, tmp_path / "s.db", progress=False)
     more = dict(small, sweep={"link.bandwidth": ["32GBps", "64GBps"]})
-    out = oovr.sweep(more, tmp_path / "s.db", resume=True, progress=False)
+    # The same sweep, edited: reconciled only when asked to.
+    with pytest.raises(ValueError, match="defined otherwise .* give --reconcile to keep the 2 and delete the 0"):
+        oovr.sweep(more, tmp_path / "s.db", resume=True, progress=False)
+    out = oovr.sweep(more, tmp_path / "s.db", resume=True, reconcile=True, progress=False)
     assert (out.held, out.run, out.done) == (2, 2, 2)
     assert len(oovr.read_runs(tmp_path / "s.db")) == 4
 

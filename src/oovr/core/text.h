@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace oovr {
@@ -28,5 +29,10 @@ std::optional<uint64_t> parse_whole_number(const std::string& text, uint64_t lo,
 // words with characters the shell treats specially are single-quoted
 // ("oovr compare --set 'link.bandwidth=1 TBps'").
 std::string shell_command_line(int argc, const char* const* argv);
+
+// `text` safe to write to a terminal: control characters (C0, DEL, and C1
+// as UTF-8), which could move the cursor, recolour or retitle it, become
+// \xNN (\u0080..\u009f for C1); new lines and tabs stay when `keep_lines`.
+std::string printable(std::string_view text, bool keep_lines = false);
 
 }  // namespace oovr

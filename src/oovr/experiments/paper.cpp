@@ -113,12 +113,18 @@ PaperResults run_paper(PaperOptions& o) {
     if (wanted(s.points[i])) which.push_back(i);
 
   // Run what the database does not hold.
-  ResultsDb db(o.db);
+  ResultsDb db(o.db);  // the one writer
+  db.verify();         // whole, before its runs are kept and written up
+  // Resuming after the sweep changed (another oovr's paper.toml): what the
+  // sweep no longer has goes, the rest is kept; said in a note.
+  const SweepPlan plan = plan_sweep(s, db, true, false, true);
+  for (const auto& note : plan.notes)
+    if (o.progress) o.progress(note);
+  begin_sweep(s, plan, db, o.command);
   const auto held = db.run_status();
   std::vector<size_t> todo;
   for (size_t i : which)
     if (!held.count(s.points[i].id)) todo.push_back(i);
-  db.add_sweep(sweep_record(s, o.command));
   if (o.progress && todo.size() < which.size())
     o.progress(fmt::format("{} of {} points in {} already", which.size() - todo.size(), which.size(), o.db));
   if (o.on_plan) o.on_plan(todo.size());

@@ -22,9 +22,13 @@ namespace fs = std::filesystem;
 
 std::string write_report(const ReportOptions& o) {
   std::error_code ec;
-  if (!fs::exists(o.db, ec)) throw Error("no results database '" + o.db + "' (oovr sweep writes one)");
-  if (!fs::is_regular_file(o.db, ec)) throw Error("'" + o.db + "' is not a file");
-  { ResultsDb check(o.db); }  // an oovr results database, of a schema this oovr reads
+  if (!fs::exists(fs::symlink_status(o.db, ec))) throw Error("no results database '" + o.db + "' (oovr sweep writes one)");
+  {
+    // An oovr results database, of a schema this oovr reads, whole: the
+    // script draws and divides what it holds. Opened read-only.
+    const ResultsDb db(o.db, ResultsDb::Access::read_only);
+    db.verify();
+  }
   fs::create_directories(o.out, ec);
   if (ec) throw Error("cannot create the folder '" + o.out + "': " + ec.message());
   const std::string script = (fs::path(o.out) / "report.py").string();

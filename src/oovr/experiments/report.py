@@ -11,8 +11,10 @@ import html
 import json
 import math
 import os
+import re
 import sqlite3
 import sys
+import urllib.parse
 
 import matplotlib
 
@@ -27,6 +29,7 @@ FIXED = {"id", "sweep", "position", "scene", "scheme", "resolution", "frame", "f
 ORDER = ["baseline", "baseline-1tb", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
          "single-gpm", "ideal", "two-pass"]
 MAX_IMAGE_RUNS = 12
+RUN_ID = re.compile(r"[0-9a-f]{16}")
 
 
 def scheme_rank(s):
@@ -64,7 +67,8 @@ def readable(entry):
 # ---------------------------------------------------------------- data
 
 def load(db):
-    con = sqlite3.connect("file:" + db + "?mode=ro", uri=True)
+    # Read-only, by a URI whose path is quoted (a '?' or '#' in it is a name).
+    con = sqlite3.connect("file:" + urllib.parse.quote(os.path.abspath(db)) + "?mode=ro", uri=True)
     cols = [r[1] for r in con.execute("PRAGMA table_info(runs)")]
     swept_cols = [c for c in cols if c not in FIXED]
     runs = {}
@@ -74,6 +78,10 @@ def load(db):
         r["result"] = json.loads(r["result"]) if r["result"] else None
         r["swept"] = {c: r[c] for c in swept_cols if r.get(c) is not None}
         r["m"] = {}
+        # oovr checked the database before running this script; an id is
+        # still checked here, as it becomes a file name and a link.
+        if not isinstance(r["id"], str) or not RUN_ID.fullmatch(r["id"]):
+            sys.exit("a run id that is not oovr's: {!r}".format(r["id"]))
         runs[r["id"]] = r
     for run, loc, metric, value, unit in con.execute("SELECT run, location, metric, value, unit FROM metrics"):
         if run in runs:
@@ -188,7 +196,7 @@ def save(fig, out, name):
 
 
 def slug(text):
-    s = "".join(c if c.isalnum() else "-" for c in text.lower())
+    s = "".join(c if c in "abcdefghijklmnopqrstuvwxyz0123456789" else "-" for c in text.lower())
     while "--" in s:
         s = s.replace("--", "-")
     return s.strip("-")[:60]
@@ -330,8 +338,11 @@ def table(head, rows):
 
 
 def figure(name, caption):
+    # The name is a file beside the page: quoted as a URL, then escaped for
+    # the attribute; the caption escaped as text.
+    url = html.escape(urllib.parse.quote(name), quote=True)
     return ('<figure><a href="{0}.svg"><img src="{0}.png" alt="{1}"></a><figcaption>{1} '
-            '(<a href="{0}.svg">SVG</a>)</figcaption></figure>').format(name, html.escape(caption))
+            '(<a href="{0}.svg">SVG</a>)</figcaption></figure>').format(url, html.escape(caption, quote=True))
 
 
 def main():

@@ -1,8 +1,11 @@
 #include "oovr/experiments/result_json.h"
 
+#include <cmath>
+
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/version.h"
+#include "oovr/memory/memory_spec.h"
 
 namespace oovr {
 
@@ -121,54 +124,104 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   return j;
 }
 
+int64_t json_whole(const nlohmann::ordered_json& v, int64_t lo, int64_t hi, const std::string& what) {
+  bool ok = false;
+  int64_t x = 0;
+  if (v.is_number_unsigned()) {
+    ok = v.get<uint64_t>() <= uint64_t(INT64_MAX);
+    x = ok ? int64_t(v.get<uint64_t>()) : 0;
+  } else if (v.is_number_integer()) {
+    ok = true;
+    x = v.get<int64_t>();
+  }
+  if (!ok || x < lo || x > hi)
+    throw Error(what + " is " + v.dump() + ", not a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+  return x;
+}
+
+uint64_t json_count(const nlohmann::ordered_json& v, const std::string& what) {
+  if (!v.is_number_unsigned()) throw Error(what + " is " + v.dump() + ", not a count (a whole number, 0 or more)");
+  return v.get<uint64_t>();
+}
+
+double json_finite(const nlohmann::ordered_json& v, const std::string& what) {
+  if (!v.is_number() || !std::isfinite(v.get<double>())) throw Error(what + " is " + v.dump() + ", not a finite number");
+  return v.get<double>();
+}
+
 SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j) {
   try {
     SchemeResult r;
     r.scheme = j.at("scheme").get<std::string>();
-    r.gpms = j.at("gpms").get<int>();
-    r.frequency_hz = j.at("frequency_hz").get<double>();
-    r.frame_latency_s = j.at("frame_latency_s").get<double>();
-    r.frame_latencies_s = j.at("frame_latencies_s").get<std::vector<double>>();
-    r.throughput_fps = j.at("throughput_fps").get<double>();
-    r.frames_in_flight = j.at("frames_in_flight").get<int>();
-    r.gpm_busy_s = j.at("gpm_busy_s").get<std::vector<double>>();
+    r.gpms = int(json_whole(j.at("gpms"), 1, kMaxGpms, "gpms"));
+    r.frequency_hz = json_finite(j.at("frequency_hz"), "frequency_hz");
+    r.frame_latency_s = json_finite(j.at("frame_latency_s"), "frame_latency_s");
+    for (const auto& l : j.at("frame_latencies_s")) r.frame_latencies_s.push_back(json_finite(l, "a frame latency"));
+    r.throughput_fps = json_finite(j.at("throughput_fps"), "throughput_fps");
+    r.frames_in_flight = int(json_whole(j.at("frames_in_flight"), 1, 1 << 20, "frames_in_flight"));
+    for (const auto& b : j.at("gpm_busy_s")) r.gpm_busy_s.push_back(json_finite(b, "a GPM's busy time"));
     for (int c = 0; c < kCategories; ++c)
-      r.inter_gpm_bytes[size_t(c)] = j.at("inter_gpm_bytes_by_category").at(category_name(Category(c))).get<uint64_t>();
-    r.local_dram_bytes = j.at("local_dram_bytes").get<uint64_t>();
-    r.footprint_bytes = j.at("footprint_bytes").get<uint64_t>();
-    r.covered_fragments = j.at("covered_fragments").get<uint64_t>();
-    r.vertices = j.at("vertices_transformed").get<uint64_t>();
-    r.draws = j.at("draws_received").get<uint64_t>();
-    r.units = j.at("work_units").get<uint64_t>();
+      r.inter_gpm_bytes[size_t(c)] =
+          json_count(j.at("inter_gpm_bytes_by_category").at(category_name(Category(c))), "inter_gpm_bytes_by_category");
+    r.local_dram_bytes = json_count(j.at("local_dram_bytes"), "local_dram_bytes");
+    r.footprint_bytes = json_count(j.at("footprint_bytes"), "footprint_bytes");
+    r.covered_fragments = json_count(j.at("covered_fragments"), "covered_fragments");
+    r.vertices = json_count(j.at("vertices_transformed"), "vertices_transformed");
+    r.draws = json_count(j.at("draws_received"), "draws_received");
+    r.units = json_count(j.at("work_units"), "work_units");
     r.notes = j.at("notes").get<std::vector<std::string>>();
     for (const auto& [name, m] : j.at("scheme_metrics").items())
-      r.metrics.push_back({name, m.at("value").get<double>(), m.value("unit", "")});
+      r.metrics.push_back({name, json_finite(m.at("value"), name), m.value("unit", "")});
     const auto& mem = j.at("memory");
-    r.memory.accesses = mem.at("accesses").get<uint64_t>();
-    r.memory.l1_hits = mem.at("l1_hits").get<uint64_t>();
-    r.memory.l2_hits = mem.at("l2_hits").get<uint64_t>();
-    r.memory.remote_hits = mem.at("remote_hits").get<uint64_t>();
-    r.memory.home_l2_hits = mem.at("home_l2_hits").get<uint64_t>();
-    r.memory.dram_lines = mem.at("dram_lines").get<uint64_t>();
+    r.memory.accesses = json_count(mem.at("accesses"), "accesses");
+    r.memory.l1_hits = json_count(mem.at("l1_hits"), "l1_hits");
+    r.memory.l2_hits = json_count(mem.at("l2_hits"), "l2_hits");
+    r.memory.remote_hits = json_count(mem.at("remote_hits"), "remote_hits");
+    r.memory.home_l2_hits = json_count(mem.at("home_l2_hits"), "home_l2_hits");
+    r.memory.dram_lines = json_count(mem.at("dram_lines"), "dram_lines");
     for (const auto& l : mem.at("links")) {
       r.memory.link_names.push_back(l.at("link").get<std::string>());
-      r.memory.link_bytes.push_back(l.at("bytes").get<uint64_t>());
+      r.memory.link_bytes.push_back(json_count(l.at("bytes"), "bytes"));
     }
     for (const auto& row : mem.at("gpm_to_gpm_bytes"))
-      for (const auto& b : row) r.memory.gpm_to_gpm_bytes.push_back(b.get<uint64_t>());
-    r.memory.dram_bytes = mem.at("dram_bytes").get<std::vector<uint64_t>>();
+      for (const auto& b : row) r.memory.gpm_to_gpm_bytes.push_back(json_count(b, "GPM-to-GPM bytes"));
+    for (const auto& b : mem.at("dram_bytes")) r.memory.dram_bytes.push_back(json_count(b, "DRAM bytes"));
     for (const auto& [key, e] : j.at("config").items()) {
       Config::Entry x;
       x.value = e.at("value").get<std::string>();
       x.source = e.at("source").get<std::string>();
-      if (e.contains("base")) x.base = e.at("base").get<double>();
+      if (e.contains("base")) x.base = json_finite(e.at("base"), key);
       x.unit = e.value("unit", "");
       r.config[key] = x;
     }
+    check_scheme_result(r);
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("a run's result that is not oovr's: ") + e.what());
   }
+}
+
+void check_scheme_result(const SchemeResult& r) {
+  const auto bad = [](const std::string& what) { throw Error("a run's result that cannot be: " + what); };
+  const auto positive = [&](double v, const std::string& what) {
+    if (!(std::isfinite(v) && v > 0)) bad(what + " is " + format_number(v) + ", not a positive number");
+  };
+  if (r.gpms < 1 || r.gpms > kMaxGpms) bad(std::to_string(r.gpms) + " GPMs");
+  positive(r.frequency_hz, "the frequency");
+  positive(r.frame_latency_s, "the frame latency");
+  positive(r.throughput_fps, "the throughput");
+  if (r.frame_latencies_s.empty()) bad("no frame latencies");
+  for (double l : r.frame_latencies_s) positive(l, "a frame's latency");
+  if (r.frames_in_flight < 1) bad(std::to_string(r.frames_in_flight) + " frames in flight");
+  if (r.gpm_busy_s.size() != size_t(r.gpms)) bad("busy times of " + std::to_string(r.gpm_busy_s.size()) + " GPMs");
+  for (double b : r.gpm_busy_s)
+    if (!(std::isfinite(b) && b >= 0)) bad("a GPM busy for " + format_number(b) + " s");
+  const MemoryStats& m = r.memory;
+  if (m.dram_bytes.size() != size_t(r.gpms)) bad("DRAM bytes of " + std::to_string(m.dram_bytes.size()) + " GPMs");
+  if (m.gpm_to_gpm_bytes.size() != size_t(r.gpms) * size_t(r.gpms)) bad("a GPM-to-GPM matrix of the wrong size");
+  if (m.link_names.size() != m.link_bytes.size()) bad("link bytes without their links");
+  for (const SchemeMetric& x : r.metrics)
+    if (!std::isfinite(x.value)) bad("the scheme's figure '" + x.name + "' is not a number");
 }
 
 nlohmann::ordered_json results_document(const std::string& command, const std::string& scene, int frame, int frames,

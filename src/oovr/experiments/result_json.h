@@ -41,7 +41,19 @@ nlohmann::ordered_json to_json(const SchemeResult& r);
 // to_json writes, exactly (not the per-tile bytes or tile owners, which it
 // does not write; configuration entries without their default and kind).
 // Throws Error on JSON that is not a run's.
+// Numbers read back from JSON, strictly: a whole number in [lo, hi] (not a
+// fraction, not narrowed, not wrapped), a count (a whole number >= 0), a
+// finite number. Each throws Error naming `what`.
+int64_t json_whole(const nlohmann::ordered_json& v, int64_t lo, int64_t hi, const std::string& what);
+uint64_t json_count(const nlohmann::ordered_json& v, const std::string& what);
+double json_finite(const nlohmann::ordered_json& v, const std::string& what);
+
+// The result is checked as check_scheme_result does.
 SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j);
+// Throws Error when a result read back cannot be one of oovr's: GPMs out
+// of range, latencies, frequency or throughput not positive and finite,
+// per-GPM figures of the wrong count (what is divided or drawn later).
+void check_scheme_result(const SchemeResult& r);
 
 // The document simulate and compare write: the header, what was rendered
 // (scene, first frame, frames in the window, the stereo frame's size), the

@@ -1,10 +1,20 @@
 #include "oovr/experiments/results_db.h"
 
+#include <fcntl.h>
 #include <sqlite3.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
 
 #include "oovr/core/error.h"
+#include "oovr/core/text.h"
+#include "oovr/experiments/result_json.h"
+#include "oovr/experiments/sweep.h"
 
 namespace oovr {
 
@@ -112,25 +122,59 @@ nlohmann::ordered_json parse_json(const std::string& text, const std::string& wh
 
 }  // namespace
 
-ResultsDb::ResultsDb(const std::string& path) : m_path(path) {
-  if (sqlite3_open_v2(path.c_str(), &m_db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
+ResultsDb::ResultsDb(const std::string& path, Access access) : m_path(path) {
+  // SQLite reads "file:..." as a URI and ":memory:" as no file at all (the
+  // results gone, or written elsewhere): a relative path is given to it
+  // with "./" in front, which it takes as a plain path.
+  if (path.empty()) throw Error("the results database needs a path");
+  const std::string plain = path.front() == '/' ? path : "./" + path;
+  struct stat st {};
+  const bool exists = ::lstat(plain.c_str(), &st) == 0;
+  if (exists && S_ISLNK(st.st_mode))
+    throw Error("the results database '" + path + "' is a symbolic link: give the file it points to");
+  if (exists && !S_ISREG(st.st_mode)) throw Error("the results database '" + path + "' is not a plain file");
+  if (!exists && access == Access::read_only) throw Error("no results database '" + path + "'");
+  if (access == Access::write) {
+    // The one writer: an exclusive lock on the file, taken before SQLite
+    // opens it and released after it closes it (closing a descriptor of
+    // the file earlier would drop SQLite's own locks).
+    m_lock_fd = ::open(plain.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK, 0644);
+    if (m_lock_fd < 0) throw Error("cannot open the results database '" + path + "': " + std::strerror(errno));
+    if (::flock(m_lock_fd, LOCK_EX | LOCK_NB) != 0) {
+      const int e = errno;
+      ::close(m_lock_fd);
+      if (e == EWOULDBLOCK)
+        throw Error("the results database '" + path +
+                    "' is being written by another oovr (a sweep, a collect or the paper's run): wait for it to end, or "
+                    "give another database");
+      throw Error("cannot lock the results database '" + path + "': " + std::strerror(e));
+    }
+  }
+  const int flags = access == Access::write ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOFOLLOW
+                                            : SQLITE_OPEN_READONLY | SQLITE_OPEN_NOFOLLOW;
+  if (sqlite3_open_v2(plain.c_str(), &m_db, flags, nullptr) != SQLITE_OK) {
     const std::string why = m_db ? sqlite3_errmsg(m_db) : "out of memory";
     sqlite3_close(m_db);
+    m_db = nullptr;
+    if (m_lock_fd >= 0) ::close(m_lock_fd);
     throw Error("cannot open the results database '" + path + "': " + why);
   }
   try {
-    // A second writer (oovr sweep --collect beside a report) waits its turn.
+    // A reader (a report beside a sweep) waits its turn.
     sqlite3_busy_timeout(m_db, 30000);
     int64_t version = 0;
-    {
+    try {
       Statement s(m_db, "PRAGMA user_version", path);
       if (s.step()) version = s.integer(0);
+    } catch (const Error&) {
+      throw Error("'" + path + "' is not an oovr results database (SQLite: " + sqlite3_errmsg(m_db) + ")");
     }
     bool has_tables = false;
     {
       Statement s(m_db, "SELECT count(*) FROM sqlite_master", path);
       if (s.step()) has_tables = s.integer(0) > 0;
     }
+    if (!has_tables && access == Access::read_only) throw Error("'" + path + "' is not an oovr results database (it is empty)");
     if (has_tables) {
       bool ours = false;
       {
@@ -147,7 +191,9 @@ ResultsDb::ResultsDb(const std::string& path) : m_path(path) {
       if (version > kResultsDbVersion)
         throw Error("the results database '" + path + "' has schema version " + std::to_string(version) +
                     ", newer than this oovr's " + std::to_string(kResultsDbVersion) + ": use a newer oovr");
+      if (version < 1) throw Error("the results database '" + path + "' has no schema version (damaged?)");
     }
+    if (access == Access::read_only) return;
     exec("PRAGMA foreign_keys = ON");
     exec("PRAGMA synchronous = FULL");
     exec("BEGIN IMMEDIATE");
@@ -175,11 +221,15 @@ ResultsDb::ResultsDb(const std::string& path) : m_path(path) {
   } catch (...) {
     sqlite3_close(m_db);
     m_db = nullptr;
+    if (m_lock_fd >= 0) ::close(m_lock_fd);
     throw;
   }
 }
 
-ResultsDb::~ResultsDb() { sqlite3_close(m_db); }
+ResultsDb::~ResultsDb() {
+  sqlite3_close(m_db);
+  if (m_lock_fd >= 0) ::close(m_lock_fd);
+}
 
 void ResultsDb::exec(const std::string& sql) const {
   char* message = nullptr;
@@ -198,7 +248,7 @@ std::set<std::string> ResultsDb::columns() const {
   return out;
 }
 
-void ResultsDb::add_sweep(const SweepRecord& sw) {
+void ResultsDb::add_sweep(const SweepRecord& sw, bool replace_definition) {
   for (const auto& key : sw.swept_keys)
     if (std::find(std::begin(kRunColumns), std::end(kRunColumns), key) != std::end(kRunColumns))
       throw Error("the swept key '" + key + "' has the name of a column of runs: it cannot be a column of its own");
@@ -207,6 +257,15 @@ void ResultsDb::add_sweep(const SweepRecord& sw) {
     const std::set<std::string> have = columns();
     for (const auto& key : sw.swept_keys)
       if (!have.count(key)) exec("ALTER TABLE runs ADD COLUMN " + quoted(key));
+    {
+      // One definition per name: a sweep of this name defined otherwise is
+      // another sweep (sweep_run.h reconciles an edited file explicitly).
+      Statement old(m_db, "SELECT definition FROM sweeps WHERE name = ?", m_path);
+      old.bind(1, sw.name);
+      if (old.step() && old.text(0) != sw.definition && !replace_definition)
+        throw Error("the results database '" + m_path + "' holds a sweep named '" + sw.name +
+                    "' with another definition: give the sweep another name, or use another database");
+    }
     Statement s(m_db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)", m_path);
     s.bind(1, sw.name).bind(2, sw.file).bind(3, sw.definition).bind(4, nlohmann::json(sw.swept_keys).dump());
     s.bind(5, int64_t(sw.points)).bind(6, sw.command);
@@ -232,6 +291,20 @@ std::map<std::string, std::string> ResultsDb::run_commits() const {
   return out;
 }
 
+std::map<std::string, int> ResultsDb::run_positions(const std::string& name) const {
+  std::map<std::string, int> out;
+  Statement s(m_db, "SELECT id, position FROM runs WHERE sweep = ?", m_path);
+  s.bind(1, name);
+  while (s.step()) out[s.text(0)] = int(s.integer(1));
+  return out;
+}
+
+void ResultsDb::set_position(const std::string& id, int position) {
+  Statement s(m_db, "UPDATE runs SET position = ? WHERE id = ?", m_path);
+  s.bind(1, int64_t(position)).bind(2, id);
+  s.step();
+}
+
 void ResultsDb::remove(const std::string& id) {
   Statement s(m_db, "DELETE FROM runs WHERE id = ?", m_path);
   s.bind(1, id);
@@ -239,7 +312,7 @@ void ResultsDb::remove(const std::string& id) {
 }
 
 bool ResultsDb::insert(const RunRecord& r) {
-  if (r.status != "done" && r.status != "failed") throw Error("run " + r.id + ": status '" + r.status + "'");
+  check_run_record(r);
   exec("BEGIN IMMEDIATE");
   try {
     {
@@ -339,6 +412,170 @@ std::vector<RunRecord> ResultsDb::runs() const {
   return out;
 }
 
+std::map<std::string, std::string> ResultsDb::sweep_definitions() const {
+  std::map<std::string, std::string> out;
+  Statement s(m_db, "SELECT name, definition FROM sweeps", m_path);
+  while (s.step()) out[s.text(0)] = s.text(1);
+  return out;
+}
+
+void ResultsDb::verify() const {
+  const auto damaged = [&](const std::string& what) {
+    throw Error("the results database '" + m_path + "' is damaged: " + what +
+                "; it is not used (restore it from a copy, or start a new one)");
+  };
+  {
+    Statement s(m_db, "PRAGMA quick_check", m_path);
+    std::string problems;
+    while (s.step())
+      if (s.text(0) != "ok") problems += (problems.empty() ? "" : "; ") + printable(s.text(0));
+    if (!problems.empty()) damaged("SQLite's quick_check says " + problems);
+  }
+  std::set<std::string> sweeps;
+  {
+    Statement s(m_db, "SELECT name, swept_keys, points FROM sweeps", m_path);
+    while (s.step()) {
+      const std::string name = s.text(0);
+      if (!is_sweep_name(name)) damaged("a sweep named '" + printable(name) + "', not a name oovr gives");
+      nlohmann::json keys;
+      try {
+        keys = nlohmann::json::parse(s.text(1));
+      } catch (const nlohmann::json::exception&) {
+      }
+      bool ok = keys.is_array();
+      for (const auto& k : keys) ok = ok && k.is_string();
+      if (!ok) damaged("sweep '" + name + "' has swept keys that are not a list of names");
+      if (s.integer(2) < 1 || s.integer(2) > int64_t(kMaxPoints)) damaged("sweep '" + name + "' has " + s.text(2) + " points");
+      sweeps.insert(name);
+    }
+  }
+  try {
+    for (const RunRecord& r : runs()) {
+      check_run_record(r);
+      if (!sweeps.count(r.sweep)) throw Error("run " + r.id + " belongs to a sweep '" + r.sweep + "' that is not recorded");
+    }
+  } catch (const Error& e) {
+    damaged(e.what());
+  }
+}
+
+// ---------------------------------------------------------------- records
+
+bool is_run_id(const std::string& id) {
+  return id.size() == 16 &&
+         std::all_of(id.begin(), id.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+}
+
+std::string canonical_setup(const RunRecord& r) {
+  nlohmann::ordered_json j;
+  j["scene"] = r.scene;
+  j["scheme"] = r.scheme;
+  j["resolution"] = r.resolution;
+  j["frame"] = r.frame;
+  j["frames"] = r.frames;
+  j["aniso"] = r.aniso;
+  std::map<std::string, nlohmann::ordered_json> sorted;
+  if (r.config.is_object())
+    for (const auto& [key, e] : r.config.items())
+      sorted[key] = e.is_object() && e.contains("base") ? e.at("base") : e.is_object() && e.contains("value") ? e.at("value") : e;
+  nlohmann::ordered_json config = nlohmann::ordered_json::object();
+  for (const auto& [key, v] : sorted) config[key] = v;
+  j["config"] = config;
+  return j.dump();
+}
+
+namespace {
+
+bool has_control(const std::string& s, bool allow_lines) {
+  for (const unsigned char c : s)
+    if ((c < 0x20 && !(allow_lines && (c == '\n' || c == '\t'))) || c == 0x7f) return true;
+  return false;
+}
+
+bool is_resolution(const std::string& s) {
+  const size_t x = s.find('x');
+  const auto digits = [](const std::string& d) {
+    return !d.empty() && d.size() <= 5 && d.front() != '0' &&
+           std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  return x != std::string::npos && digits(s.substr(0, x)) && digits(s.substr(x + 1));
+}
+
+}  // namespace
+
+void check_run_record(const RunRecord& r) {
+  if (!is_run_id(r.id)) throw Error("a run id that is not oovr's (16 hex digits): '" + printable(r.id) + "'");
+  const auto bad = [&](const std::string& what) { throw Error("run " + r.id + ": " + what); };
+  if (!is_sweep_name(r.sweep)) bad("the sweep name '" + printable(r.sweep) + "' is not one oovr takes");
+  for (const auto& [field, value] : {std::pair<const char*, const std::string*>{"scene", &r.scene},
+                                     {"scheme", &r.scheme},
+                                     {"oovr_version", &r.oovr_version},
+                                     {"git_commit", &r.git_commit},
+                                     {"host", &r.host},
+                                     {"started", &r.started}})
+    if (value->empty() || value->size() > 4096 || has_control(*value, false))
+      bad(std::string(field) + " '" + printable(*value) + "' is empty, too long or holds control characters");
+  for (const auto& [field, value] : {std::pair<const char*, const std::string*>{"command", &r.command}, {"error", &r.error}})
+    if (has_control(*value, true)) bad(std::string(field) + " holds control characters");
+  if (!is_resolution(r.resolution)) bad("resolution '" + printable(r.resolution) + "' is not WIDTHxHEIGHT");
+  if (r.position < 0 || size_t(r.position) >= kMaxPoints) bad("position " + std::to_string(r.position));
+  if (r.frame < 0 || r.frame > 1'000'000) bad("frame " + std::to_string(r.frame));
+  if (r.frames < 1 || r.frames > 100'000) bad(std::to_string(r.frames) + " frames");
+  if (r.aniso < 1 || r.aniso > 16) bad("aniso " + std::to_string(r.aniso));
+  if (!(std::isfinite(r.wall_s) && r.wall_s >= 0)) bad("wall_s " + format_number(r.wall_s));
+  if (!r.config.is_object() || r.config.empty()) bad("no configuration");
+  for (const auto& [key, e] : r.config.items()) {
+    if (!e.is_object() || !e.contains("value") || !e.at("value").is_string())
+      bad("configuration key '" + printable(key) + "' has no value");
+    if (e.contains("base") && !(e.at("base").is_number() && std::isfinite(e.at("base").get<double>())))
+      bad("configuration key '" + key + "' has a base value that is not a finite number");
+  }
+  for (const auto& [key, v] : r.swept) {
+    if (!r.config.contains(key)) bad("swept key '" + printable(key) + "' is not in its configuration");
+    if (!(v.is_string() || (v.is_number() && std::isfinite(v.get<double>()))))
+      bad("swept key '" + key + "' has value " + v.dump());
+  }
+  if (stable_id(canonical_setup(r)) != r.id)
+    bad("its setup (scene, scheme, resolution, frames, configuration) is not the one its id names");
+  std::set<std::pair<std::string, std::string>> seen;
+  for (const Metric& m : r.metrics) {
+    if (!seen.insert({m.location, m.metric}).second) bad("metric " + m.location + " " + m.metric + " is given twice");
+    if (!std::isfinite(m.value)) bad("metric " + m.location + " " + m.metric + " is not a finite number");
+  }
+  std::set<std::string> kinds;
+  for (const RunImage& im : r.images) {
+    if (im.kind != "gpm" && im.kind != "tile_traffic") bad("an image of kind '" + printable(im.kind) + "'");
+    if (!kinds.insert(im.kind).second) bad("two images of kind '" + im.kind + "'");
+    if (im.width < 1 || im.height < 1 || im.width > 65536 || im.height > 65536)
+      bad("a " + std::to_string(im.width) + "x" + std::to_string(im.height) + " image");
+  }
+  if (r.status == "failed") {
+    if (r.error.empty()) bad("failed without an error");
+    if (!r.metrics.empty() || !r.result.is_null()) bad("failed, with figures");
+  } else if (r.status == "done") {
+    if (!r.result.is_object()) bad("done without a result");
+    std::vector<Metric> expected;
+    try {
+      expected = metrics_of(scheme_result_from_json(r.result));
+    } catch (const Error& e) {
+      bad(e.what());
+    }
+    // The figures must be the ones its result gives, exactly.
+    std::map<std::pair<std::string, std::string>, const Metric*> stored;
+    for (const Metric& m : r.metrics) stored[{m.location, m.metric}] = &m;
+    for (const Metric& m : expected) {
+      const auto it = stored.find({m.location, m.metric});
+      if (it == stored.end()) bad("metric " + m.location + " " + m.metric + ", which its result gives, is missing");
+      if (it->second->value != m.value || it->second->unit != m.unit)
+        bad("metric " + m.location + " " + m.metric + " is " + format_number(it->second->value) + " " + it->second->unit +
+            ", its result gives " + format_number(m.value) + " " + m.unit);
+    }
+    if (expected.size() != r.metrics.size()) bad("it has metrics its result does not give");
+  } else {
+    bad("status '" + printable(r.status) + "' is neither done nor failed");
+  }
+}
+
 // ---------------------------------------------------------------- JSON form
 
 std::string base64_encode(const std::string& bytes) {
@@ -428,45 +665,51 @@ nlohmann::ordered_json to_json(const RunRecord& r) {
 RunRecord run_record_from_json(const nlohmann::ordered_json& j) {
   try {
     if (j.value("schema", "") != "oovr.run") throw Error("a record that is not an oovr run (no \"schema\": \"oovr.run\")");
-    if (j.at("schema_version").get<int>() > kResultsDbVersion)
-      throw Error("a run record of schema version " + std::to_string(j.at("schema_version").get<int>()) +
-                  ", newer than this oovr's " + std::to_string(kResultsDbVersion));
+    const int64_t version = json_whole(j.at("schema_version"), 1, INT32_MAX, "schema_version");
+    if (version > kResultsDbVersion)
+      throw Error("a run record of schema version " + std::to_string(version) + ", newer than this oovr's " +
+                  std::to_string(kResultsDbVersion));
     RunRecord r;
     r.id = j.at("id").get<std::string>();
     r.sweep = j.at("sweep").get<std::string>();
-    r.position = j.at("position").get<int>();
+    r.position = int(json_whole(j.at("position"), 0, int64_t(kMaxPoints) - 1, "position"));
     r.scene = j.at("scene").get<std::string>();
     r.scheme = j.at("scheme").get<std::string>();
     r.resolution = j.at("resolution").get<std::string>();
-    r.frame = j.at("frame").get<int>();
-    r.frames = j.at("frames").get<int>();
-    r.aniso = j.at("aniso").get<int>();
+    r.frame = int(json_whole(j.at("frame"), 0, 1'000'000, "frame"));
+    r.frames = int(json_whole(j.at("frames"), 1, 100'000, "frames"));
+    r.aniso = int(json_whole(j.at("aniso"), 1, 16, "aniso"));
+    if (!j.at("swept").is_object()) throw Error("swept is not an object");
     for (const auto& [k, v] : j.at("swept").items()) r.swept[k] = v;
     r.config = j.at("config");
     r.status = j.at("status").get<std::string>();
-    if (r.status != "done" && r.status != "failed") throw Error("status '" + r.status + "' is neither done nor failed");
+    if (r.status != "done" && r.status != "failed")
+      throw Error("status '" + printable(r.status) + "' is neither done nor failed");
     r.error = j.at("error").get<std::string>();
     r.oovr_version = j.at("oovr_version").get<std::string>();
     r.git_commit = j.at("git_commit").get<std::string>();
     r.command = j.at("command").get<std::string>();
     r.host = j.at("host").get<std::string>();
     r.started = j.at("started").get<std::string>();
-    r.wall_s = j.at("wall_s").get<double>();
+    r.wall_s = json_finite(j.at("wall_s"), "wall_s");
     r.result = j.at("result");
-    for (const auto& m : j.at("metrics"))
-      r.metrics.push_back(
-          {m.at(0).get<std::string>(), m.at(1).get<std::string>(), m.at(2).get<double>(), m.at(3).get<std::string>()});
+    for (const auto& m : j.at("metrics")) {
+      if (!m.is_array() || m.size() != 4) throw Error("a metric that is not [location, metric, value, unit]");
+      r.metrics.push_back({m.at(0).get<std::string>(), m.at(1).get<std::string>(), json_finite(m.at(2), "a metric's value"),
+                           m.at(3).get<std::string>()});
+    }
     for (const auto& x : j.at("images")) {
       RunImage im;
       im.kind = x.at("kind").get<std::string>();
-      im.width = x.at("width").get<int>();
-      im.height = x.at("height").get<int>();
+      im.width = int(json_whole(x.at("width"), 1, 65536, "an image's width"));
+      im.height = int(json_whole(x.at("height"), 1, 65536, "an image's height"));
       const auto data = base64_decode(x.at("data").get<std::string>());
-      if (!data) throw Error("image '" + im.kind + "' is not base 64");
+      if (!data) throw Error("image '" + printable(im.kind) + "' is not base 64");
       im.data = *data;
       im.legend = x.at("legend").get<std::string>();
       r.images.push_back(std::move(im));
     }
+    check_run_record(r);
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("a run record that is not oovr's: ") + e.what());

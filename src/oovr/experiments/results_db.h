@@ -68,29 +68,64 @@ struct SweepRecord {
   size_t points = 0;
 };
 
+// Whether `id` has the form of oovr's run ids (16 lowercase hex digits,
+// sweep.h's stable_id).
+bool is_run_id(const std::string& id);
+// The JSON a run's id hashes (sweep.cpp's resolve()), from its record: the
+// scene, scheme, resolution, frames and every configuration key's value.
+std::string canonical_setup(const RunRecord& r);
+// Throws Error naming the run and what cannot be in one of oovr's records:
+// an id of another form, or not the hash of the record's setup; a name with
+// control characters; numbers out of range or not finite; a done run whose
+// result is not one of oovr's (result_json.h) or whose metrics are not the
+// ones its result gives; duplicated metrics or images.
+void check_run_record(const RunRecord& r);
+
 class ResultsDb {
  public:
-  // Opens (creating when absent) the database at `path`. Throws Error when
-  // it is not an oovr results database, or one of a newer schema.
-  explicit ResultsDb(const std::string& path);
+  enum class Access {
+    // Reads and writes, creating the database when absent; the one writer:
+    // a second while this one is open is refused (an exclusive lock on the
+    // file, held until it is closed, by this process and its children).
+    write,
+    // Reads an existing oovr database; changes nothing.
+    read_only,
+  };
+  // Opens the database at `path`: a plain file (never a link, never an
+  // SQLite URI or ":memory:"). Throws Error when it is not an oovr results
+  // database, one of a newer schema, or (writing) open for writing
+  // elsewhere.
+  explicit ResultsDb(const std::string& path, Access access = Access::write);
   ~ResultsDb();
   ResultsDb(const ResultsDb&) = delete;
   ResultsDb& operator=(const ResultsDb&) = delete;
 
-  // Records (or updates) a sweep and makes sure runs has a column per
-  // swept key.
-  void add_sweep(const SweepRecord& s);
+  // Records a sweep and makes sure runs has a column per swept key. A
+  // sweep of the same name with another definition is an Error unless
+  // `replace_definition` (an edited sweep file, reconciled).
+  void add_sweep(const SweepRecord& s, bool replace_definition = false);
   // The runs stored (of any sweep): id -> status ("done" or "failed").
   std::map<std::string, std::string> run_status() const;
   // The git commit of the oovr that made each run: id -> commit.
   std::map<std::string, std::string> run_commits() const;
+  // The runs of sweep `name`: id -> position.
+  std::map<std::string, int> run_positions(const std::string& name) const;
   // Removes a run with its metrics and images (a failed run to retry).
   void remove(const std::string& id);
+  // Moves a run to another position in its sweep (an edited sweep file).
+  void set_position(const std::string& id, int position);
   // Writes a run, its metrics and images in one transaction. Returns false
   // (and writes nothing) when a run with its id is there already.
   bool insert(const RunRecord& r);
   // Every run, sorted by id (what two databases are compared by).
   std::vector<RunRecord> runs() const;
+  // Checks the whole database before it is resumed, reported or written
+  // up: SQLite's quick_check, the sweeps table, and every run
+  // (check_run_record, and a sweep of its name recorded). Throws Error
+  // naming what is damaged.
+  void verify() const;
+  // The sweeps recorded: name -> definition.
+  std::map<std::string, std::string> sweep_definitions() const;
   const std::string& path() const { return m_path; }
 
  private:
@@ -98,6 +133,7 @@ class ResultsDb {
   std::set<std::string> columns() const;
   std::string m_path;
   sqlite3* m_db = nullptr;
+  int m_lock_fd = -1;  // the writer's lock, on the database file
 };
 
 // The base-64 form the JSON records carry images in.

@@ -9,11 +9,13 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
+#include "oovr/experiments/result_json.h"
 #include "oovr/experiments/sweep_run.h"
 
 namespace oovr {
@@ -63,6 +65,30 @@ nlohmann::json read_manifest(const std::string& dir) {
   }
   if (!m.is_object() || m.value("schema", "") != kManifestSchema || !m.contains("tasks") || !m["tasks"].is_array())
     throw Error("'" + path + "' is not an oovr SLURM job manifest");
+  // Read back, so checked: what oovr wrote, every field of its type.
+  const auto bad = [&](const std::string& what) { throw Error("the SLURM job manifest '" + path + "' is damaged: " + what); };
+  try {
+    if (!is_sweep_name(m.at("sweep").get<std::string>())) bad("its sweep name is not one oovr gives");
+    (void)m.at("sweep_file").get<std::string>();
+    (void)m.at("base_dir").get<std::string>();
+    (void)m.at("command").get<std::string>();
+    for (const auto& k : m.at("swept_keys")) (void)k.get<std::string>();
+    const int64_t points = json_whole(m.at("points"), 1, int64_t(kMaxPoints), "points");
+    std::set<std::string> ids;
+    for (const auto& task : m["tasks"]) {
+      if (!task.is_array() || task.empty()) bad("a task without points");
+      for (const auto& entry : task) {
+        if (!entry.is_array() || entry.size() != 2) bad("a task entry that is not [index, id]");
+        (void)json_whole(entry[0], 0, points - 1, "a point's index");
+        if (!entry[1].is_string() || !is_run_id(entry[1].get<std::string>())) bad("a point id that is not oovr's");
+        if (!ids.insert(entry[1].get<std::string>()).second) bad("a point in two tasks");
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    bad(e.what());
+  } catch (const Error& e) {
+    bad(e.what());
+  }
   return m;
 }
 
@@ -113,9 +139,18 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
   write_output_file((dir / "manifest.json").string(), m.dump(1) + "\n", "SLURM job manifest");
 
   const std::string exe = o.executable.empty() ? this_executable() : o.executable;
+  // sbatch reads the #SBATCH lines and sh the rest: nothing written into
+  // them may hold a control character (a new line would start a command),
+  // and every word is quoted.
+  for (const auto& [what, text] : {std::pair<const char*, std::string>{"the sweep's name", s.name},
+                                   {"the job folder", dir.string()},
+                                   {"the oovr executable's path", exe},
+                                   {"--partition", o.partition},
+                                   {"--time", o.time_limit}})
+    if (printable(text) != text) throw Error(std::string(what) + " '" + printable(text) + "' holds control characters");
   std::string script = "#!/bin/sh\n";
   script += "# oovr sweep '" + s.name + "': " + std::to_string(todo.size()) + " points in " + std::to_string(tasks) +
-            " tasks, written by: " + command + "\n";
+            " tasks, written by: " + printable(command) + "\n";
   const auto quote = [](const std::string& w) {
     const char* argv[] = {w.c_str()};
     return shell_command_line(1, argv);
@@ -163,7 +198,7 @@ void run_slurm_task(const std::string& dir, int task, unsigned jobs) {
   const Sweep s = submitted_sweep(dir, m);
   std::vector<size_t> which;
   for (const auto& entry : m["tasks"][size_t(task)]) {
-    const size_t index = entry.at(0).get<size_t>();
+    const size_t index = size_t(json_whole(entry.at(0), 0, int64_t(kMaxPoints), "a point's index"));
     const std::string id = entry.at(1).get<std::string>();
     if (index >= s.points.size() || s.points[index].id != id)
       throw Error("point " + std::to_string(index + 1) + " of the sweep is not the one submitted (id " + id +
@@ -173,7 +208,9 @@ void run_slurm_task(const std::string& dir, int task, unsigned jobs) {
   // A restarted task keeps what its file holds: whole lines only.
   const std::string path = task_file(dir, task);
   std::set<std::string> have;
-  const FileRead old = read_regular_file(path, kMaxResultsFile);
+  // The task's own file, never a link's target (a link planted in the job
+  // folder would have this task rewrite another file).
+  const FileRead old = read_regular_file(path, kMaxResultsFile, false);
   if (old.failure == FileRead::Failure::none) {
     const size_t end = old.bytes.rfind('\n');
     const size_t keep = end == std::string::npos ? 0 : end + 1;
@@ -192,7 +229,7 @@ void run_slurm_task(const std::string& dir, int task, unsigned jobs) {
     throw Error("cannot read '" + path + "': " + old.why);
   }
   which.erase(std::remove_if(which.begin(), which.end(), [&](size_t i) { return have.count(s.points[i].id) != 0; }), which.end());
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd < 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
   SweepRunOptions o;
   o.jobs = jobs;
@@ -208,8 +245,8 @@ void run_slurm_task(const std::string& dir, int task, unsigned jobs) {
       done += size_t(n);
     }
     if (::fsync(fd) != 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
-    std::printf("%s %s: %s, %s, %s%s\n", r.status.c_str(), r.id.c_str(), r.scene.c_str(), r.scheme.c_str(), r.resolution.c_str(),
-                r.error.empty() ? "" : (": " + r.error).c_str());
+    std::printf("%s %s: %s, %s, %s%s\n", r.status.c_str(), r.id.c_str(), printable(r.scene).c_str(), printable(r.scheme).c_str(),
+                r.resolution.c_str(), r.error.empty() ? "" : (": " + printable(r.error)).c_str());
     std::fflush(stdout);
   };
   try {
@@ -233,36 +270,53 @@ CollectReport collect_slurm(const std::string& dir, ResultsDb& db) {
   db.add_sweep(sw);
   CollectReport rep;
   for (size_t t = 0; t < m["tasks"].size(); ++t) {
+    // What this task was given: id -> the point's place in the sweep.
+    std::map<std::string, int> given;
+    for (const auto& entry : m["tasks"][t]) given[entry[1].get<std::string>()] = entry[0].get<int>();
     const std::string path = task_file(dir, int(t));
-    const FileRead f = read_regular_file(path, kMaxResultsFile);
+    const FileRead f = read_regular_file(path, kMaxResultsFile, false);
     if (f.failure == FileRead::Failure::missing) {
       rep.problems.push_back("task " + std::to_string(t) + " wrote nothing (" + path + " is missing)");
       continue;
     }
-    if (f.failure != FileRead::Failure::none) throw Error("cannot read '" + path + "': " + f.why);
+    if (f.failure != FileRead::Failure::none) {
+      rep.problems.push_back("cannot read '" + path + "' (" + f.why + "): its runs are left out");
+      continue;
+    }
     ++rep.files;
     size_t from = 0, line = 0;
+    std::set<std::string> seen;
     while (from < f.bytes.size()) {
       size_t nl = f.bytes.find('\n', from);
       ++line;
+      const std::string where = path + " line " + std::to_string(line);
       if (nl == std::string::npos) {
-        rep.problems.push_back(path + " line " + std::to_string(line) +
-                               " is cut short (the task was stopped while writing it): left out");
+        rep.problems.push_back(where + " is cut short (the task was stopped while writing it): left out");
         break;
       }
+      // Each record is checked, and against what the task was given; one
+      // that is not right is named and left out, and the others go in.
       RunRecord r;
+      std::string why;
       try {
         r = run_record_from_json(nlohmann::ordered_json::parse(f.bytes.substr(from, nl - from)));
+        const auto g = given.find(r.id);
+        if (g == given.end()) throw Error("run " + r.id + " is not a point this task was given");
+        if (r.sweep != sw.name) throw Error("run " + r.id + " belongs to the sweep '" + r.sweep + "'");
+        if (r.position != g->second)
+          throw Error("run " + r.id + " says it is point " + std::to_string(r.position + 1) + " of the sweep, not " +
+                      std::to_string(g->second + 1));
+        if (!seen.insert(r.id).second) throw Error("run " + r.id + " is given twice");
       } catch (const std::exception& e) {
-        rep.problems.push_back(path + " line " + std::to_string(line) + " is not a run record (" + e.what() + "): left out");
-        from = nl + 1;
+        why = e.what();
+      }
+      from = nl + 1;
+      if (!why.empty()) {
+        rep.problems.push_back(where + " is not a run of this job (" + why + "): left out");
         continue;
       }
-      if (r.sweep != sw.name)
-        rep.problems.push_back(path + " line " + std::to_string(line) + " belongs to the sweep '" + r.sweep + "': left out");
-      else if (db.insert(r)) ++rep.added;
+      if (db.insert(r)) ++rep.added;  // a failure to write is the collect's error
       else ++rep.already;
-      from = nl + 1;
     }
   }
   return rep;

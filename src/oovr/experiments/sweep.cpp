@@ -10,6 +10,7 @@
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/text.h"
 #include "oovr/core/units.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/experiments/result_json.h"
@@ -21,12 +22,6 @@ namespace oovr {
 namespace fs = std::filesystem;
 
 namespace {
-
-// A sweep of more points than this is refused before it is expanded: a
-// resolved point holds its whole configuration (docs/reliability.md), and a typo'd
-// list should not allocate gigabytes of points. Larger studies are several
-// sweeps into one database.
-constexpr size_t kMaxPoints = 100000;
 
 // What one level of the file (the top level or a [[point]]) says; a field
 // left out is taken from the level above.
@@ -238,6 +233,13 @@ std::string describe(const SweepPoint& p) {
 
 }  // namespace
 
+bool is_sweep_name(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+  });
+}
+
 std::string stable_id(const std::string& text) {
   uint64_t h = 14695981039346656037ull;  // FNV-1a 64: offset basis and prime
   for (unsigned char c : text) {
@@ -266,6 +268,11 @@ Sweep parse_sweep(const std::string& text, const std::string& name, const std::s
   if (const auto* n = t.get("name")) {
     if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "name takes a non-empty string");
     s.name = n->as_string()->get();
+    if (!is_sweep_name(s.name))
+      reader.fail(*n, "name '" + printable(s.name) + "' is not a sweep name: 1 to 64 letters, digits, '_', '-' and '.'");
+  } else if (!is_sweep_name(s.name)) {
+    reader.fail("the sweep has no name, and its file's name '" + printable(s.name) +
+                "' is not one: give name = \"...\" (1 to 64 letters, digits, '_', '-' and '.')");
   }
   if (const auto* n = t.get("description"); n && !n->as_string()) reader.fail(*n, "description takes a string");
   if (const auto* n = t.get("config")) {

@@ -19,6 +19,17 @@
 
 namespace oovr {
 
+// A sweep of more points than this is refused before it is expanded: a
+// resolved point holds its whole configuration (docs/reliability.md), and a
+// typo'd list should not allocate gigabytes of points. Larger studies are
+// several sweeps into one database.
+inline constexpr size_t kMaxPoints = 100000;
+
+// Whether `name` is a sweep name oovr takes: 1 to 64 letters, digits, '_',
+// '-' and '.', not starting with '.' or '-'. A sweep's name reaches a SLURM
+// job script, file names, the report's HTML and the terminal.
+bool is_sweep_name(const std::string& name);
+
 struct SweepPoint {
   std::string scene;
   std::string scheme;

@@ -331,8 +331,31 @@ void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRun
   pool.rethrow();
 }
 
-SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed) {
+SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed, bool reconcile) {
   SweepPlan plan;
+  const auto definitions = db.sweep_definitions();
+  if (const auto d = definitions.find(s.name); d != definitions.end() && d->second != s.definition) {
+    std::map<std::string, size_t> index;
+    for (size_t i = 0; i < s.points.size(); ++i) index[s.points[i].id] = i;
+    size_t kept = 0;
+    for (const auto& [id, position] : db.run_positions(s.name)) {
+      const auto it = index.find(id);
+      if (it == index.end()) plan.stale.push_back(id);
+      else {
+        ++kept;
+        if (size_t(position) != it->second) plan.moved.emplace_back(id, int(it->second));
+      }
+    }
+    if (!reconcile)
+      throw Error("the database " + db.path() + " holds a sweep '" + s.name + "' defined otherwise than " + s.file + " (" +
+                  std::to_string(kept) + " of its runs are points of this file, " + std::to_string(plan.stale.size()) +
+                  " are not): give --reconcile to keep the " + std::to_string(kept) + " and delete the " +
+                  std::to_string(plan.stale.size()) + ", or name the sweep otherwise, or use another database");
+    plan.reconciled = true;
+    plan.notes.push_back("the sweep file differs from the sweep '" + s.name + "' in the database: " + std::to_string(kept) +
+                         " runs kept (" + std::to_string(plan.moved.size()) + " moved to their new places), " +
+                         std::to_string(plan.stale.size()) + " deleted (points the file no longer has)");
+  }
   const auto status = db.run_status();
   for (size_t i = 0; i < s.points.size(); ++i) {
     const auto it = status.find(s.points[i].id);
@@ -362,7 +385,9 @@ SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retr
 }
 
 void begin_sweep(const Sweep& s, const SweepPlan& plan, ResultsDb& db, const std::string& command) {
-  db.add_sweep(sweep_record(s, command));
+  for (const auto& id : plan.stale) db.remove(id);
+  for (const auto& [id, position] : plan.moved) db.set_position(id, position);
+  db.add_sweep(sweep_record(s, command), plan.reconciled);
   if (!plan.retried) return;
   const auto status = db.run_status();
   for (size_t i : plan.todo)

@@ -56,6 +56,12 @@ struct SweepPlan {
   std::vector<size_t> todo;  // points to run, in file order
   size_t held = 0;           // points the database holds and keeps
   size_t retried = 0;        // failed points among `todo`, run again
+  // When the database holds this sweep from another version of its file
+  // and the plan reconciles them: its runs that the file no longer has
+  // (deleted), and those kept whose place in the file moved.
+  bool reconciled = false;
+  std::vector<std::string> stale;
+  std::vector<std::pair<std::string, int>> moved;
   // Runs kept that another build of oovr made (a point's id is its
   // configuration, not the model that ran it): one line per build.
   std::vector<std::string> notes;
@@ -63,9 +69,13 @@ struct SweepPlan {
 // Decides what to run. Without `resume` or `retry_failed`, a database that
 // holds some of the points is an Error (naming the database and what to
 // do), never run into again. `retry_failed` runs the failed points again.
-SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed);
-// Records the sweep in the database and removes the failed runs the plan
-// retries, before any point runs.
+// A database holding a sweep of this name with another definition (an
+// edited file, or another sweep of the same name) is an Error naming what
+// differs, unless `reconcile`: then the runs the file no longer has are
+// deleted and the others kept, at their new places.
+SweepPlan plan_sweep(const Sweep& s, const ResultsDb& db, bool resume, bool retry_failed, bool reconcile = false);
+// Records the sweep in the database, removes the failed runs the plan
+// retries and applies a reconciliation, before any point runs.
 void begin_sweep(const Sweep& s, const SweepPlan& plan, ResultsDb& db, const std::string& command);
 
 // The sweeps table's row for `s`, run by `command`.

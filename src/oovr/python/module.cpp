@@ -10,10 +10,15 @@
 // frame once. Long calls release the GIL; the library's errors become
 // Python exceptions (NotFoundError: FileNotFoundError, UnknownKeyError:
 // KeyError, any other Error: ValueError, std::bad_alloc: MemoryError).
+//
+// Several Python threads may call in at once (a call without the GIL lets
+// them run): nothing here waits for another thread while holding the GIL
+// (see numpy_ready).
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -43,16 +48,60 @@ namespace oovr::python {
 
 py::object to_python(const nlohmann::ordered_json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
+std::string type_name(const py::handle& v) { return py::str(py::type::of(v).attr("__name__")).cast<std::string>(); }
+
+py::object as_int(const py::handle& v) {
+  if (PyBool_Check(v.ptr())) return {};
+  if (PyLong_Check(v.ptr())) return py::reinterpret_borrow<py::object>(v);
+  if (!PyIndex_Check(v.ptr())) return {};
+  PyObject* i = PyNumber_Index(v.ptr());
+  if (!i) {
+    PyErr_Clear();
+    return {};
+  }
+  return py::reinterpret_steal<py::object>(i);
+}
+
+int64_t whole(const py::handle& v, const std::string& what) {
+  const py::object i = as_int(v);
+  if (!i) throw py::type_error(what + " must be an int, not " + type_name(v));
+  int overflow = 0;
+  const long long n = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow) throw Error(what + " is " + py::repr(v).cast<std::string>() + ", past any count oovr takes");
+  return n;
+}
+
 namespace {
 
 namespace fs = std::filesystem;
 
 // The interpreter's scenes and traces. Never destroyed: it may hold
 // gigabytes that the process's exit frees faster, and nothing in it refers
-// to Python objects.
+// to Python objects. Made when the module is imported (PYBIND11_MODULE),
+// so that no thread ever waits here for another to make it.
 TraceSession& session() {
   static TraceSession* s = new TraceSession();
   return *s;
+}
+
+// pybind11 (2.10) looks numpy's C API up when the module makes its first
+// array, in a function-local static (npy_api::get) whose initialisation
+// imports numpy. An import lets other threads take the GIL; one that makes
+// its first array then waits for that static while holding the GIL, which
+// the importing thread needs back: both wait forever. So every array is
+// made after numpy_ready(), which does the lookup once, and a thread that
+// finds another doing it waits without the GIL.
+std::atomic<bool> g_numpy_ready{false};
+std::mutex g_numpy_lookup;
+
+void numpy_ready() {
+  if (g_numpy_ready.load(std::memory_order_acquire)) return;
+  py::gil_scoped_release release;  // wait for another thread's lookup without the GIL
+  std::lock_guard<std::mutex> lock(g_numpy_lookup);
+  if (g_numpy_ready.load(std::memory_order_acquire)) return;
+  py::gil_scoped_acquire gil;  // the lookup imports numpy: under the GIL, here alone
+  (void)py::detail::npy_api::get();
+  g_numpy_ready.store(true, std::memory_order_release);
 }
 
 // ----- scenes
@@ -78,8 +127,7 @@ PyScene load(const std::string& spec) {
 std::string scene_spec(const py::handle& scene) {
   if (py::isinstance<py::str>(scene)) return scene.cast<std::string>();
   if (py::isinstance<PyScene>(scene)) return scene.cast<const PyScene&>().spec;
-  throw py::type_error("scene must be a name (str) or a Scene from oovr.load_scene, not " +
-                       std::string(py::str(py::type::of(scene).attr("__name__"))));
+  throw py::type_error("scene must be a name (str) or a Scene from oovr.load_scene, not " + type_name(scene));
 }
 
 // ----- configurations
@@ -94,8 +142,7 @@ std::string config_text(const std::string& key, const py::handle& v) {
     return py::repr(v).cast<std::string>();
   }
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-  throw py::type_error("configuration key '" + key + "' takes a str, int, float or bool, not " +
-                       std::string(py::str(py::type::of(v).attr("__name__"))));
+  throw py::type_error("configuration key '" + key + "' takes a str, int, float or bool, not " + type_name(v));
 }
 
 // Sets `key` to `v` on a copy, checks the whole configuration and keeps it
@@ -113,7 +160,10 @@ Config make_config(const std::optional<std::string>& preset, const py::dict& ove
   Config c = preset ? Config::from_toml_file(*preset) : Config{};
   c.set_source("oovr.config");
   for (const auto& [k, v] : overrides) {
-    const std::string key = py::str(k).cast<std::string>();
+    if (!py::isinstance<py::str>(k))
+      throw py::type_error("overrides: a configuration key is a str ('link.bandwidth'), not " + type_name(k) + " " +
+                           py::repr(k).cast<std::string>());
+    const std::string key = k.cast<std::string>();
     c.set(key, config_text(key, v));
   }
   check_config(c);
@@ -142,6 +192,7 @@ const Config::Entry& entry(const Config& c, const std::string& key) {
 // An image as a NumPy array, top row first (oovr's images are bottom row
 // first, as OpenGL reads them).
 py::array_t<uint8_t> image_array(const Image& img) {
+  numpy_ready();
   py::array_t<uint8_t> a({size_t(img.height), size_t(img.width), size_t(4)});
   auto* out = a.mutable_data();
   const size_t row = size_t(img.width) * 4;
@@ -177,15 +228,21 @@ py::dict summary_dict(const FrameSummary& s) {
   return d;
 }
 
-StereoRig rig_of(const std::string& resolution, const std::optional<std::string>& eye_resolution) {
-  return eye_resolution ? parse_eye_resolution(*eye_resolution) : parse_frame_resolution(resolution);
+// `resolution` (the whole side-by-side frame; default 1280x1024) or
+// `eye_resolution` (one eye's), as the CLI's --resolution and
+// --eye-resolution: giving both is an error, not one silently winning.
+StereoRig rig_of(const std::optional<std::string>& resolution, const std::optional<std::string>& eye_resolution) {
+  if (resolution && eye_resolution)
+    throw Error("give resolution or eye_resolution, not both (resolution '" + *resolution + "', eye_resolution '" +
+                *eye_resolution + "')");
+  return eye_resolution ? parse_eye_resolution(*eye_resolution) : parse_frame_resolution(resolution.value_or("1280x1024"));
 }
 
 // ----- simulation
 
 py::dict simulate(const py::handle& scene, const py::list& schemes, const std::optional<Config>& config, int frames, int frame,
-                  const std::string& resolution, const std::optional<std::string>& eye_resolution, int aniso, bool cache,
-                  bool images, unsigned jobs, const std::string& command) {
+                  const std::optional<std::string>& resolution, const std::optional<std::string>& eye_resolution, int aniso,
+                  bool cache, bool images, unsigned jobs, const std::string& command) {
   SimulationRequest r;
   r.scene = scene_spec(scene);
   r.rig = rig_of(resolution, eye_resolution);
@@ -201,6 +258,13 @@ py::dict simulate(const py::handle& scene, const py::list& schemes, const std::o
   r.frames_option = "frames";
   std::vector<SchemeRef> refs;
   for (const auto& s : schemes) refs.push_back(scheme_of(s));
+  // A Python scheme's results carry its name: two of one name in a call
+  // could not be told apart (scheme_of has refused registered names).
+  for (size_t i = 0; i < refs.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (refs[i].name == refs[j].name && !py::isinstance<py::str>(schemes[i]))
+        throw Error("two schemes named '" + refs[i].name + "' in one call (schemes " + std::to_string(j) + " and " +
+                    std::to_string(i) + "): their results would carry one name; give each Python scheme a name of its own");
   const Config machine = config.value_or(Config{});
   Simulation sim;
   {
@@ -271,12 +335,13 @@ py::dict record_dict(const RunRecord& r, size_t total) {
 }
 
 py::dict sweep(const std::string& text, const std::string& name, const std::string& base_dir, const std::string& db_path,
-               bool resume, bool retry_failed, unsigned jobs, bool cache, const std::string& command, const py::object& on_record,
-               const py::object& on_status) {
+               bool resume, bool retry_failed, bool reconcile, unsigned jobs, bool cache, const std::string& command,
+               const py::object& on_record, const py::object& on_status) {
   Sweep s = parse_sweep(text, name, base_dir);
   resolve_all(s);
-  ResultsDb db(db_path);
-  const SweepPlan plan = plan_sweep(s, db, resume, retry_failed);
+  ResultsDb db(db_path);  // the one writer
+  db.verify();            // whole, before anything is added to it or kept
+  const SweepPlan plan = plan_sweep(s, db, resume, retry_failed, reconcile);
   begin_sweep(s, plan, db, command);
   size_t done = 0, failed = 0;
   SweepRunOptions o;
@@ -334,6 +399,8 @@ using namespace oovr::python;
 
 PYBIND11_MODULE(_oovr, m) {
   m.doc() = "The native part of the oovr Python module; import oovr, not this (docs/python.md).";
+
+  (void)session();
 
   py::register_exception_translator([](std::exception_ptr p) {
     try {
@@ -465,6 +532,7 @@ PYBIND11_MODULE(_oovr, m) {
       .def_property_readonly(
           "object_id",
           [](const PyFrame& f) {
+            numpy_ready();
             const int w = f.out->colour.width, h = f.out->colour.height;
             py::array_t<uint32_t> a({size_t(h), size_t(w)});
             for (int y = 0; y < h; ++y)
@@ -486,11 +554,12 @@ PYBIND11_MODULE(_oovr, m) {
       });
   m.def(
       "render",
-      [](const py::handle& scene, int frame, const std::string& resolution, const std::optional<std::string>& eye_resolution,
-         int aniso, float ipd_mm) {
+      [](const py::handle& scene, int frame, const std::optional<std::string>& resolution,
+         const std::optional<std::string>& eye_resolution, int aniso, float ipd_mm) {
         const std::string spec = scene_spec(scene);
         StereoRig rig = rig_of(resolution, eye_resolution);
-        if (!(ipd_mm >= 0 && ipd_mm <= 1000)) throw Error("ipd_mm must be from 0 to 1000");
+        if (!(ipd_mm >= 0 && ipd_mm <= 1000))
+          throw Error("ipd_mm must be from 0 to 1000 (millimetres between the eyes), not " + std::to_string(ipd_mm));
         rig.ipd_m = ipd_mm / 1000.0f;
         PipelineSettings settings;
         settings.max_anisotropy = aniso;
@@ -508,9 +577,10 @@ PYBIND11_MODULE(_oovr, m) {
         }
         return f;
       },
-      py::arg("scene"), py::arg("frame") = 0, py::arg("resolution") = "1280x1024", py::arg("eye_resolution") = py::none(),
+      py::arg("scene"), py::arg("frame") = 0, py::arg("resolution") = py::none(), py::arg("eye_resolution") = py::none(),
       py::arg("aniso") = 16, py::arg("ipd_mm") = 64.0f,
-      "Renders frame `frame` of a scene's camera path in stereo, as `oovr render` does: returns a Frame.");
+      "Renders frame `frame` of a scene's camera path in stereo, as `oovr render` does: returns a Frame. `resolution` "
+      "is the whole side-by-side frame (default 1280x1024), `eye_resolution` one eye's; give one, not both.");
 
   m.def("_simulate", &simulate, py::arg("scene"), py::arg("schemes"), py::arg("config"), py::arg("frames"), py::arg("frame"),
         py::arg("resolution"), py::arg("eye_resolution"), py::arg("aniso"), py::arg("cache"), py::arg("images"), py::arg("jobs"),
@@ -533,8 +603,15 @@ PYBIND11_MODULE(_oovr, m) {
       "_read_sweep", [](const std::string& path) { return read_input_file(path, "sweep", uint64_t(1) << 20); }, py::arg("path"),
       "A sweep file's text, read as `oovr sweep` reads it (a regular file of at most 1 MiB).");
   m.def("_sweep", &sweep, py::arg("text"), py::arg("name"), py::arg("base_dir"), py::arg("db"), py::arg("resume"),
-        py::arg("retry_failed"), py::arg("jobs"), py::arg("cache"), py::arg("command"), py::arg("on_record"),
-        py::arg("on_status"), "oovr.sweep's native part.");
+        py::arg("retry_failed"), py::arg("reconcile"), py::arg("jobs"), py::arg("cache"), py::arg("command"),
+        py::arg("on_record"), py::arg("on_status"), "oovr.sweep's native part.");
+  m.def(
+      "_verify_db",
+      [](const std::string& path) {
+        const ResultsDb db(path, ResultsDb::Access::read_only);
+        db.verify();
+      },
+      py::arg("db"), "Checks a results database whole (ResultsDb::verify), read-only.");
   m.def(
       "trace_stats",
       [] {
@@ -551,7 +628,12 @@ PYBIND11_MODULE(_oovr, m) {
       "What the session has done: scenes loaded, frames rendered, traces read from the disk cache, requests answered "
       "from memory, and the windows and bytes of traces it holds now.");
   m.def(
-      "clear_traces", [] { session().clear(); }, "Drops every scene and trace the session holds (the disk cache stays).");
+      "clear_traces",
+      [] {
+        py::gil_scoped_release release;  // the session's lock may be held by a thread loading traces
+        session().clear();
+      },
+      "Drops every scene and trace the session holds (the disk cache stays).");
 
   bind_schemes(m);
 }

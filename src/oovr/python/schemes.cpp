@@ -9,12 +9,18 @@
 // What Python holds of a run (the input, the FrameSim, records, jobs, the
 // composer) is valid only while its run() runs: each holds the run's token
 // and raises RuntimeError once the run is over, instead of reading freed
-// traces. Arguments are checked (GPMs, objects, framebuffers, units) before
-// they reach the C++, so a mistake is a ValueError, never a crash.
+// traces. Arguments are checked (GPMs, objects, framebuffers, units, and
+// sizes against what the machine and the run's frames hold) before they
+// reach the C++, so a mistake is a TypeError (a wrong type) or a ValueError
+// naming the call and the parameter ("transfer(bytes=...): ..."), never a
+// crash or a silent clamp.
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
+#include <optional>
 
 #include "bindings.h"
 #include "oovr/core/error.h"
@@ -39,6 +45,54 @@ void check_alive(const Token& t, const char* what) {
 }
 
 [[noreturn]] void bad(const std::string& what) { throw Error(what); }
+
+// How a message names an argument: "transfer(bytes=10): ".
+std::string arg(const char* fn, const char* param, const std::string& value) {
+  return std::string(fn) + "(" + param + "=" + value + "): ";
+}
+std::string arg(const char* fn, const char* param, int64_t value) { return arg(fn, param, std::to_string(value)); }
+
+// A count or a size (draws, triangles, bytes, pixels): a whole number
+// (as_int) from 0 to `most` (any int: one past 64 bits is refused as too
+// many, not as the wrong type); `why()` says what bounds it, made only for
+// a message.
+template <class Why>
+uint64_t count(const py::handle& v, const char* fn, const char* param, uint64_t most, const Why& why) {
+  const py::object i = as_int(v);
+  if (!i) throw py::type_error(std::string(fn) + "(" + param + "): " + param + " must be an int, not " + type_name(v));
+  int overflow = 0;
+  const long long n = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow < 0 || (!overflow && n < 0)) bad(arg(fn, param, py::repr(i).cast<std::string>()) + "cannot be negative");
+  if (overflow > 0 || uint64_t(n) > most) bad(arg(fn, param, py::repr(i).cast<std::string>()) + "more than " + why());
+  return uint64_t(n);
+}
+
+// What a scheme's function (an owner, a key; called per tile or record)
+// returned, as an int: TypeError for what is not one. `what()` names the
+// function for messages; it is made only for one.
+template <class What>
+int64_t returned_int(const py::handle& v, const What& what, const char* expected) {
+  if (PyLong_CheckExact(v.ptr())) {  // the usual case, per tile or record: no conversion
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (!overflow) return n;
+  }
+  const py::object i = as_int(v);
+  if (!i) throw py::type_error(what() + " must return " + expected + ", not " + type_name(v));
+  int overflow = 0;
+  const long long n = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow) bad(what() + " gave " + py::repr(v).cast<std::string>() + ", past any count oovr takes");
+  return n;
+}
+
+// A GPM an owner function returned: ValueError for one the machine lacks.
+template <class What>
+int returned_gpm(const py::handle& v, int gpms, const What& what) {
+  const int64_t g = returned_int(v, what, "a GPM (int)");
+  if (g < 0 || g >= gpms)
+    bad(what() + " gave GPM " + std::to_string(g) + ", which does not exist (GPMs 0 to " + std::to_string(gpms - 1) + ")");
+  return int(g);
+}
 
 // ----- traces
 
@@ -83,6 +137,15 @@ struct PySim {
   int framebuffers = 1;
   std::vector<const FrameTrace*> frames;
   size_t objects = 0;
+  uint64_t dram_bytes = 0;  // one GPM's DRAM (dram.capacity): the most one transfer moves
+  // The most a call may ask for, from what the run's frames hold (made
+  // when first needed: a pass over the records).
+  struct Bounds {
+    uint64_t draws = 0;   // both views of every object of every frame
+    uint64_t pixels = 0;  // what composition could merge: per record, its passed fragments or its tile's pixels, the more
+    std::vector<uint64_t> triangles;  // per object, its most in a frame: set up in both eyes, or binned to its tiles
+  };
+  std::optional<Bounds> limits;
   // Work is added while building, and while finish() runs from its
   // on_finish; the engine runs once (an exception from on_finish ends it).
   enum class State { building, running, done } state = State::building;
@@ -96,22 +159,66 @@ struct PySim {
     if (state == State::done) throw std::runtime_error("FrameSim.finish() has run: no more work can be added");
     return s;
   }
-  void gpm(int g, const char* what) const {
+  const Bounds& bounds() {
+    if (!limits) {
+      Bounds b;
+      b.draws = 2 * uint64_t(objects) * frames.size();
+      b.triangles.assign(objects, 0);
+      for (const FrameTrace* f : frames) {
+        const uint64_t tile = uint64_t(f->tile_size) * uint64_t(f->tile_size);
+        std::vector<uint64_t> binned(objects, 0);
+        for (const TileWork& w : f->tiles) {
+          b.pixels += std::max<uint64_t>(w.passed, tile);
+          if (w.object < objects) binned[w.object] += w.triangles;
+        }
+        for (size_t o = 0; o < objects && o < f->objects.size(); ++o)
+          b.triangles[o] = std::max({b.triangles[o], uint64_t(f->objects[o].setup[0]) + f->objects[o].setup[1], binned[o]});
+      }
+      limits = std::move(b);
+    }
+    return *limits;
+  }
+  // Argument `param` of `fn` as one of the machine's GPMs.
+  int gpm(int64_t g, const char* fn, const char* param = "gpm") const {
     if (g < 0 || g >= sim->gpms())
-      bad(std::string(what) + ": GPM " + std::to_string(g) + " does not exist (GPMs 0 to " + std::to_string(sim->gpms() - 1) +
-          ")");
+      bad(arg(fn, param, g) + "GPM " + std::to_string(g) + " does not exist (GPMs 0 to " + std::to_string(sim->gpms() - 1) + ")");
+    return int(g);
   }
-  void fb(int f, const char* what) const {
+  int fb(int64_t f, const char* fn, const char* param = "fb") const {
     if (f < 0 || f >= framebuffers)
-      bad(std::string(what) + ": framebuffer " + std::to_string(f) + " does not exist (this FrameSim has " +
+      bad(arg(fn, param, f) + "framebuffer " + std::to_string(f) + " does not exist (this FrameSim has " +
           std::to_string(framebuffers) + ")");
+    return int(f);
   }
-  void units(const std::vector<int>& after, const char* what) const {
-    const int n = int(sim->engine().units());
-    for (int u : after)
-      if (u < -1 || u >= n)
-        bad(std::string(what) + ": unit " + std::to_string(u) + " has not been added (units 0 to " + std::to_string(n - 1) +
-            "; -1 for none)");
+  // Units to wait for: each one added, or -1 for none.
+  template <class T>
+  std::vector<int> units(const std::vector<T>& after, const char* fn, const char* param = "after") const {
+    const int64_t n = int64_t(sim->engine().units());
+    std::vector<int> out;
+    for (T u : after) {
+      if (u < -1 || int64_t(u) >= n)
+        bad(std::string(fn) + "(" + param + "): unit " + std::to_string(u) + " has not been added (units 0 to " +
+            std::to_string(n - 1) + "; -1 for none)");
+      out.push_back(int(u));
+    }
+    return out;
+  }
+  // One unit that has been added.
+  int unit(int64_t u, const char* fn, const char* param = "unit") const {
+    const int64_t n = int64_t(sim->engine().units());
+    if (u < 0 || u >= n)
+      bad(arg(fn, param, u) + "unit " + std::to_string(u) + " has not been added (units 0 to " + std::to_string(n - 1) + ")");
+    return int(u);
+  }
+  std::string dram_holds() const { return "one GPM's DRAM holds (dram.capacity: " + std::to_string(dram_bytes) + " bytes)"; }
+  uint64_t bytes(const py::handle& v, const char* fn, const char* param) const {
+    return count(v, fn, param, dram_bytes, [this] { return dram_holds(); });
+  }
+  uint32_t object(int64_t o, const char* fn) const {
+    if (o < 0 || uint64_t(o) >= objects)
+      bad(arg(fn, "object", o) + "object " + std::to_string(o) + " does not exist (objects 0 to " +
+          std::to_string(int64_t(objects) - 1) + ")");
+    return uint32_t(o);
   }
   const FrameTrace* own(const PyRecords& r, const char* what) const {
     check_alive(r.token, "a Records");
@@ -141,6 +248,31 @@ struct PyResult {
   SchemeResult r;
 };
 
+// A positive, finite number of seconds or frames per second for a
+// SchemeResult's `attr`: a float, an int or another real number (numpy's).
+double positive(const py::handle& v, const char* attr, const char* what) {
+  double x = 0;
+  if (!PyBool_Check(v.ptr()) && PyNumber_Check(v.ptr()) && !PyComplex_Check(v.ptr())) {
+    x = PyFloat_AsDouble(v.ptr());
+    if (x == -1.0 && PyErr_Occurred()) {
+      const bool too_big = PyErr_ExceptionMatches(PyExc_OverflowError);
+      PyErr_Clear();
+      if (!too_big) throw py::type_error(std::string(attr) + " must be a number (float), not " + type_name(v));
+      x = HUGE_VAL;  // refused below, as infinite
+    }
+  } else {
+    throw py::type_error(std::string(attr) + " must be a number (float), not " + type_name(v));
+  }
+  if (!(x > 0 && std::isfinite(x))) bad(std::string(attr) + " must be " + what + ", not " + py::repr(v).cast<std::string>());
+  return x;
+}
+
+// A list of `attr`: any sequence but a str, bytes or a dict.
+bool is_list(const py::handle& v) {
+  return PySequence_Check(v.ptr()) && !py::isinstance<py::str>(v) && !py::isinstance<py::bytes>(v) &&
+         !py::isinstance<py::dict>(v);
+}
+
 Category category(const std::string& name) {
   for (int c = 0; c < kCategories; ++c)
     if (name == category_name(Category(c))) return Category(c);
@@ -153,8 +285,12 @@ void check_job(const PySim& s, const PyJob& j) {
   if (!j.token) bad("a TileJob without records");
   s.gpm(j.job.gpm, "TileJob");
   s.fb(j.job.fb, "TileJob");
-  s.units(j.job.after, "TileJob.after");
-  if (j.job.from >= s.sim->gpms() || j.job.from < -1) bad("TileJob.from_gpm " + std::to_string(j.job.from) + " does not exist");
+  s.units(j.job.after, "TileJob");
+  if (j.job.from >= s.sim->gpms() || j.job.from < -1)
+    bad(arg("TileJob", "from_gpm", j.job.from) + "GPM " + std::to_string(j.job.from) + " does not exist (GPMs 0 to " +
+        std::to_string(s.sim->gpms() - 1) + "; -1 for none)");
+  if (j.job.incoming > s.dram_bytes)
+    bad(arg("TileJob", "incoming", std::to_string(j.job.incoming)) + "more than " + s.dram_holds());
   for (const auto* v : {&j.job.fbs, &j.job.depth_fbs}) {
     if (!v->empty() && v->size() != j.job.records.size())
       bad("TileJob: per-record framebuffers must be one per record (" + std::to_string(j.job.records.size()) + "), not " +
@@ -175,9 +311,16 @@ class PythonScheme final : public Scheme {
   int frames_needed(int gpms) const override {
     py::gil_scoped_acquire gil;
     if (!py::hasattr(m_obj, "frames_needed")) return 1;
-    const int n = m_obj.attr("frames_needed")(gpms).cast<int>();
-    if (n < 1 || n > 1024) bad("frames_needed() returned " + std::to_string(n) + ": a scheme renders 1 to 1024 frames at once");
-    return n;
+    const py::object got = m_obj.attr("frames_needed")(gpms);
+    const py::object i = as_int(got);
+    if (!i)
+      throw py::type_error("a scheme's frames_needed() must return the frames it renders at once (an int), not " +
+                           type_name(got));
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow || n < 1 || n > 1024)
+      bad("frames_needed() returned " + py::repr(i).cast<std::string>() + ": a scheme renders 1 to 1024 frames at once");
+    return int(n);
   }
 
   void configure(Config& config) const override {
@@ -213,10 +356,23 @@ SchemeRef scheme_of(const py::handle& s) {
   if (py::isinstance<py::str>(s)) return find_scheme(s.cast<std::string>());
   if (!py::hasattr(s, "run"))
     throw py::type_error("a scheme is a registered scheme's name (str) or an object with a run(input) method, not " +
-                         std::string(py::str(py::type::of(s).attr("__name__"))));
+                         type_name(s));
+  if (!PyCallable_Check(s.attr("run").ptr()))
+    throw py::type_error("a scheme's run is a method run(input), not " + type_name(s.attr("run")) + " (not callable)");
   // Its `name`, else its class's name.
-  std::string name = py::hasattr(s, "name") ? py::str(s.attr("name")).cast<std::string>() : "";
+  std::string name;
+  if (py::hasattr(s, "name")) {
+    const py::object n = s.attr("name");
+    if (!py::isinstance<py::str>(n)) throw py::type_error("a scheme's name must be a str, not " + type_name(n));
+    name = n.cast<std::string>();
+  }
   if (name.empty()) name = py::str(py::type::of(s).attr("__name__")).cast<std::string>();
+  // Results carry the name, and a registered scheme's name means that
+  // scheme (the comparison's ratios are against "baseline"): a Python
+  // scheme cannot take one.
+  if (Schemes::find(name))
+    throw Error("a Python scheme cannot be named '" + name + "': that is a registered scheme's name ('oovr schemes' lists " +
+                "them); give it a name of its own");
   return {name, std::make_shared<PythonScheme>(py::reinterpret_borrow<py::object>(s))};
 }
 
@@ -261,19 +417,21 @@ void bind_schemes(py::module_& m) {
           py::arg("index"))
       .def(
           "split",
-          [](const PyRecords& r, const std::function<int(const PyRecord&)>& key, int parts) {
+          [](const PyRecords& r, const py::function& key, int64_t parts) {
             check_alive(r.token, "a Records");
-            if (parts < 1 || parts > 4096) bad("split: parts must be 1 to 4096");
+            if (parts < 1 || parts > 4096) bad(arg("split", "parts", parts) + "parts must be 1 to 4096");
             std::vector<PyRecords> out(size_t(parts), PyRecords{r.token, r.trace, {}});
             for (const TileWork* w : r.records) {
-              const int k = key(PyRecord{r.token, w});
+              const int64_t k = returned_int(
+                  key(PyRecord{r.token, w}), [] { return std::string("split(key): the key"); }, "a part (int)");
               if (k < 0 || k >= parts)
-                bad("split: the key gave " + std::to_string(k) + ", not 0 to " + std::to_string(parts - 1));
+                bad("split(key): the key gave " + std::to_string(k) + ", not 0 to " + std::to_string(parts - 1) + " (parts " +
+                    std::to_string(parts) + ")");
               out[size_t(k)].records.push_back(w);
             }
             return out;
           },
-          py::arg("key"), py::arg("parts"),
+          py::arg("key").none(false), py::arg("parts"),
           "The records in `parts` groups by key(record) (0 to parts-1), each in trace order: e.g. by the GPM owning "
           "each record's tile.")
       .def(
@@ -286,7 +444,7 @@ void bind_schemes(py::module_& m) {
             out.records.insert(out.records.end(), b.records.begin(), b.records.end());
             return out;
           },
-          py::arg("other"));
+          py::arg("other").none(false));
 
   py::class_<PyTrace>(m, "Trace", "One frame's FrameTrace, as a scheme sees it.")
       .def_property_readonly(
@@ -299,11 +457,13 @@ void bind_schemes(py::module_& m) {
           "objects", [](const PyTrace& t) { return t.get().objects.size(); }, "Objects (draws), in draw order.")
       .def(
           "triangles_set_up",
-          [](const PyTrace& t, uint32_t object, int eye) {
+          [](const PyTrace& t, int64_t object, int64_t eye) {
             const FrameTrace& f = t.get();
-            if (object >= f.objects.size()) bad("object " + std::to_string(object) + " does not exist");
-            if (eye < 0 || eye > 1) bad("eye " + std::to_string(eye) + ": 0 (left) or 1 (right)");
-            return f.objects[object].setup[eye];
+            if (object < 0 || uint64_t(object) >= f.objects.size())
+              bad(arg("triangles_set_up", "object", object) + "object " + std::to_string(object) +
+                  " does not exist (objects 0 to " + std::to_string(int64_t(f.objects.size()) - 1) + ")");
+            if (eye < 0 || eye > 1) bad(arg("triangles_set_up", "eye", eye) + "eye is 0 (left) or 1 (right)");
+            return f.objects[size_t(object)].setup[eye];
           },
           py::arg("object"), py::arg("eye"), "Triangles of `object` set up for `eye` (after clip and cull).")
       .def(
@@ -336,11 +496,12 @@ void bind_schemes(py::module_& m) {
           "Frames of trace (one unless the scheme renders several at once).")
       .def(
           "frame",
-          [](const PyInput& i, size_t k) {
+          [](const PyInput& i, int64_t k) {
             check_alive(i.token, "a SchemeInput");
-            if (k >= i.in.frames.size())
-              throw py::index_error("frame " + std::to_string(k) + " of " + std::to_string(i.in.frames.size()));
-            return PyTrace{i.token, i.in.frames[k]};
+            if (k < 0 || uint64_t(k) >= i.in.frames.size())
+              bad(arg("frame", "k", k) + "frame " + std::to_string(k) + " does not exist (frames 0 to " +
+                  std::to_string(int64_t(i.in.frames.size()) - 1) + ")");
+            return PyTrace{i.token, i.in.frames[size_t(k)]};
           },
           py::arg("k") = 0, "The k-th frame's trace.")
       .def_property_readonly("objects", &PyInput::objects, "Objects of the scene.")
@@ -363,19 +524,20 @@ void bind_schemes(py::module_& m) {
   py::class_<PySim, std::shared_ptr<PySim>>(m, "FrameSim",
                                             "A memory system and timing engine for the configured machine with the scene laid "
                                             "out in memory: the work a scheme adds is replayed through it (schemes/frame_sim.h).")
-      .def(py::init([](const std::shared_ptr<PyInput>& i, int framebuffers) {
+      .def(py::init([](const std::shared_ptr<PyInput>& i, int64_t framebuffers) {
              check_alive(i->token, "a SchemeInput");
              if (framebuffers < 1 || framebuffers > 1 + kMaxGpms)
-               bad("framebuffers must be 1 to " + std::to_string(1 + kMaxGpms));
+               bad(arg("FrameSim", "framebuffers", framebuffers) + "framebuffers must be 1 to " + std::to_string(1 + kMaxGpms));
              auto s = std::make_shared<PySim>();
              s->token = i->token;
-             s->sim = std::make_unique<FrameSim>(i->in, framebuffers);
-             s->framebuffers = framebuffers;
+             s->sim = std::make_unique<FrameSim>(i->in, int(framebuffers));
+             s->framebuffers = int(framebuffers);
              s->frames = i->in.frames;
              s->objects = i->in.scene->objects.size();
+             s->dram_bytes = MemorySpec::from_config(i->in.config).dram_capacity.value;
              return s;
            }),
-           py::arg("input"), py::arg("framebuffers") = 1,
+           py::arg("input").none(false), py::arg("framebuffers") = 1,
            "`framebuffers` colour and depth buffer pairs (sort_last_framebuffers(gpms) for sort-last schemes).")
       .def_property_readonly(
           "gpms", [](PySim& s) { return s.get().gpms(); }, "GPMs of the machine.")
@@ -383,71 +545,82 @@ void bind_schemes(py::module_& m) {
           "sms", [](PySim& s) { return s.get().sms(); }, "SMs per GPM.")
       .def(
           "frame",
-          [](PySim& s, size_t k) {
+          [](PySim& s, int64_t k) {
             (void)s.get();
-            if (k >= s.frames.size())
-              throw py::index_error("frame " + std::to_string(k) + " of " + std::to_string(s.frames.size()));
-            return PyTrace{s.token, s.frames[k]};
+            if (k < 0 || uint64_t(k) >= s.frames.size())
+              bad(arg("frame", "k", k) + "frame " + std::to_string(k) + " does not exist (frames 0 to " +
+                  std::to_string(int64_t(s.frames.size()) - 1) + ")");
+            return PyTrace{s.token, s.frames[size_t(k)]};
           },
           py::arg("k") = 0, "The k-th frame's trace.")
       .def(
           "command",
-          [](PySim& s, int gpm, int draws) {
+          [](PySim& s, int64_t gpm, const py::object& draws) {
             FrameSim& f = s.adding();
-            s.gpm(gpm, "command");
-            if (draws < 1) bad("command: draws must be at least 1");
-            return f.command(gpm, draws);
+            const int g = s.gpm(gpm, "command");
+            const uint64_t most = s.bounds().draws;
+            const uint64_t n = count(draws, "command", "draws", most, [&] {
+              return "this run's frames hold (" + std::to_string(most) + ": both views of " + std::to_string(s.objects) +
+                     " objects in " + std::to_string(s.frames.size()) + " frames)";
+            });
+            if (n < 1) bad(arg("command", "draws", 0) + "draws must be at least 1");
+            return f.command(g, int(n));
           },
           py::arg("gpm"), py::arg("draws") = 1,
           "GPM `gpm`'s front end receives `draws` draws (per-draw cost); the draw becomes the GPM's current one. Returns "
           "the unit.")
       .def(
           "use_draw",
-          [](PySim& s, int gpm, int unit) {
+          [](PySim& s, int64_t gpm, int64_t unit) {
             FrameSim& f = s.adding();
-            s.gpm(gpm, "use_draw");
-            s.units({unit}, "use_draw");
-            f.use_draw(gpm, unit);
+            f.use_draw(s.gpm(gpm, "use_draw"), s.unit(unit, "use_draw", "command_unit"));
           },
           py::arg("gpm"), py::arg("command_unit"), "Pipeline units added on `gpm` from now on belong to that draw.")
       .def(
           "geometry",
-          [](PySim& s, int gpm, uint32_t object, int vertex_passes, uint64_t triangles, const std::vector<int>& after) {
+          [](PySim& s, int64_t gpm, int64_t object, int64_t vertex_passes, const py::object& triangles,
+             const std::vector<int64_t>& after) {
             FrameSim& f = s.adding();
-            s.gpm(gpm, "geometry");
-            if (object >= s.objects) bad("geometry: object " + std::to_string(object) + " does not exist");
-            if (vertex_passes < 1 || vertex_passes > 2) bad("geometry: vertex_passes is 1 (SMP) or 2 (one per eye)");
-            s.units(after, "geometry");
-            return f.geometry(gpm, object, vertex_passes, triangles, after);
+            const int g = s.gpm(gpm, "geometry");
+            const uint32_t o = s.object(object, "geometry");
+            if (vertex_passes < 1 || vertex_passes > 2)
+              bad(arg("geometry", "vertex_passes", vertex_passes) + "vertex_passes is 1 (SMP) or 2 (one per eye)");
+            const uint64_t most = s.bounds().triangles[o];
+            const uint64_t t = count(triangles, "geometry", "triangles", most, [&] {
+              return "object " + std::to_string(o) + " has in this run's frames (at most " + std::to_string(most) +
+                     ": set up in both eyes, or binned to its tiles)";
+            });
+            return f.geometry(g, o, int(vertex_passes), t, s.units(after, "geometry"));
           },
           py::arg("gpm"), py::arg("object"), py::arg("vertex_passes"), py::arg("triangles"),
           py::arg("after") = std::vector<int>{},
           "Vertex shading and set-up of `object` on `gpm` (vertex_passes 1 with SMP, 2 without); returns the unit.")
       .def(
           "tiles",
-          [](PySim& s, int gpm, const PyRecords& records, int fb, const std::vector<int>& after, int from_gpm,
-             uint64_t incoming) {
+          [](PySim& s, int64_t gpm, const PyRecords& records, int64_t fb, const std::vector<int64_t>& after, int64_t from_gpm,
+             const py::object& incoming) {
             FrameSim& f = s.adding();
             const FrameTrace* t = s.own(records, "tiles");
-            s.gpm(gpm, "tiles");
-            s.fb(fb, "tiles");
-            s.units(after, "tiles");
-            if (from_gpm < -1 || from_gpm >= f.gpms()) bad("tiles: from_gpm " + std::to_string(from_gpm) + " does not exist");
-            return f.tiles(gpm, records.records, fb, *t, after, from_gpm, incoming);
+            const int g = s.gpm(gpm, "tiles");
+            const int b = s.fb(fb, "tiles");
+            std::vector<int> units = s.units(after, "tiles");
+            const int from = from_gpm == -1 ? -1 : s.gpm(from_gpm, "tiles", "from_gpm");
+            const uint64_t bytes = s.bytes(incoming, "tiles", "incoming");
+            return f.tiles(g, records.records, b, *t, std::move(units), from, bytes);
           },
-          py::arg("gpm"), py::arg("records"), py::arg("fb") = 0, py::arg("after") = std::vector<int>{}, py::arg("from_gpm") = -1,
-          py::arg("incoming") = 0,
+          py::arg("gpm"), py::arg("records").none(false), py::arg("fb") = 0, py::arg("after") = std::vector<int>{},
+          py::arg("from_gpm") = -1, py::arg("incoming") = 0,
           "Rasterisation, shading, texturing and ROP work of `records` on `gpm`, into framebuffer `fb`; `incoming` bytes "
           "of set-up triangles come from `from_gpm` first. Returns the unit.")
       .def(
           "tiles_together",
           [](PySim& s, const std::vector<PyJob*>& jobs) {
             FrameSim& f = s.adding();
-            if (jobs.empty()) bad("tiles_together: no jobs");
+            if (jobs.empty()) bad("tiles_together(jobs=[]): no jobs");
             std::vector<FrameSim::TileJob> js;
             const FrameTrace* t = nullptr;
             for (const PyJob* j : jobs) {
-              if (!j) bad("tiles_together: a job is None");
+              if (!j) throw py::type_error("tiles_together(jobs): a job is None, not a TileJob");
               check_job(s, *j);
               if (j->token != s.token) throw std::runtime_error("tiles_together: a job's records belong to another run");
               if (t && j->trace != t) bad("tiles_together: the jobs' records are of different frames");
@@ -463,28 +636,36 @@ void bind_schemes(py::module_& m) {
           "in job order.")
       .def(
           "transfer",
-          [](PySim& s, int from_gpm, int to_gpm, uint64_t bytes, const std::string& what, const std::vector<int>& after) {
+          [](PySim& s, int64_t from_gpm, int64_t to_gpm, const py::object& bytes, const std::string& what,
+             const std::vector<int64_t>& after) {
             FrameSim& f = s.adding();
-            s.gpm(from_gpm, "transfer");
-            s.gpm(to_gpm, "transfer");
-            s.units(after, "transfer");
-            return f.transfer(from_gpm, to_gpm, bytes, category(what), after);
+            const int from = s.gpm(from_gpm, "transfer", "from_gpm");
+            const int to = s.gpm(to_gpm, "transfer", "to_gpm");
+            const uint64_t n = s.bytes(bytes, "transfer", "bytes");
+            const Category c = category(what);
+            return f.transfer(from, to, n, c, s.units(after, "transfer"));
           },
           py::arg("from_gpm"), py::arg("to_gpm"), py::arg("bytes"), py::arg("category"), py::arg("after") = std::vector<int>{},
           "Moves bytes between GPMs over the links (category: vertex, index, texture, depth, colour, composition, "
           "prealloc, command); returns the unit.")
       .def(
           "compose",
-          [](PySim& s, int gpm, uint64_t pixels, const std::vector<int>& after, const std::optional<PyRecords>& records) {
+          [](PySim& s, int64_t gpm, const py::object& pixels, const std::vector<int64_t>& after,
+             const std::optional<PyRecords>& records) {
             FrameSim& f = s.adding();
-            s.gpm(gpm, "compose");
-            s.units(after, "compose");
+            const int g = s.gpm(gpm, "compose");
+            const uint64_t most = s.bounds().pixels;
+            const uint64_t n = count(pixels, "compose", "pixels", most, [&] {
+              return "this run's frames can compose (at most " + std::to_string(most) +
+                     ": per record, its passed fragments or its tile's pixels, the more)";
+            });
+            std::vector<int> units = s.units(after, "compose");
             std::vector<const TileWork*> merged;
             if (records) {
               (void)s.own(*records, "compose");
               merged = records->records;
             }
-            return f.compose(gpm, merged, pixels, after);
+            return f.compose(g, merged, n, std::move(units));
           },
           py::arg("gpm"), py::arg("pixels"), py::arg("after") = std::vector<int>{}, py::arg("records") = py::none(),
           "ROP work merging `pixels` on `gpm` (composition), beside its pipeline: the pixels that `records` wrote into "
@@ -492,39 +673,38 @@ void bind_schemes(py::module_& m) {
           "the unit.")
       .def(
           "declare_repeats",
-          [](PySim& s, int times) {
+          [](PySim& s, int64_t times) {
             FrameSim& f = s.adding();
-            if (times < 1 || times > 1000) bad("declare_repeats: times must be 1 to 1000");
-            f.declare_repeats(times);
+            if (times < 1 || times > 1000) bad("declare_repeats: times must be 1 to 1000, not " + std::to_string(times));
+            f.declare_repeats(int(times));
           },
           py::arg("times"), "The scheme rasterises some records up to `times` times by design (the run's check allows it).")
       .def(
           "end_draw",
-          [](PySim& s, int gpm) {
+          [](PySim& s, int64_t gpm) {
             FrameSim& f = s.adding();
-            if (gpm != -1) s.gpm(gpm, "end_draw");
-            f.end_draw(gpm);
+            f.end_draw(gpm == -1 ? -1 : s.gpm(gpm, "end_draw"));
           },
           py::arg("gpm") = -1, "GPM `gpm` (-1: every GPM) finished a draw: call it after adding the draw's units there.")
       .def(
           "now", [](PySim& s) { return s.get().engine().now(); }, "From on_finish: the simulated time, in seconds.")
       .def(
           "work_left",
-          [](PySim& s, int unit) {
+          [](PySim& s, int64_t unit) {
             (void)s.get();
-            s.units({unit}, "work_left");
-            if (unit < 0) bad("work_left: unit -1");
-            return s.sim->engine().work_left(unit);
+            return s.sim->engine().work_left(s.unit(unit, "work_left"));
           },
           py::arg("unit"), "From on_finish: the fraction of a unit's work still to do.")
       .def(
           "finish",
-          [](PySim& s, const std::string& name, int frames_in_flight, const std::optional<std::function<void(int)>>& on_finish) {
+          [](PySim& s, const std::string& name, int64_t frames_in_flight,
+             const std::optional<std::function<void(int)>>& on_finish) {
             FrameSim& f = s.get();
             if (s.state != PySim::State::building)
               throw std::runtime_error("FrameSim.finish() runs once (it has run, or it is running: on_finish adds work)");
-            if (frames_in_flight < 1 || frames_in_flight > int(s.frames.size()))
-              bad("finish: frames_in_flight must be 1 to the frames given (" + std::to_string(s.frames.size()) + ")");
+            if (frames_in_flight < 1 || uint64_t(frames_in_flight) >= s.frames.size() + 1)
+              bad(arg("finish", "frames_in_flight", frames_in_flight) + "frames_in_flight must be 1 to the frames given (" +
+                  std::to_string(s.frames.size()) + ")");
             std::function<void(int)> hook;
             if (on_finish) hook = *on_finish;
             s.state = PySim::State::running;
@@ -532,24 +712,41 @@ void bind_schemes(py::module_& m) {
               PySim& s;
               ~Done() { s.state = PySim::State::done; }
             } done{s};
-            return PyResult{f.finish(name, frames_in_flight, hook)};
+            return PyResult{f.finish(name, int(frames_in_flight), hook)};
           },
           py::arg("name"), py::arg("frames_in_flight") = 1, py::arg("on_finish") = py::none(),
           "Runs the timing engine over the work added; `on_finish(unit)` is called as units end and may add work. "
           "Returns the result run() returns.");
 
   py::class_<PyJob>(m, "TileJob", "One GPM's share of a draw's tile work (FrameSim.tiles_together).")
-      .def(
-          py::init([](int gpm, const PyRecords& records, int fb, const std::vector<int>& after, int from_gpm, uint64_t incoming) {
-            check_alive(records.token, "a Records");
-            PyJob j;
-            j.token = records.token;
-            j.trace = records.trace;
-            j.job = FrameSim::TileJob{gpm, records.records, fb, after, from_gpm, incoming};
-            return j;
-          }),
-          py::arg("gpm"), py::arg("records"), py::arg("fb") = 0, py::arg("after") = std::vector<int>{}, py::arg("from_gpm") = -1,
-          py::arg("incoming") = 0)
+      .def(py::init([](int64_t gpm, const PyRecords& records, int64_t fb, const std::vector<int64_t>& after, int64_t from_gpm,
+                       const py::object& incoming) {
+             check_alive(records.token, "a Records");
+             // Checked against the machine where the job is used (check_job);
+             // here, what no machine has.
+             if (gpm < 0 || gpm >= kMaxGpms)
+               bad(arg("TileJob", "gpm", gpm) + "GPM " + std::to_string(gpm) + " does not exist (a machine has at most " +
+                   std::to_string(kMaxGpms) + " GPMs)");
+             if (fb < 0 || fb > kMaxGpms)
+               bad(arg("TileJob", "fb", fb) + "framebuffer " + std::to_string(fb) + " does not exist (at most " +
+                   std::to_string(1 + kMaxGpms) + ")");
+             if (from_gpm < -1 || from_gpm >= kMaxGpms)
+               bad(arg("TileJob", "from_gpm", from_gpm) + "GPM " + std::to_string(from_gpm) + " does not exist (-1 for none)");
+             std::vector<int> units;
+             for (int64_t u : after) {
+               if (u < -1 || u > INT_MAX) bad("TileJob(after): unit " + std::to_string(u) + " has not been added (-1 for none)");
+               units.push_back(int(u));
+             }
+             const uint64_t bytes =
+                 count(incoming, "TileJob", "incoming", UINT64_MAX, [] { return std::string("any size oovr takes"); });
+             PyJob j;
+             j.token = records.token;
+             j.trace = records.trace;
+             j.job = FrameSim::TileJob{int(gpm), records.records, int(fb), std::move(units), int(from_gpm), bytes};
+             return j;
+           }),
+           py::arg("gpm"), py::arg("records").none(false), py::arg("fb") = 0, py::arg("after") = std::vector<int>{},
+           py::arg("from_gpm") = -1, py::arg("incoming") = 0)
       .def_property_readonly(
           "gpm", [](const PyJob& j) { return j.job.gpm; }, "The GPM doing the work.")
       .def_property_readonly(
@@ -562,23 +759,23 @@ void bind_schemes(py::module_& m) {
              FrameSim& f = sim->get();
              std::function<int(int, int)> fn;
              const int gpms = f.gpms();
-             if (py::isinstance<py::int_>(owner)) {
-               const int root = owner.cast<int>();
-               sim->gpm(root, "Composer");
+             if (as_int(owner)) {
+               const int root = sim->gpm(whole(owner, "Composer(owner)"), "Composer", "owner");
                fn = [root](int, int) { return root; };
              } else if (PyCallable_Check(owner.ptr())) {
                // Checked on every call: the owner is the scheme's code.
                fn = [owner, gpms](int x, int y) {
-                 const int g = owner(x, y).cast<int>();
-                 if (g < 0 || g >= gpms) bad("the composer's owner gave GPM " + std::to_string(g) + ", which does not exist");
-                 return g;
+                 return returned_gpm(owner(x, y), gpms, [&] {
+                   return "Composer(owner): owner(" + std::to_string(x) + ", " + std::to_string(y) + ")";
+                 });
                };
              } else {
-               throw py::type_error("Composer's owner is a GPM (int) or a function (tile_x, tile_y) -> GPM");
+               throw py::type_error("Composer(owner): the owner is a GPM (int) or a function (tile_x, tile_y) -> GPM, not " +
+                                    type_name(owner));
              }
              return PyComposer{sim, std::make_unique<Composer>(f, CompositionSpec::from_config(f.config()), fn)};
            }),
-           py::arg("sim"), py::arg("owner"),
+           py::arg("sim").none(false), py::arg("owner"),
            "`owner`: the GPM owning every pixel (the root), or a function (tile_x, tile_y) -> GPM. The payload and "
            "granularity come from the configuration (composition.payload, composition.granularity).")
       .def(
@@ -588,16 +785,16 @@ void bind_schemes(py::module_& m) {
             check_job(*c.sim, j);
             comp.target(j.job);
           },
-          py::arg("job"), "Sets where the job's records write: owned pixels into the final frame, the rest into its own buffer.")
+          py::arg("job").none(false),
+          "Sets where the job's records write: owned pixels into the final frame, the rest into its own buffer.")
       .def(
           "send",
-          [](PyComposer& c, const PyJob& j, int unit) {
+          [](PyComposer& c, const PyJob& j, int64_t unit) {
             Composer& comp = c.get();
             check_job(*c.sim, j);
-            c.sim->units({unit}, "send");
-            comp.send(j.job, unit);
+            comp.send(j.job, c.sim->unit(unit, "send"));
           },
-          py::arg("job"), py::arg("unit"),
+          py::arg("job").none(false), py::arg("unit"),
           "After `unit` (the job's work), sends the job's pixels owned elsewhere to their owners, whose ROPs merge them.");
 
   // A scheme may restate what a frame's latency is after finish(), as AFR
@@ -611,48 +808,68 @@ void bind_schemes(py::module_& m) {
           "gpms", [](const PyResult& r) { return r.r.gpms; }, "GPMs of the machine.")
       .def_property(
           "frame_latency_s", [](const PyResult& r) { return r.r.frame_latency_s; },
-          [](PyResult& r, double v) {
-            if (!(v > 0 && std::isfinite(v))) bad("frame_latency_s must be a positive number of seconds");
-            r.r.frame_latency_s = v;
+          [](PyResult& r, const py::object& v) {
+            r.r.frame_latency_s = positive(v, "frame_latency_s", "a positive number of seconds");
           },
           "One frame, first command to last pixel, seconds.")
       .def_property(
           "frame_latencies_s", [](const PyResult& r) { return r.r.frame_latencies_s; },
-          [](PyResult& r, const std::vector<double>& v) {
-            if (v.empty()) bad("frame_latencies_s needs at least one frame");
-            for (double x : v)
-              if (!(x > 0 && std::isfinite(x))) bad("frame_latencies_s must be positive numbers of seconds");
-            r.r.frame_latencies_s = v;
+          [](PyResult& r, const py::object& v) {
+            if (!is_list(v)) throw py::type_error("frame_latencies_s must be a list of seconds (floats), not " + type_name(v));
+            std::vector<double> seconds;
+            for (const py::handle& x : v) seconds.push_back(positive(x, "frame_latencies_s", "positive numbers of seconds"));
+            if (seconds.empty()) bad("frame_latencies_s needs at least one frame");
+            r.r.frame_latencies_s = std::move(seconds);
           },
           "Each frame's latency (several with frames in flight).")
       .def_property(
           "throughput_fps", [](const PyResult& r) { return r.r.throughput_fps; },
-          [](PyResult& r, double v) {
-            if (!(v > 0 && std::isfinite(v))) bad("throughput_fps must be a positive number");
-            r.r.throughput_fps = v;
-          },
+          [](PyResult& r, const py::object& v) { r.r.throughput_fps = positive(v, "throughput_fps", "a positive number"); },
           "Frames per second, frames in flight overlapping.")
       .def_property(
           "notes", [](const PyResult& r) { return r.r.notes; },
-          [](PyResult& r, const std::vector<std::string>& v) { r.r.notes = v; }, "What the scheme reports of itself, as text.")
+          [](PyResult& r, const py::object& v) {
+            if (!is_list(v)) throw py::type_error("notes must be a list of str, not " + type_name(v));
+            std::vector<std::string> notes;
+            for (const py::handle& n : v) {
+              if (!py::isinstance<py::str>(n)) throw py::type_error("notes must be a list of str, not of " + type_name(n));
+              notes.push_back(n.cast<std::string>());
+            }
+            r.r.notes = std::move(notes);
+          },
+          "What the scheme reports of itself, as text.")
       .def_property_readonly(
           "gpm_busy_s", [](const PyResult& r) { return r.r.gpm_busy_s; }, "Each GPM's busy time, seconds.")
       .def_property_readonly(
           "inter_gpm_bytes", [](const PyResult& r) { return r.r.total_inter_gpm_bytes(); }, "Bytes moved between GPMs.");
 
-  m.def("sort_last_framebuffers", &sort_last_framebuffers, py::arg("gpms"),
-        "Framebuffers of a sort-last scheme: 0 is the final frame, 1 + g GPM g's own.");
+  m.def(
+      "sort_last_framebuffers",
+      [](int64_t gpms) {
+        if (gpms < 1 || gpms > kMaxGpms)
+          bad(arg("sort_last_framebuffers", "gpms", gpms) + "a machine has 1 to " + std::to_string(kMaxGpms) + " GPMs");
+        return sort_last_framebuffers(int(gpms));
+      },
+      py::arg("gpms"), "Framebuffers of a sort-last scheme: 0 is the final frame, 1 + g GPM g's own.");
   m.def(
       "vertical_strip_owner",
-      [](int tile_x, int tiles_x, int gpms) {
-        if (gpms < 1 || tiles_x < 1 || tile_x < 0 || tile_x >= tiles_x) bad("vertical_strip_owner: tile or GPMs out of range");
-        return vertical_strip_owner(tile_x, tiles_x, gpms);
+      [](int64_t tile_x, int64_t tiles_x, int64_t gpms) {
+        // A frame is at most 16384 pixels wide (resolutions are checked so).
+        constexpr int64_t most_tiles = 16384;
+        if (gpms < 1 || gpms > kMaxGpms)
+          bad(arg("vertical_strip_owner", "gpms", gpms) + "a machine has 1 to " + std::to_string(kMaxGpms) + " GPMs");
+        if (tiles_x < 1 || tiles_x > most_tiles)
+          bad(arg("vertical_strip_owner", "tiles_x", tiles_x) + "a frame has 1 to " + std::to_string(most_tiles) +
+              " tile columns");
+        if (tile_x < 0 || tile_x >= tiles_x)
+          bad(arg("vertical_strip_owner", "tile_x", tile_x) + "tile columns are 0 to " + std::to_string(tiles_x - 1));
+        return vertical_strip_owner(int(tile_x), int(tiles_x), int(gpms));
       },
       py::arg("tile_x"), py::arg("tiles_x"), py::arg("gpms"),
       "The GPM owning tile column `tile_x` when the frame is cut into one vertical strip of whole tile columns per GPM.");
   m.def(
       "sort_first",
-      [](const std::shared_ptr<PySim>& s, const std::function<int(int, int, int)>& owner, const std::string& geometry) {
+      [](const std::shared_ptr<PySim>& s, const py::function& owner, const std::string& geometry) {
         FrameSim& f = s->adding();
         Geometry g;
         if (geometry == "shared") g = Geometry::shared;
@@ -663,13 +880,14 @@ void bind_schemes(py::module_& m) {
         sort_first(
             f,
             [&](int x, int y, int eye) {
-              const int gpm = owner(x, y, eye);
-              if (gpm < 0 || gpm >= gpms) bad("sort_first: the owner gave GPM " + std::to_string(gpm) + ", which does not exist");
-              return gpm;
+              return returned_gpm(owner(x, y, eye), gpms, [&] {
+                return "sort_first(owner): owner(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(eye) +
+                       ")";
+              });
             },
             g);
       },
-      py::arg("sim"), py::arg("owner"), py::arg("geometry"),
+      py::arg("sim").none(false), py::arg("owner").none(false), py::arg("geometry"),
       "Renders frame 0 sort-first, draw by draw, every tile by its owner(tile_x, tile_y, eye); geometry 'shared' "
       "(once per draw, SMP), 'duplicated_smp' or 'duplicated_per_eye' (schemes/sort_first.h).");
 }

@@ -10,15 +10,19 @@ serves what other processes rendered), so a loop over configurations renders eac
 ``trace_stats()`` says what was rendered and what was reused.
 
 Errors carry oovr's message: ``FileNotFoundError`` for a file or game data that is not there,
-``KeyError`` for an unknown configuration key, ``ValueError`` for any other bad argument,
-``TypeError`` for an argument of the wrong type.
+``KeyError`` for an unknown configuration key, ``ValueError`` for any other bad argument (naming
+it), ``TypeError`` for an argument of the wrong type.
 """
 
 from __future__ import annotations
 
+import collections.abc
+import numbers
 import os
 import sqlite3
-from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
+import threading
+import urllib.parse
+from typing import IO, Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
 
 from . import _oovr
 from ._oovr import (
@@ -62,6 +66,29 @@ def _pandas():
     return pandas
 
 
+def _type(v: Any) -> str:
+    return type(v).__name__
+
+
+def _path(name: str, v: Any, what: str) -> str:
+    """`v` as a file's path (str or os.PathLike): TypeError naming `name` for anything else."""
+    if not isinstance(v, (str, os.PathLike)):
+        raise TypeError(f"{name} is {what} (str or os.PathLike), not {_type(v)}")
+    return os.fspath(v)
+
+
+def _flag(name: str, v: Any) -> None:
+    if not isinstance(v, bool):
+        raise TypeError(f"{name} takes True or False, not {_type(v)}")
+
+
+def _whole(name: str, v: Any, lo: Optional[int] = None, hi: Optional[int] = None) -> None:
+    if not isinstance(v, numbers.Integral) or isinstance(v, bool):
+        raise TypeError(f"{name} takes a whole number, not {_type(v)}")
+    if lo is not None and not lo <= v <= hi:
+        raise ValueError(f"{name} {v}: give a whole number from {lo} to {hi}")
+
+
 def _call(name: str, *args: Any, **kwargs: Any) -> str:
     """The call as a results document's `command` records it: oovr.compare('courtyard', frames=8)."""
     words = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items() if v is not None]
@@ -82,10 +109,12 @@ def config(preset: Optional[Union[str, os.PathLike]] = None, overrides: Optional
     Every key and value is checked as the CLI checks them: KeyError for an unknown key,
     ValueError for a bad value, FileNotFoundError for a missing preset.
     """
+    if overrides is not None and not isinstance(overrides, collections.abc.Mapping):
+        raise TypeError(f"overrides is a dict of configuration keys and values, not {_type(overrides)}")
     merged: Dict[str, Any] = dict(overrides or {})
     for k, v in settings.items():
         merged[k.replace("__", ".")] = v
-    return Config(os.fspath(preset) if preset is not None else None, merged)
+    return Config(_path("preset", preset, "a TOML file's path") if preset is not None else None, merged)
 
 
 def schemes() -> Dict[str, str]:
@@ -212,12 +241,22 @@ class Comparison:
         import copy
         return copy.deepcopy(self._document)
 
-    def to_json(self, path: Union[str, os.PathLike]) -> None:
-        """Writes the results document as ``--json`` does."""
+    def to_json(self, path: Union[str, os.PathLike, IO[str]]) -> None:
+        """Writes the results document as ``--json`` does: to a path (str or os.PathLike), or to an
+        open text file (anything with write(); left open). A file descriptor (an int) is not
+        taken: wrap it with os.fdopen and pass the file."""
         import json
-        with open(path, "w") as f:
-            json.dump(self._document, f, indent=2)
-            f.write("\n")
+        if isinstance(path, (str, bytes, os.PathLike)):
+            with open(path, "w") as f:
+                json.dump(self._document, f, indent=2)
+                f.write("\n")
+        elif not isinstance(path, (int, float)) and callable(getattr(path, "write", None)):
+            json.dump(self._document, path, indent=2)
+            path.write("\n")
+        else:
+            raise TypeError(f"to_json takes a path (str or os.PathLike) or a text file open for writing, not "
+                            f"{_type(path)}" + (" (a file descriptor: pass os.fdopen(fd, 'w'))" if isinstance(path, int)
+                                                 and not isinstance(path, bool) else ""))
 
     def __str__(self) -> str:
         return self._text.rstrip("\n")
@@ -226,40 +265,48 @@ class Comparison:
         return f"<oovr.Comparison of {len(self.results)} schemes on {self._document['scene']}>"
 
 
-def _run(call: str, scene, schemes_: Sequence, config_: Optional[Config], frames: Optional[int], frame: int,
-         resolution: str, eye_resolution: Optional[str], aniso: int, cache: bool, images: bool, jobs: int) -> Comparison:
-    if config_ is not None and not isinstance(config_, Config):
-        raise TypeError(f"config must be an oovr.Config (oovr.config(...)), not {type(config_).__name__}")
-    def whole(name, v, lo=None, hi=None):
-        if not isinstance(v, int) or isinstance(v, bool):
-            raise TypeError(f"{name} takes a whole number, not {type(v).__name__}")
-        if lo is not None and not lo <= v <= hi:
-            raise ValueError(f"{name} {v}: give a whole number from {lo} to {hi}")
+def _scene_name(scene: Any) -> str:
+    if isinstance(scene, str):
+        return scene
+    if isinstance(scene, Scene):
+        return scene.spec
+    raise TypeError(f"scene must be a name (str) or a Scene from oovr.load_scene, not {_type(scene)}")
 
+
+def _run(call: str, scene, schemes_: Sequence, config_: Optional[Config], frames: Optional[int], frame: int,
+         resolution: Optional[str], eye_resolution: Optional[str], aniso: int, cache: bool, images: bool,
+         jobs: int) -> Comparison:
+    if config_ is not None and not isinstance(config_, Config):
+        raise TypeError(f"config must be an oovr.Config (oovr.config(...)), not {_type(config_)}")
     if frames is not None:
-        whole("frames", frames, 1, 1000)  # as the CLI's --frames
-    whole("frame", frame)  # its range is the camera path's, checked there
-    whole("aniso", aniso, 1, 16)
-    whole("jobs", jobs, 0, 1024)
+        _whole("frames", frames, 1, 1000)  # as the CLI's --frames
+    _whole("frame", frame)
+    if not 0 <= frame < 2**31:  # the camera path's range is checked by the C++
+        raise ValueError(f"frame {frame} is out of range: frames are numbered from 0 along the camera path")
+    _whole("aniso", aniso, 1, 16)
+    _whole("jobs", jobs, 0, 1024)
+    _flag("cache", cache)
+    _flag("images", images)
     for name, v in (("resolution", resolution), ("eye_resolution", eye_resolution)):
         if v is not None and not isinstance(v, str):
-            raise TypeError(f"{name} takes 'WxH' (a str), not {type(v).__name__}")
+            raise TypeError(f"{name} takes 'WxH' (a str), not {_type(v)}")
     return Comparison(_oovr._simulate(scene, list(schemes_), config_, frames or 0, frame, resolution, eye_resolution,
                                       aniso, cache, images, jobs, call))
 
 
 def simulate(scene: Union[str, Scene], scheme: Union[str, Scheme], config: Optional[Config] = None, *,
-             frames: Optional[int] = None, frame: int = 0, resolution: str = "1280x1024",
+             frames: Optional[int] = None, frame: int = 0, resolution: Optional[str] = None,
              eye_resolution: Optional[str] = None, aniso: int = 16, cache: bool = True,
              images: bool = False) -> Result:
     """Replays a scene's frames through one scheme, as ``oovr simulate``: returns a Result.
 
-    `scheme` is a registered scheme's name or a Python Scheme. `frames` are measured from
-    `frame` on (None: one per GPM); `resolution` is the whole side-by-side stereo frame
-    (or `eye_resolution` one eye's); `cache=False` renders the traces again; `images=True`
-    fills the result's gpm_image and traffic_image.
+    `scheme` is a registered scheme's name or a Python Scheme (whose name must not be a
+    registered scheme's). `frames` are measured from `frame` on (None: one per GPM);
+    `resolution` is the whole side-by-side stereo frame (None: 1280x1024) or `eye_resolution`
+    one eye's, not both; `cache=False` renders the traces again; `images=True` fills the
+    result's gpm_image and traffic_image.
     """
-    call = _call("simulate", scene if isinstance(scene, str) else scene.spec,
+    call = _call("simulate", _scene_name(scene),
                  scheme if isinstance(scheme, str) else getattr(scheme, "name", type(scheme).__name__),
                  frames=frames, frame=frame or None, resolution=resolution, eye_resolution=eye_resolution)
     return _run(call, scene, [scheme], config, frames, frame, resolution, eye_resolution, aniso, cache, images, 0).results[0]
@@ -267,18 +314,23 @@ def simulate(scene: Union[str, Scene], scheme: Union[str, Scheme], config: Optio
 
 def compare(scene: Union[str, Scene], schemes: Optional[Sequence[Union[str, Scheme]]] = None,
             config: Optional[Config] = None, *, frames: Optional[int] = None, frame: int = 0,
-            resolution: str = "1280x1024", eye_resolution: Optional[str] = None, aniso: int = 16,
+            resolution: Optional[str] = None, eye_resolution: Optional[str] = None, aniso: int = 16,
             cache: bool = True, images: bool = False, jobs: int = 0) -> Comparison:
     """Runs several schemes on the same frames, as ``oovr compare``: returns a Comparison.
 
     `schemes`: names and Python Schemes (None: the CLI's default, the paper's schemes in the
-    paper's order). The schemes run in parallel (`jobs`: at most that many at once; 0: every
-    core); the rest as simulate().
+    paper's order); two Python schemes of one name are refused. The schemes run in parallel
+    (`jobs`: at most that many at once; 0: every core); the rest as simulate().
     """
-    names = _oovr.default_compare_schemes() if schemes is None else list(schemes)
     if isinstance(schemes, str):
         raise TypeError("schemes is a list of schemes; for one, use oovr.simulate")
-    call = _call("compare", scene if isinstance(scene, str) else scene.spec,
+    if schemes is not None and (not isinstance(schemes, collections.abc.Iterable)
+                                or isinstance(schemes, (bytes, collections.abc.Mapping))):
+        raise TypeError(f"schemes is a list of schemes (names or Python Schemes), not {_type(schemes)}")
+    names = _oovr.default_compare_schemes() if schemes is None else list(schemes)
+    if not names:
+        raise ValueError("schemes is empty: give at least one scheme")
+    call = _call("compare", _scene_name(scene),
                  schemes=None if schemes is None else [s if isinstance(s, str) else getattr(s, "name", "") for s in names],
                  frames=frames, frame=frame or None, resolution=resolution, eye_resolution=eye_resolution)
     return _run(call, scene, names, config, frames, frame, resolution, eye_resolution, aniso, cache, images, jobs)
@@ -290,10 +342,16 @@ _CLI_FORMAT = {
     "inter-GPM MB": "{:.2f}", "traffic": "{:.2f}x", "best/worst": "{:.2f}",
 }
 _table_class = None
+_table_lock = threading.Lock()  # two threads' first tables make one class
 
 
 def _comparison_table():
     """A DataFrame that prints its columns as ``oovr compare`` does (made once pandas is imported)."""
+    with _table_lock:
+        return _table_class or _make_comparison_table()
+
+
+def _make_comparison_table():
     global _table_class
     if _table_class is None:
         pd = _pandas()
@@ -346,19 +404,28 @@ class SweepOutcome:
 
 
 def sweep(definition: Union[str, os.PathLike, Dict[str, Any]], db: Optional[Union[str, os.PathLike]] = None, *,
-          resume: bool = False, retry_failed: bool = False, jobs: int = 0, cache: bool = True,
+          resume: bool = False, retry_failed: bool = False, reconcile: bool = False, jobs: int = 0, cache: bool = True,
           progress: Union[bool, Callable[[Dict[str, Any]], None]] = True) -> SweepOutcome:
     """Runs a sweep into a results database with the engine ``oovr sweep`` uses (docs/sweeps.md).
 
     `definition`: a sweep file's path, or a dict with the same keys (``{"scenes": [...],
     "schemes": [...], "sweep": {"link.bandwidth": [...]}}``). `db`: the database (default: the
     file's or the sweep's name with .db, here). `resume` runs only the points the database
-    lacks; `retry_failed` runs the failed ones again. `progress`: True prints a line per point,
+    lacks; `retry_failed` runs the failed ones again; `reconcile`, when the database holds this
+    sweep from another version of its definition, keeps the runs the definition still has and
+    deletes the others (without it that is a ValueError). `progress`: True prints a line per point,
     a function is called with each point's record (id, scene, scheme, resolution, status, error,
     wall_s, swept: the swept keys' values in base units, settings: the same as text, total: the
     points this call runs), False is quiet. A failed point is stored with its error and the sweep goes on.
     Read the database with read_runs() and read_metrics().
     """
+    for flag, v in (("resume", resume), ("retry_failed", retry_failed), ("reconcile", reconcile), ("cache", cache)):
+        _flag(flag, v)
+    _whole("jobs", jobs, 0, 1024)
+    if not isinstance(progress, bool) and not callable(progress):
+        raise TypeError(f"progress takes True, False or a function of a point's record, not {_type(progress)}")
+    if db is not None:
+        db = _path("db", db, "the results database's path")
     if isinstance(definition, dict):
         text = _oovr._sweep_toml(definition)
         name = str(definition.get("name") or "sweep")
@@ -371,7 +438,8 @@ def sweep(definition: Union[str, os.PathLike, Dict[str, Any]], db: Optional[Unio
         base_dir = os.path.dirname(path)
         default_db = os.path.splitext(os.path.basename(path))[0] + ".db"
     else:
-        raise TypeError(f"a sweep definition is a sweep file's path or a dict of its keys, not {type(definition).__name__}")
+        raise TypeError(f"definition: a sweep definition is a sweep file's path or a dict of its keys, not "
+                        f"{_type(definition)}")
     db_path = os.fspath(db) if db is not None else default_db
     count = [0]
 
@@ -382,7 +450,7 @@ def sweep(definition: Union[str, os.PathLike, Dict[str, Any]], db: Optional[Unio
               f"({r['wall_s']:.1f} s){error}", flush=True)
 
     on_record = print_point if progress is True else (progress if callable(progress) else None)
-    out = SweepOutcome(_oovr._sweep(text, name, base_dir, db_path, resume, retry_failed, jobs, cache,
+    out = SweepOutcome(_oovr._sweep(text, name, base_dir, db_path, resume, retry_failed, reconcile, jobs, cache,
                                     _call("sweep", definition if not isinstance(definition, dict) else "<dict>",
                                           db=db_path), on_record, None))
     if progress is True:
@@ -394,10 +462,12 @@ def sweep(definition: Union[str, os.PathLike, Dict[str, Any]], db: Optional[Unio
 
 
 def _open_db(path: Union[str, os.PathLike]) -> sqlite3.Connection:
-    p = os.fspath(path)
+    p = _path("db", path, "a results database's path")
     if not os.path.isfile(p):
         raise FileNotFoundError(f"no results database {p!r}")
-    con = sqlite3.connect(f"file:{p}?mode=ro", uri=True)
+    _oovr._verify_db(p)  # oovr's, whole and undamaged (ValueError naming what is not)
+    # Read-only, by a URI whose path is quoted (a '?' or '#' in it is a name).
+    con = sqlite3.connect("file:" + urllib.parse.quote(os.path.abspath(p)) + "?mode=ro", uri=True)
     try:
         row = con.execute("SELECT value FROM meta WHERE key = 'schema'").fetchone()
     except sqlite3.DatabaseError as e:
