@@ -140,6 +140,61 @@ TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
   EXPECT_NE(error(big).find("more than 100000 points"), std::string::npos);
 }
 
+// One value, one spelling: a file giving a value twice had one of them
+// dropped silently. Names and values are bounded and printable, and the
+// point cap counts what the points hold (a 900,000-character scene name made
+// 2,025 points take 3.6 GB).
+TEST(Sweep, TwoSpellingsOfOneValueAndOversizedNamesAreRefused) {
+  const auto error = [](const std::string& text) { return message_of([&] { (void)parse_sweep(text, "t.toml", ""); }); };
+  EXPECT_NE(error("scene = 'crowd'\nscenes = ['courtyard']\nschemes = ['baseline']\n").find("scenes and scene both given"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nscheme = 'afr'\nschemes = ['baseline']\n").find("schemes and scheme both given"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['afr']\nresolution = '64x64'\nresolutions = ['64x64']\n")
+                .find("resolutions and resolution both given"),
+            std::string::npos);
+  EXPECT_NE(
+      error("scenes = ['crowd']\nschemes = ['afr']\n[sweep]\n'link.bandwidth' = ['1TBps']\n[sweep.link]\nbandwidth = ['2TBps']\n")
+          .find("sweep.link.bandwidth is given twice"),
+      std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['afr']\n[set]\n'link.bandwidth' = '1TBps'\n[set.link]\nbandwidth = '2TBps'\n")
+                .find("set.link.bandwidth is given twice"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['crowd']\nschemes = ['afr']\n[set]\ngpms = 2\n[sweep]\ngpms = [4, 8]\n")
+                .find("gpms is both set and swept"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = ['" + std::string(900000, 'x') + "']\nschemes = ['baseline']\n").find("more than 4096 characters"),
+            std::string::npos);
+  EXPECT_NE(error("scenes = [\"a\\u001b[31m\"]\nschemes = ['baseline']\n").find("control characters"), std::string::npos);
+  // 100,000 points are within the cap; with 4,000-character scene names
+  // they would hold about 3.3 GB, and are refused before they are made.
+  const auto grid = [](size_t name_chars) {
+    std::string t = "schemes = ['baseline']\nscenes = [";
+    for (int i = 0; i < 100; ++i) {
+      t += '\'';
+      t.append(name_chars, 'x');
+      t += std::to_string(i);
+      t += "',";
+    }
+    t += "]\n[sweep]\na = [";
+    for (int i = 0; i < 1000; ++i) t += std::to_string(i) + ",";
+    return t + "]\n";
+  };
+  EXPECT_EQ(error(grid(1)), "<no error>");
+  EXPECT_NE(error(grid(4000)).find("would hold about"), std::string::npos);
+  // The name reaches a shell script, file names, HTML and the terminal.
+  EXPECT_NE(error("name = \"x\\ntouch PWNED\\n#\"\nscenes = ['crowd']\nschemes = ['baseline']\n").find("is not a sweep name"),
+            std::string::npos);
+  EXPECT_NE(error("name = '../x'\nscenes = ['crowd']\nschemes = ['baseline']\n").find("is not a sweep name"), std::string::npos);
+  EXPECT_NE(message_of([] {
+              (void)parse_sweep("scenes = ['crowd']\nschemes = ['baseline']\n", "my sweep.toml", "");
+            }).find("its file's name 'my sweep' is not one"),
+            std::string::npos);
+  EXPECT_TRUE(is_sweep_name("paper-2.v1_x"));
+  EXPECT_FALSE(is_sweep_name("-x"));
+  EXPECT_FALSE(is_sweep_name(std::string(65, 'a')));
+}
+
 // A record as oovr makes them (check_run_record holds): its result a
 // two-GPM frame of `ms` milliseconds, its metrics those the result gives,
 // its id the hash of its setup (scene "crowd" + `tag`).

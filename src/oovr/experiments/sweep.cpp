@@ -23,6 +23,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The longest name or value a sweep file may give (a scene's path, a
+// setting): what a run record keeps (results_db.h).
+constexpr size_t kMaxText = 4096;
+// About what a resolved point holds (its configuration), for the bound on
+// what a sweep's points may hold in all: kMaxPoints of them.
+constexpr uint64_t kPointBytes = 25'000;
+// What a sweep's points may hold in all: kMaxPoints of them, with room for
+// their names and settings.
+constexpr uint64_t kMaxPointsBytes = kMaxPoints * kPointBytes * 6 / 5;
+
 // What one level of the file (the top level or a [[point]]) says; a field
 // left out is taken from the level above.
 struct Level {
@@ -59,6 +69,8 @@ class Reader {
       const auto* s = x.as_string();
       if (!s) fail(x, key + " takes strings");
       if (s->get().empty()) fail(x, key + " has an empty name");
+      if (s->get().size() > kMaxText) fail(x, key + " has a name of more than " + std::to_string(kMaxText) + " characters");
+      if (printable(s->get()) != s->get()) fail(x, key + " has a name with control characters");
       out.push_back(s->get());
     });
     return out;
@@ -82,6 +94,8 @@ class Reader {
   std::string value(const toml::node& n, const std::string& key) const {
     if (const auto* s = n.as_string()) {
       if (s->get().empty()) fail(n, key + " has an empty value");
+      if (s->get().size() > kMaxText) fail(n, key + " has a value of more than " + std::to_string(kMaxText) + " characters");
+      if (printable(s->get()) != s->get()) fail(n, key + " has a value with control characters");
       return s->get();
     }
     if (const auto* i = n.as_integer()) return std::to_string(i->get());
@@ -107,9 +121,18 @@ class Reader {
     Level l;
     for (const auto& [k, node] : t) {
       const std::string key(k.str());
-      if (key == "scenes" || key == "scene") l.scenes = strings(node, key);
-      else if (key == "schemes" || key == "scheme") l.schemes = strings(node, key);
-      else if (key == "resolutions" || key == "resolution") {
+      // One spelling per value: both would leave one of them unused.
+      const auto once = [&](const auto& field, const char* other) {
+        if (field) fail(node, key + " and " + other + " both given: give one");
+      };
+      if (key == "scenes" || key == "scene") {
+        once(l.scenes, key == "scene" ? "scenes" : "scene");
+        l.scenes = strings(node, key);
+      } else if (key == "schemes" || key == "scheme") {
+        once(l.schemes, key == "scheme" ? "schemes" : "scheme");
+        l.schemes = strings(node, key);
+      } else if (key == "resolutions" || key == "resolution") {
+        once(l.resolutions, key == "resolution" ? "resolutions" : "resolution");
         l.resolutions = strings(node, key);
         for (const auto& r : *l.resolutions) {
           try {
@@ -129,6 +152,11 @@ class Reader {
         l.set.emplace();
         for (const auto& [name, value_node] : flat) {
           if (value_node->is_array()) fail(*value_node, "set." + name + " is a list: swept values go in [sweep]");
+          for (const auto& [other, v] : *l.set)
+            if (other == name) fail(*value_node, "set." + name + " is given twice (a dotted key and its table?)");
+          if (l.sweep)
+            for (const auto& [other, v] : *l.sweep)
+              if (other == name) fail(*value_node, name + " is both set and swept: give it in one of [set] and [sweep]");
           l.set->emplace_back(name, value(*value_node, name));
         }
       } else if (key == "sweep") {
@@ -141,6 +169,11 @@ class Reader {
           const auto* a = list_node->as_array();
           if (!a) fail(*list_node, "sweep." + name + " takes a list of values (a single value goes in [set])");
           if (a->empty()) fail(*list_node, "sweep." + name + " is an empty list");
+          for (const auto& [other, v] : *l.sweep)
+            if (other == name) fail(*list_node, "sweep." + name + " is given twice (a dotted key and its table?)");
+          if (l.set)
+            for (const auto& [other, v] : *l.set)
+              if (other == name) fail(*list_node, name + " is both set and swept: give it in one of [set] and [sweep]");
           std::vector<std::string> values;
           for (const auto& x : *a) values.push_back(value(x, name));
           l.sweep->emplace_back(name, values);
@@ -180,7 +213,7 @@ Level inherit(const Level& top, Level point) {
 
 // The cross product of a level, schemes innermost (points sharing traces
 // follow each other).
-void expand(const Level& l, const std::string& where, std::vector<SweepPoint>& out, const Reader& reader) {
+void expand(const Level& l, const std::string& where, std::vector<SweepPoint>& out, const Reader& reader, uint64_t& bytes) {
   if (!l.scenes) reader.fail(where + " names no scene (scenes = [...])");
   if (!l.schemes) reader.fail(where + " names no scheme (schemes = [...])");
   const std::vector<std::string> resolutions = l.resolutions.value_or(std::vector<std::string>{"1280x1024"});
@@ -195,6 +228,23 @@ void expand(const Level& l, const std::string& where, std::vector<SweepPoint>& o
   for (const auto& [key, values] : sweep) times(values.size());
   if (count + out.size() > kMaxPoints)
     reader.fail(where + " makes more than " + std::to_string(kMaxPoints) + " points: split the sweep");
+  // What the points will hold, counted before they are made: their names
+  // and settings, and a resolved configuration each (kPointBytes).
+  uint64_t scene_chars = 0, scheme_chars = 0;
+  for (const auto& x : *l.scenes) scene_chars = std::max<uint64_t>(scene_chars, x.size());
+  for (const auto& x : *l.schemes) scheme_chars = std::max<uint64_t>(scheme_chars, x.size());
+  const uint64_t names = 2 * scene_chars + scheme_chars;  // the scene is in the point and its trace group
+  uint64_t settings = 0;
+  for (const auto& [key, value] : *l.set) settings += key.size() + value.size() + 64;
+  for (const auto& [key, values] : sweep) {
+    uint64_t longest = 0;
+    for (const auto& v : values) longest = std::max<uint64_t>(longest, v.size());
+    settings += 2 * (key.size() + longest + 64);  // in settings and in swept
+  }
+  bytes += count * (kPointBytes + names + settings);
+  if (bytes > kMaxPointsBytes)
+    reader.fail(where + " makes points that would hold about " + std::to_string(bytes >> 20) + " MB (more than " +
+                std::to_string(kMaxPointsBytes >> 20) + " MB): split the sweep, or shorten its names and settings");
   std::vector<size_t> index(sweep.size(), 0);  // the swept keys' odometer
   for (const auto& scene : *l.scenes)
     for (const auto& res : resolutions)
@@ -297,14 +347,15 @@ Sweep parse_sweep(const std::string& text, const std::string& name, const std::s
   if (!top_full.sweep) top_full.sweep.emplace();
   if (!top_full.set) top_full.set.emplace();
   // The grid of the top level, when it names schemes.
-  if (top.schemes) expand(top_full, "the file's top level", s.points, reader);
+  uint64_t bytes = 0;
+  if (top.schemes) expand(top_full, "the file's top level", s.points, reader, bytes);
   if (const auto* points = t.get("point")) {
     const auto* a = points->as_array();
     if (!a || !a->is_array_of_tables()) reader.fail(*points, "point entries are tables ([[point]])");
     for (size_t i = 0; i < a->size(); ++i) {
       const Level p = reader.level(*a->get(i)->as_table(), false);
       add_columns(p);
-      expand(inherit(top_full, p), "point " + std::to_string(i + 1), s.points, reader);
+      expand(inherit(top_full, p), "point " + std::to_string(i + 1), s.points, reader, bytes);
     }
   }
   if (s.points.empty()) reader.fail("no points: give schemes = [...] (and scenes) at the top level, or [[point]] tables");

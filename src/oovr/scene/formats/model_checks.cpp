@@ -46,9 +46,20 @@ struct PlyElement {
 
 void check_ply(const std::string& bytes, const std::string& name) {
   if (bytes.compare(0, 4, "ply\n") != 0 && bytes.compare(0, 5, "ply\r\n") != 0) bad(name, "not a PLY file (no 'ply' magic)");
-  const size_t end = bytes.find("end_header");
-  if (end == std::string::npos) bad(name, "the PLY header has no end_header");
-  const size_t newline = bytes.find('\n', end);
+  // The header ends at a line that is "end_header" alone (a property
+  // named "operend_header" once looped assimp's reader for ever).
+  size_t end = std::string::npos, newline = std::string::npos;
+  for (size_t at = bytes.find('\n'); at != std::string::npos; at = bytes.find('\n', at + 1)) {
+    const size_t next = bytes.find('\n', at + 1);
+    std::string_view line = std::string_view(bytes).substr(at + 1, (next == std::string::npos ? bytes.size() : next) - at - 1);
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+    if (line == "end_header") {
+      end = at + 1;
+      newline = next;
+      break;
+    }
+  }
+  if (end == std::string::npos) bad(name, "the PLY header has no end_header line");
   if (newline == std::string::npos) bad(name, "the PLY file ends after its header");
   std::istringstream header(bytes.substr(0, end));
   std::string line, format;
@@ -86,7 +97,7 @@ void check_ply(const std::string& bytes, const std::string& name) {
         if (!p.size) bad(name, "unknown PLY property type '" + type + "'");
       }
       elements.back().properties.push_back(p);
-    }
+    }  // other lines (comments, and the free text some exporters write) say nothing of the records
   }
   const bool ascii = format == "ascii", little = format == "binary_little_endian";
   if (!ascii && !little && format != "binary_big_endian") bad(name, "unknown PLY format '" + format + "'");
