@@ -2,8 +2,12 @@
 // on a SLURM cluster, with a progress display (docs/sweeps.md).
 #include <fmt/core.h>
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "commands.h"
 #include "oovr/core/error.h"
@@ -12,6 +16,7 @@
 #include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
+#include "oovr/experiments/sweep_supervise.h"
 #include "progress.h"
 
 namespace oovr::cli {
@@ -67,13 +72,14 @@ int sweep(const SweepArgs& a) {
   }
   const std::string db_path = default_db(a);
   const std::string slurm_dir = a.slurm_dir.empty() ? db_path + ".slurm" : a.slurm_dir;
-  ResultsDb db(db_path);  // the one writer
-  db.verify();            // whole, before anything is added to it or kept
-  if (a.collect) return print_collect(collect_slurm(slurm_dir, db), db_path, &s, db);
+  const DatabaseLock lock(db_path);  // the one writer, until this command ends (its children share it)
+  auto db = std::make_unique<ResultsDb>(db_path, ResultsDb::Access::write, &lock);
+  db->verify();  // whole, before anything is added to it or kept
+  if (a.collect) return print_collect(collect_slurm(slurm_dir, *db), db_path, &s, *db);
 
-  const SweepPlan plan = plan_sweep(s, db, a.resume, a.retry_failed, a.reconcile);
-  for (const auto& n : plan.notes) fmt::print("note: {}\n", n);
-  begin_sweep(s, plan, db, a.command);
+  const SweepPlan plan = plan_sweep(s, *db, a.resume, a.retry_failed, a.reconcile);
+  for (const auto& n : plan.notes) fmt::print("note: {}\n", printable(n));
+  begin_sweep(s, plan, *db, a.command);
   const std::vector<size_t>& todo = plan.todo;
   const size_t held = plan.held;
 
@@ -97,28 +103,57 @@ int sweep(const SweepArgs& a) {
       return 0;
     }
     if (sub.sbatch_status != 0) fmt::print("  note: sbatch --wait ended with status {}: a task failed\n", sub.sbatch_status);
-    return print_collect(collect_slurm(slurm_dir, db), db_path, &s, db);
+    return print_collect(collect_slurm(slurm_dir, *db), db_path, &s, *db);
   }
 
   fmt::print("sweep '{}': {} points{}; results in {}\n", s.name, s.points.size(),
              held ? fmt::format(" ({} in the database already, {} to run)", held, todo.size()) : "", db_path);
   std::fflush(stdout);
-  Progress progress(todo.size());
-  SweepRunOptions o;
-  o.jobs = a.jobs;
-  o.use_cache = !a.no_cache;
-  o.command = a.command;
-  o.on_status = [&](const std::string& line) { progress.status(line); };
-  o.on_record = [&](const RunRecord& r) {
-    db.insert(r);
-    progress.point(r);
+  // The points run in child processes (sweep_supervise.h), which open the
+  // database themselves: this process closes it first.
+  db.reset();
+  const auto t0 = std::chrono::steady_clock::now();
+  SuperviseOptions so;
+  so.db = db_path;
+  so.lock = &lock;
+  so.jobs = a.jobs;
+  so.command = a.command;
+  so.note = [](const std::string& line) { fmt::print(stderr, "  note: {}\n", line); };
+  so.run = [&](const std::vector<size_t>& which, unsigned jobs) {
+    ResultsDb child_db(db_path, ResultsDb::Access::write, &lock);
+    Progress progress(which.size());
+    SweepRunOptions o;
+    o.jobs = jobs;
+    o.use_cache = !a.no_cache;
+    o.command = a.command;
+    o.on_status = [&](const std::string& line) { progress.status(line); };
+    o.on_record = [&](const RunRecord& r) {
+      child_db.insert(r);
+      progress.point(r);
+    };
+    o.on_flight = [&](const std::vector<size_t>& points, bool starting) {
+      std::vector<std::string> ids;
+      for (size_t i : points) ids.push_back(s.points[i].id);
+      child_db.mark_in_flight(ids, starting ? int64_t(::getpid()) : 0);
+    };
+    run_points(s, which, o);
+    progress.finish();
   };
-  run_points(s, todo, o);
-  progress.finish();
-  fmt::print("sweep '{}': {} points run in {}: {} done, {} failed; {} of {} in {}\n", s.name, todo.size(),
-             clock_time(progress.elapsed()), progress.done(), progress.failed(), held + todo.size(), s.points.size(), db_path);
-  if (progress.failed()) {
-    fmt::print(stderr, "oovr: error: {} of the sweep's points failed (their errors are in the runs table)\n", progress.failed());
+  const int rc = supervise_points(s, todo, so);
+  if (rc != 0) return rc;
+  const ResultsDb after(db_path, ResultsDb::Access::read_only);
+  const auto status = after.run_status();
+  size_t done = 0, failed = 0;
+  for (size_t i : todo) {
+    const auto it = status.find(s.points[i].id);
+    if (it == status.end()) continue;
+    ++(it->second == "done" ? done : failed);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  fmt::print("sweep '{}': {} points run in {}: {} done, {} failed; {} of {} in {}\n", s.name, todo.size(), clock_time(seconds),
+             done, failed, held + done + failed, s.points.size(), db_path);
+  if (failed) {
+    fmt::print(stderr, "oovr: error: {} of the sweep's points failed (their errors are in the runs table)\n", failed);
     return 1;
   }
   return 0;

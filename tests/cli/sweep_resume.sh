@@ -56,7 +56,9 @@ dump killed.db > resumed.dump
 cmp whole.dump resumed.dump || { diff whole.dump resumed.dump | cut -c 1-300 | head -20; exit 1; }
 echo "resumed sweep equals the uninterrupted one: 20 runs, $(sqlite3 killed.db "SELECT count(*) FROM metrics") metrics"
 # A run kept from another build is named when the sweep is resumed.
-sqlite3 killed.db "UPDATE runs SET git_commit = '0123456789ab' WHERE position = 3"
+# (Its checksum cleared, as a row of a version 1 database has none: an edit
+# of a checksummed row is damage, refused.)
+sqlite3 killed.db "UPDATE runs SET git_commit = '0123456789ab', checksum = NULL WHERE position = 3"
 "$oovr" sweep twenty.toml --db killed.db --resume > noted.log 2>&1 || { cat noted.log; exit 1; }
 grep -q "^note: 1 of the runs kept were made by oovr 0123456789ab, not by this one" noted.log || { cat noted.log; exit 1; }
 echo "a run of another build is named on --resume"

@@ -23,7 +23,7 @@ import matplotlib.patches as mpatches  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-FIXED = {"id", "sweep", "position", "scene", "scheme", "resolution", "frame", "frames", "aniso", "config",
+FIXED = {"id", "sweep", "position", "scene", "scheme", "resolution", "frame", "frames", "aniso", "config", "checksum",
          "status", "error", "oovr_version", "git_commit", "command", "host", "started", "wall_s", "result"}
 # The order schemes are drawn in (the paper's first), then any other.
 ORDER = ["baseline", "baseline-1tb", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",

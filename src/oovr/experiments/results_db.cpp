@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <tuple>
 
 #include "oovr/core/error.h"
 #include "oovr/core/text.h"
@@ -25,7 +26,13 @@ constexpr const char* kSchemaName = "oovr.results.db";
 // The fixed columns of runs, which a swept key may not shadow.
 const char* const kRunColumns[] = {"id",      "sweep", "position", "scene",  "scheme", "resolution",   "frame",
                                    "frames",  "aniso", "config",   "status", "error",  "oovr_version", "git_commit",
-                                   "command", "host",  "started",  "wall_s", "result"};
+                                   "command", "host",  "started",  "wall_s", "result", "checksum"};
+
+// What a sweep's row holds, hashed (its checksum column).
+std::string sweep_checksum(const std::string& name, const std::string& file, const std::string& definition,
+                           const std::string& keys, int64_t points, const std::string& command) {
+  return stable_id(nlohmann::json::array({name, file, definition, keys, points, command}).dump());
+}
 
 std::string quoted(const std::string& identifier) {
   std::string s = "\"";
@@ -112,6 +119,22 @@ class Statement {
   sqlite3_stmt* m_stmt = nullptr;
 };
 
+// `path` as SQLite and open() are given it: "./" in front of a relative
+// path, so that SQLite never reads it as a URI ("file:...") or as no file
+// (":memory:"). A link, or something other than a plain file, is refused;
+// so is a missing file when it must exist.
+std::string plain_db_path(const std::string& path, bool must_exist) {
+  if (path.empty()) throw Error("the results database needs a path");
+  const std::string plain = path.front() == '/' ? path : "./" + path;
+  struct stat st {};
+  const bool exists = ::lstat(plain.c_str(), &st) == 0;
+  if (exists && S_ISLNK(st.st_mode))
+    throw Error("the results database '" + path + "' is a symbolic link: give the file it points to");
+  if (exists && !S_ISREG(st.st_mode)) throw Error("the results database '" + path + "' is not a plain file");
+  if (!exists && must_exist) throw Error("no results database '" + path + "'");
+  return plain;
+}
+
 nlohmann::ordered_json parse_json(const std::string& text, const std::string& what) {
   try {
     return nlohmann::ordered_json::parse(text);
@@ -122,41 +145,21 @@ nlohmann::ordered_json parse_json(const std::string& text, const std::string& wh
 
 }  // namespace
 
-ResultsDb::ResultsDb(const std::string& path, Access access) : m_path(path) {
+ResultsDb::ResultsDb(const std::string& path, Access access, const DatabaseLock* lock) : m_path(path) {
   // SQLite reads "file:..." as a URI and ":memory:" as no file at all (the
   // results gone, or written elsewhere): a relative path is given to it
   // with "./" in front, which it takes as a plain path.
-  if (path.empty()) throw Error("the results database needs a path");
-  const std::string plain = path.front() == '/' ? path : "./" + path;
-  struct stat st {};
-  const bool exists = ::lstat(plain.c_str(), &st) == 0;
-  if (exists && S_ISLNK(st.st_mode))
-    throw Error("the results database '" + path + "' is a symbolic link: give the file it points to");
-  if (exists && !S_ISREG(st.st_mode)) throw Error("the results database '" + path + "' is not a plain file");
-  if (!exists && access == Access::read_only) throw Error("no results database '" + path + "'");
-  if (access == Access::write) {
-    // The one writer: an exclusive lock on the file, taken before SQLite
-    // opens it and released after it closes it (closing a descriptor of
-    // the file earlier would drop SQLite's own locks).
-    m_lock_fd = ::open(plain.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK, 0644);
-    if (m_lock_fd < 0) throw Error("cannot open the results database '" + path + "': " + std::strerror(errno));
-    if (::flock(m_lock_fd, LOCK_EX | LOCK_NB) != 0) {
-      const int e = errno;
-      ::close(m_lock_fd);
-      if (e == EWOULDBLOCK)
-        throw Error("the results database '" + path +
-                    "' is being written by another oovr (a sweep, a collect or the paper's run): wait for it to end, or "
-                    "give another database");
-      throw Error("cannot lock the results database '" + path + "': " + std::strerror(e));
-    }
-  }
+  const std::string plain = plain_db_path(path, access == Access::read_only);
+  // The one writer: an exclusive lock on the file, taken before SQLite
+  // opens it and released after it closes it (closing a descriptor of the
+  // file earlier would drop SQLite's own locks).
+  if (access == Access::write && !lock) m_lock = std::make_unique<DatabaseLock>(path);
   const int flags = access == Access::write ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOFOLLOW
                                             : SQLITE_OPEN_READONLY | SQLITE_OPEN_NOFOLLOW;
   if (sqlite3_open_v2(plain.c_str(), &m_db, flags, nullptr) != SQLITE_OK) {
     const std::string why = m_db ? sqlite3_errmsg(m_db) : "out of memory";
     sqlite3_close(m_db);
     m_db = nullptr;
-    if (m_lock_fd >= 0) ::close(m_lock_fd);
     throw Error("cannot open the results database '" + path + "': " + why);
   }
   try {
@@ -201,18 +204,28 @@ ResultsDb::ResultsDb(const std::string& path, Access access) : m_path(path) {
     exec(std::string("INSERT OR IGNORE INTO meta VALUES ('schema', '") + kSchemaName + "')");
     exec(
         "CREATE TABLE IF NOT EXISTS sweeps(name TEXT PRIMARY KEY, file TEXT NOT NULL, definition TEXT NOT NULL, "
-        "swept_keys TEXT NOT NULL, points INTEGER NOT NULL, command TEXT NOT NULL)");
+        "swept_keys TEXT NOT NULL, points INTEGER NOT NULL, command TEXT NOT NULL, checksum TEXT)");
     exec(
         "CREATE TABLE IF NOT EXISTS runs(id TEXT PRIMARY KEY, sweep TEXT NOT NULL, position INTEGER NOT NULL, "
         "scene TEXT NOT NULL, scheme TEXT NOT NULL, resolution TEXT NOT NULL, frame INTEGER NOT NULL, "
         "frames INTEGER NOT NULL, aniso INTEGER NOT NULL, config TEXT NOT NULL, "
         "status TEXT NOT NULL CHECK (status IN ('done', 'failed')), error TEXT NOT NULL, oovr_version TEXT NOT NULL, "
         "git_commit TEXT NOT NULL, command TEXT NOT NULL, host TEXT NOT NULL, started TEXT NOT NULL, wall_s REAL NOT NULL, "
-        "result TEXT)");
+        "result TEXT, checksum TEXT)");
+    // Version 1 databases: the checksums' columns added (their rows keep none).
+    if (version == 1) {
+      exec("ALTER TABLE runs ADD COLUMN checksum TEXT");
+      exec("ALTER TABLE sweeps ADD COLUMN checksum TEXT");
+    }
     exec(
         "CREATE TABLE IF NOT EXISTS metrics(run TEXT NOT NULL REFERENCES runs(id) ON DELETE CASCADE, location TEXT NOT NULL, "
         "metric TEXT NOT NULL, value REAL NOT NULL, unit TEXT NOT NULL, PRIMARY KEY (run, location, metric)) WITHOUT ROWID");
     exec("CREATE INDEX IF NOT EXISTS metrics_by_name ON metrics(metric, location)");
+    // Points being run, and the processes that died running them
+    // (sweep_supervise.h); a stored run clears its row.
+    exec(
+        "CREATE TABLE IF NOT EXISTS in_flight(id TEXT PRIMARY KEY, pid INTEGER NOT NULL, deaths INTEGER NOT NULL, "
+        "since TEXT NOT NULL)");
     exec(
         "CREATE TABLE IF NOT EXISTS images(run TEXT NOT NULL REFERENCES runs(id) ON DELETE CASCADE, kind TEXT NOT NULL, "
         "width INTEGER NOT NULL, height INTEGER NOT NULL, data BLOB NOT NULL, legend TEXT NOT NULL, PRIMARY KEY (run, kind))");
@@ -221,15 +234,28 @@ ResultsDb::ResultsDb(const std::string& path, Access access) : m_path(path) {
   } catch (...) {
     sqlite3_close(m_db);
     m_db = nullptr;
-    if (m_lock_fd >= 0) ::close(m_lock_fd);
     throw;
   }
 }
 
-ResultsDb::~ResultsDb() {
-  sqlite3_close(m_db);
-  if (m_lock_fd >= 0) ::close(m_lock_fd);
+ResultsDb::~ResultsDb() { sqlite3_close(m_db); }
+
+DatabaseLock::DatabaseLock(const std::string& path) : m_path(path) {
+  const std::string plain = plain_db_path(path, false);
+  m_fd = ::open(plain.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK, 0644);
+  if (m_fd < 0) throw Error("cannot open the results database '" + path + "': " + std::strerror(errno));
+  if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
+    const int e = errno;
+    ::close(m_fd);
+    if (e == EWOULDBLOCK)
+      throw Error("the results database '" + path +
+                  "' is being written by another oovr (a sweep, a collect or the paper's run): wait for it to end, or give "
+                  "another database");
+    throw Error("cannot lock the results database '" + path + "': " + std::strerror(e));
+  }
 }
+
+DatabaseLock::~DatabaseLock() { ::close(m_fd); }
 
 void ResultsDb::exec(const std::string& sql) const {
   char* message = nullptr;
@@ -266,9 +292,11 @@ void ResultsDb::add_sweep(const SweepRecord& sw, bool replace_definition) {
         throw Error("the results database '" + m_path + "' holds a sweep named '" + sw.name +
                     "' with another definition: give the sweep another name, or use another database");
     }
-    Statement s(m_db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)", m_path);
-    s.bind(1, sw.name).bind(2, sw.file).bind(3, sw.definition).bind(4, nlohmann::json(sw.swept_keys).dump());
+    Statement s(m_db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?, ?)", m_path);
+    const std::string keys = nlohmann::json(sw.swept_keys).dump();
+    s.bind(1, sw.name).bind(2, sw.file).bind(3, sw.definition).bind(4, keys);
     s.bind(5, int64_t(sw.points)).bind(6, sw.command);
+    s.bind(7, sweep_checksum(sw.name, sw.file, sw.definition, keys, int64_t(sw.points), sw.command));
     s.step();
     exec("COMMIT");
   } catch (...) {
@@ -309,6 +337,10 @@ void ResultsDb::remove(const std::string& id) {
   Statement s(m_db, "DELETE FROM runs WHERE id = ?", m_path);
   s.bind(1, id);
   s.step();
+  if (!has_table("in_flight")) return;
+  Statement f(m_db, "DELETE FROM in_flight WHERE id = ?", m_path);
+  f.bind(1, id);
+  f.step();
 }
 
 bool ResultsDb::insert(const RunRecord& r) {
@@ -328,10 +360,10 @@ bool ResultsDb::insert(const RunRecord& r) {
       if (!have.count(key)) exec("ALTER TABLE runs ADD COLUMN " + quoted(key));
     std::string sql =
         "INSERT INTO runs (id, sweep, position, scene, scheme, resolution, frame, frames, aniso, config, status, error, "
-        "oovr_version, git_commit, command, host, started, wall_s, result";
+        "oovr_version, git_commit, command, host, started, wall_s, result, checksum";
     for (const auto& [key, v] : r.swept) sql += ", " + quoted(key);
     sql += ") VALUES (?";
-    for (size_t i = 1; i < 19 + r.swept.size(); ++i) sql += ", ?";
+    for (size_t i = 1; i < 20 + r.swept.size(); ++i) sql += ", ?";
     sql += ")";
     Statement s(m_db, sql, m_path);
     s.bind(1, r.id).bind(2, r.sweep).bind(3, int64_t(r.position)).bind(4, r.scene).bind(5, r.scheme).bind(6, r.resolution);
@@ -339,7 +371,8 @@ bool ResultsDb::insert(const RunRecord& r) {
     s.bind(11, r.status).bind(12, r.error).bind(13, r.oovr_version).bind(14, r.git_commit).bind(15, r.command);
     s.bind(16, r.host).bind(17, r.started).bind(18, r.wall_s);
     s.bind(19, r.result.is_null() ? nlohmann::json(nullptr) : nlohmann::json(r.result.dump()));
-    int i = 20;
+    s.bind(20, record_checksum(r));
+    int i = 21;
     for (const auto& [key, v] : r.swept) s.bind(i++, v);
     s.step();
     Statement m(m_db, "INSERT INTO metrics VALUES (?, ?, ?, ?, ?)", m_path);
@@ -355,12 +388,54 @@ bool ResultsDb::insert(const RunRecord& r) {
       im.step();
       im.reset();
     }
+    Statement done(m_db, "DELETE FROM in_flight WHERE id = ?", m_path);
+    done.bind(1, r.id);
+    done.step();
     exec("COMMIT");
     return true;
   } catch (...) {
     sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
+}
+
+void ResultsDb::mark_in_flight(const std::vector<std::string>& ids, int64_t pid) {
+  exec("BEGIN IMMEDIATE");
+  try {
+    Statement s(m_db,
+                "INSERT INTO in_flight VALUES (?, ?, 0, datetime('now')) ON CONFLICT(id) DO UPDATE SET pid = excluded.pid, "
+                "since = excluded.since",
+                m_path);
+    for (const auto& id : ids) {
+      s.bind(1, id).bind(2, pid);
+      s.step();
+      s.reset();
+    }
+    exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::vector<InFlight> ResultsDb::in_flight() const {
+  std::vector<InFlight> out;
+  if (!has_table("in_flight")) return out;  // a database no writer of this oovr has opened
+  Statement s(m_db, "SELECT id, pid, deaths FROM in_flight ORDER BY id", m_path);
+  while (s.step()) out.push_back({s.text(0), s.integer(1), int(s.integer(2))});
+  return out;
+}
+
+void ResultsDb::add_death(const std::string& id) {
+  Statement s(m_db, "UPDATE in_flight SET pid = 0, deaths = deaths + 1 WHERE id = ?", m_path);
+  s.bind(1, id);
+  s.step();
+}
+
+bool ResultsDb::has_table(const std::string& name) const {
+  Statement s(m_db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?", m_path);
+  s.bind(1, name);
+  return s.step() && s.integer(0) == 1;
 }
 
 std::vector<RunRecord> ResultsDb::runs() const {
@@ -433,9 +508,11 @@ void ResultsDb::verify() const {
   }
   std::set<std::string> sweeps;
   {
-    Statement s(m_db, "SELECT name, swept_keys, points FROM sweeps", m_path);
+    Statement s(m_db, "SELECT name, swept_keys, points, file, definition, command, checksum FROM sweeps", m_path);
     while (s.step()) {
       const std::string name = s.text(0);
+      if (!s.value(6).is_null() && s.text(6) != sweep_checksum(name, s.text(3), s.text(4), s.text(1), s.integer(2), s.text(5)))
+        damaged("sweep '" + printable(name) + "' is not what was written (its checksum differs)");
       if (!is_sweep_name(name)) damaged("a sweep named '" + printable(name) + "', not a name oovr gives");
       nlohmann::json keys;
       try {
@@ -449,8 +526,18 @@ void ResultsDb::verify() const {
       sweeps.insert(name);
     }
   }
+  for (const InFlight& f : in_flight())
+    if (!is_run_id(f.id) || f.deaths < 0 || f.pid < 0) damaged("a point marked in flight that is not one of oovr's");
+  std::map<std::string, std::string> checksums;
+  {
+    Statement s(m_db, "SELECT id, checksum FROM runs", m_path);
+    while (s.step())
+      if (!s.value(1).is_null()) checksums[s.text(0)] = s.text(1);
+  }
   try {
     for (const RunRecord& r : runs()) {
+      if (const auto c = checksums.find(r.id); c != checksums.end() && c->second != record_checksum(r))
+        throw Error("run " + printable(r.id) + " is not what was written (its checksum differs)");
       check_run_record(r);
       if (!sweeps.count(r.sweep)) throw Error("run " + r.id + " belongs to a sweep '" + r.sweep + "' that is not recorded");
     }
@@ -464,6 +551,14 @@ void ResultsDb::verify() const {
 bool is_run_id(const std::string& id) {
   return id.size() == 16 &&
          std::all_of(id.begin(), id.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+}
+
+std::string record_checksum(const RunRecord& r) {
+  RunRecord c = r;
+  std::sort(c.metrics.begin(), c.metrics.end(),
+            [](const Metric& a, const Metric& b) { return std::tie(a.location, a.metric) < std::tie(b.location, b.metric); });
+  std::sort(c.images.begin(), c.images.end(), [](const RunImage& a, const RunImage& b) { return a.kind < b.kind; });
+  return stable_id(to_json(c).dump());
 }
 
 std::string canonical_setup(const RunRecord& r) {

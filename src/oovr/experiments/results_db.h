@@ -23,8 +23,10 @@ struct sqlite3;
 
 namespace oovr {
 
-// Bumped when a table or column changes meaning or goes.
-inline constexpr int kResultsDbVersion = 1;
+// Bumped when a table or column changes meaning or goes. 2: runs and
+// sweeps carry a checksum of what they hold (a database of version 1 is
+// given the columns when opened to write; its older rows have none).
+inline constexpr int kResultsDbVersion = 2;
 
 struct RunImage {
   std::string kind;  // "gpm": PNG of the first frame coloured by GPM; "tile_traffic": JSON array of bytes per tile
@@ -80,6 +82,35 @@ std::string canonical_setup(const RunRecord& r);
 // result is not one of oovr's (result_json.h) or whose metrics are not the
 // ones its result gives; duplicated metrics or images.
 void check_run_record(const RunRecord& r);
+// A hash of everything a record holds (its JSON form, metrics and images in
+// a fixed order), stored with it and checked by ResultsDb::verify: a byte
+// changed anywhere in a run (a unit's name, a figure) is found.
+std::string record_checksum(const RunRecord& r);
+
+// The one writer's lock on a results database: an exclusive flock on the
+// file (created when absent), held until destroyed, shared by the children
+// this process forks (sweep_supervise.h). Throws Error when another
+// process holds it.
+class DatabaseLock {
+ public:
+  explicit DatabaseLock(const std::string& path);
+  ~DatabaseLock();
+  DatabaseLock(const DatabaseLock&) = delete;
+  DatabaseLock& operator=(const DatabaseLock&) = delete;
+  const std::string& path() const { return m_path; }
+
+ private:
+  std::string m_path;
+  int m_fd = -1;
+};
+
+// A point some process was running: the database's mark, from before it
+// ran until its record was stored (sweep_supervise.h).
+struct InFlight {
+  std::string id;
+  int64_t pid = 0;  // the process running it; 0 when none is
+  int deaths = 0;   // processes that died running it
+};
 
 class ResultsDb {
  public:
@@ -95,7 +126,8 @@ class ResultsDb {
   // SQLite URI or ":memory:"). Throws Error when it is not an oovr results
   // database, one of a newer schema, or (writing) open for writing
   // elsewhere.
-  explicit ResultsDb(const std::string& path, Access access = Access::write);
+  // A writer holding `lock` (of this path) does not take it again.
+  explicit ResultsDb(const std::string& path, Access access = Access::write, const DatabaseLock* lock = nullptr);
   ~ResultsDb();
   ResultsDb(const ResultsDb&) = delete;
   ResultsDb& operator=(const ResultsDb&) = delete;
@@ -126,14 +158,23 @@ class ResultsDb {
   void verify() const;
   // The sweeps recorded: name -> definition.
   std::map<std::string, std::string> sweep_definitions() const;
+
+  // Marks points as being run by process `pid` (0: by none, their deaths
+  // kept). A stored record clears its point's mark.
+  void mark_in_flight(const std::vector<std::string>& ids, int64_t pid);
+  // Every point marked, with the process running it and its deaths.
+  std::vector<InFlight> in_flight() const;
+  // Counts a death against a point, and says no process runs it.
+  void add_death(const std::string& id);
   const std::string& path() const { return m_path; }
 
  private:
   void exec(const std::string& sql) const;
   std::set<std::string> columns() const;
+  bool has_table(const std::string& name) const;
+  std::unique_ptr<DatabaseLock> m_lock;  // the writer's own lock, released after SQLite closes the file
   std::string m_path;
   sqlite3* m_db = nullptr;
-  int m_lock_fd = -1;  // the writer's lock, on the database file
 };
 
 // The base-64 form the JSON records carry images in.

@@ -1,7 +1,11 @@
 #include "oovr/experiments/sweep_run.h"
 
+#include <signal.h>
+
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
+#include <cstdlib>
 #include <ctime>
 #include <exception>
 #include <future>
@@ -67,6 +71,22 @@ RunRecord record_of(const Sweep& s, size_t index, const std::string& command) {
   r.host = host_name().empty() ? "unknown" : host_name();
   r.started = utc_now();
   return r;
+}
+
+// $OOVR_FAULT_POINT=ID:HOW makes the point of id ID die as a defect or
+// the kernel would kill it, for the tests of sweep_supervise.h: "segv"
+// (a crash), "kill" (the OOM killer: SIGKILL) or "group" (SIGKILL to the
+// whole process group, as a cgroup's OOM kill of a job takes every
+// process). Only the tests set it.
+void inject_fault(const std::string& id) {
+  const char* env = std::getenv("OOVR_FAULT_POINT");
+  if (!env) return;
+  const std::string spec = env;
+  if (spec.rfind(id + ":", 0) != 0) return;
+  const std::string how = spec.substr(id.size() + 1);
+  if (how == "segv") std::raise(SIGSEGV);
+  if (how == "kill") std::raise(SIGKILL);
+  if (how == "group") ::kill(0, SIGKILL);
 }
 
 std::vector<RunImage> images_of(const FrameOutput& first, const SchemeResult& result) {
@@ -235,6 +255,10 @@ class PointPool {
     std::lock_guard<std::mutex> lock(m_callback_mutex);
     if (m_options.on_task) m_options.on_task(t);
   }
+  void flight(const std::vector<size_t>& points, bool starting) {
+    std::lock_guard<std::mutex> lock(m_callback_mutex);
+    if (m_options.on_flight) m_options.on_flight(points, starting);
+  }
 
   // Loads a group's traces, and its scene when `promise` is given (else
   // another load gives it): on failure, every point of the group gets a
@@ -247,6 +271,7 @@ class PointPool {
     int window = 0;
     for (size_t i : g.points) window = std::max(window, m_sweep.points[i].window);
     std::string why;
+    flight(g.points, true);
     try {
       if (promise) {
         status("loading " + first.scene);
@@ -271,6 +296,7 @@ class PointPool {
       why = out_of_memory_message("loading " + first.scene + " at " + first.resolution);
     }
     task({SweepTask::Kind::load, index, g.points.front(), worker, t0, seconds()});
+    flight(g.points, false);
     if (!why.empty()) {
       g.frames.reset();
       for (size_t i : g.points) emit(failed_record(m_sweep, i, why, m_options.command));
@@ -284,6 +310,8 @@ class PointPool {
     const FrameWindow& frames = *m_groups[index].frames;
     RunRecord r = record_of(m_sweep, i, m_options.command);
     const double t0 = seconds();
+    flight({i}, true);
+    inject_fault(p.id);
     try {
       const SchemeResult result = run_scheme_window(p.scheme, *frames.scene, *frames.frames, p.config, p.window);
       r.status = "done";

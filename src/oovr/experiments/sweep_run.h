@@ -45,6 +45,11 @@ struct SweepRunOptions {
   // Called once per load and per point, as it ends, one call at a time
   // (with the others above); may be empty.
   std::function<void(const SweepTask&)> on_task;
+  // Called with the points whose work starts (a point's run, or a group's
+  // load for all its points: `starting`) and with a group's points when
+  // its load has ended (not `starting`), one call at a time with the
+  // others; may be empty. A point's work ends with its record.
+  std::function<void(const std::vector<size_t>& points, bool starting)> on_flight;
 };
 
 // Runs s.points[i] for every i in `which` (resolved: resolve_all).

@@ -491,7 +491,7 @@ def read_runs(db: Union[str, os.PathLike]):
         frame = pd.read_sql_query("SELECT run, metric, value FROM metrics WHERE location = 'frame'", con)
     finally:
         con.close()
-    runs = runs.drop(columns=[c for c in ("config", "result") if c in runs.columns])
+    runs = runs.drop(columns=[c for c in ("config", "result", "checksum") if c in runs.columns])
     if len(frame):
         wide = frame.pivot(index="run", columns="metric", values="value")
         wide.columns.name = None
@@ -506,7 +506,7 @@ def read_metrics(db: Union[str, os.PathLike]):
     con = _open_db(db)
     try:
         fixed = ["id", "sweep", "position", "scene", "scheme", "resolution", "frame", "frames", "aniso", "status", "error",
-                 "config", "oovr_version", "git_commit", "command", "host", "started", "wall_s", "result"]
+                 "config", "oovr_version", "git_commit", "command", "host", "started", "wall_s", "result", "checksum"]
         columns = [r[1] for r in con.execute("PRAGMA table_info(runs)")]
         swept = [c for c in columns if c not in fixed]
         select = ", ".join(["r.id AS run", "r.sweep", "r.scene", "r.scheme", "r.resolution"] +

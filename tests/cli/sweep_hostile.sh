@@ -1,0 +1,119 @@
+#!/bin/sh
+# A sweep against what kills, forges or damages (docs/reliability.md):
+# points that crash or are killed (by the kernel's OOM killer, or with the
+# whole process group) are recorded as failed and the sweep finishes;
+# --collect stores only valid lines of a job's task files; a bit-flipped
+# database is refused with a message; a second writer is refused; --db is
+# never an SQLite URI and never a link; an edited sweep file is refused on
+# --resume unless --reconcile. Usage: sweep_hostile.sh OOVR WORKDIR
+set -eu
+oovr=$1
+work=$2
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+export OOVR_CACHE_DIR="$work/cache"
+# Under AddressSanitizer a SIGSEGV must still end the process by the signal.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-}:handle_segv=0"
+fail() { echo "FAILED: $*"; exit 1; }
+cat > s.toml <<'TOML'
+name = "s"
+scenes = ["crowd"]
+schemes = ["baseline", "afr", "object", "sfr-v"]
+resolutions = ["160x128"]
+frames = 4
+TOML
+id() { "$oovr" sweep s.toml --list | awk -v n="$1" '$1 == n { print $2 }'; }
+afr=$(id 2)
+object=$(id 3)
+[ -n "$afr" ] && [ -n "$object" ] || fail "no ids"
+
+# A crash (SIGSEGV) and an OOM kill (SIGKILL): each point recorded as failed
+# with how its process died; the others done; nothing left in flight.
+for how in segv kill; do
+  rc=0
+  OOVR_FAULT_POINT="$afr:$how" "$oovr" sweep s.toml --db "$how.db" --jobs 2 > "$how.log" 2>&1 || rc=$?
+  [ $rc -eq 1 ] || { cat "$how.log"; fail "$how: exit status $rc, not 1"; }
+  [ "$(sqlite3 "$how.db" "SELECT count(*) FROM runs WHERE status = 'done'")" = 3 ] || fail "$how: not 3 done"
+  sqlite3 "$how.db" "SELECT error FROM runs WHERE id = '$afr'" > "$how.err"
+  [ "$(sqlite3 "$how.db" "SELECT count(*) FROM in_flight")" = 0 ] || fail "$how: points left in flight"
+done
+grep -q "died of SIGSEGV" segv.err || { cat segv.err; fail "the crash is not named"; }
+grep -q "was killed (SIGKILL): the kernel's OOM killer" kill.err || { cat kill.err; fail "the kill is not named"; }
+# The whole process group killed at a point, each time (a cgroup's OOM kill
+# of the job): the sweep ends with it; the next --resume runs the points in
+# flight alone, the one after records the point that died twice.
+n=0
+while :; do
+  n=$((n + 1))
+  [ $n -le 4 ] || fail "the group-killed point poisons every --resume"
+  rc=0
+  OOVR_FAULT_POINT="$object:group" setsid "$oovr" sweep s.toml --db group.db --resume > group.log 2>&1 || rc=$?
+  [ $rc -eq 137 ] || break
+done
+[ $rc -eq 1 ] || { cat group.log; fail "group: exit status $rc"; }
+grep -q "died 2 times, each with the sweep itself" group.log || { cat group.log; fail "group: not recorded"; }
+[ "$(sqlite3 group.db "SELECT status FROM runs WHERE id = '$object'")" = failed ] || fail "group: not failed"
+[ "$(sqlite3 group.db "SELECT count(*) FROM runs WHERE status = 'done'")" = 3 ] || fail "group: not 3 done"
+
+# --resume of a database with a flipped bit: refused (or, where the byte
+# was unused, the same runs); never a silent change.
+"$oovr" sweep s.toml --db good.db > good.log 2>&1 || { cat good.log; fail "good sweep"; }
+size=$(stat -c %s good.db)
+refused=0
+same=0
+for k in $(seq 1 40); do
+  cp good.db flip.db
+  /usr/bin/python3 - flip.db "$k" "$size" <<'PY'
+import sys
+path, k, size = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+at = (k * 7919 * 13) % size  # spread over the file, deterministic
+with open(path, "r+b") as f:
+    f.seek(at)
+    b = f.read(1)[0]
+    f.seek(at)
+    f.write(bytes([b ^ (1 << (k % 8))]))
+PY
+  if "$oovr" sweep s.toml --db flip.db --resume > flip.log 2>&1; then
+    "$oovr" report flip.db --out flip-rep > /dev/null 2>&1 || true
+    # Accepted: its runs must be the ones it had.
+    sqlite3 flip.db "SELECT id, status, config, result FROM runs ORDER BY id" > flip.runs
+    sqlite3 good.db "SELECT id, status, config, result FROM runs ORDER BY id" > good.runs
+    cmp -s flip.runs good.runs || fail "flip $k: a changed database was resumed"
+    same=$((same + 1))
+  else
+    grep -q "^oovr: error: " flip.log || { cat flip.log; fail "flip $k: no clear error"; }
+    refused=$((refused + 1))
+  fi
+done
+[ $refused -ge 10 ] || fail "only $refused of 40 bit flips refused"
+
+# A second writer while the first runs is refused.
+cp good.db busy.db
+/usr/bin/python3 -c "
+import fcntl, os, subprocess, sys
+fd = os.open('busy.db', os.O_RDWR)
+fcntl.flock(fd, fcntl.LOCK_EX)
+r = subprocess.run([sys.argv[1], 'sweep', 's.toml', '--db', 'busy.db', '--resume'], capture_output=True, text=True)
+sys.exit(0 if r.returncode == 1 and 'being written by another oovr' in r.stderr else 1)
+" "$oovr" || fail "a second writer was not refused"
+
+# --db is a plain path: ':memory:' and 'file:...' are files here, a link is refused.
+"$oovr" sweep s.toml --db :memory: > mem.log 2>&1 || { cat mem.log; fail ":memory:"; }
+[ -s ./:memory: ] || fail "':memory:' is not a file"
+"$oovr" sweep s.toml --db 'file:x.db?mode=memory' > uri.log 2>&1 || { cat uri.log; fail "file: URI"; }
+[ -s './file:x.db?mode=memory' ] || fail "'file:x.db?mode=memory' is not a file"
+ln -s good.db link.db
+if "$oovr" sweep s.toml --db link.db --resume > link.log 2>&1; then fail "a link was followed"; fi
+grep -q "is a symbolic link" link.log || { cat link.log; fail "link: no clear error"; }
+
+# An edited sweep file: refused on --resume, reconciled when asked.
+cp good.db edit.db
+sed 's/"sfr-v"/"sfr-h"/' s.toml > edited.toml
+if "$oovr" sweep edited.toml --db edit.db --resume > edit.log 2>&1; then fail "an edited sweep was resumed"; fi
+grep -q "defined otherwise than edited.toml (3 of its runs are points of this file, 1 are not)" edit.log || {
+  cat edit.log; fail "edit: no clear error"; }
+"$oovr" sweep edited.toml --db edit.db --resume --reconcile > rec.log 2>&1 || { cat rec.log; fail "reconcile"; }
+grep -q "3 runs kept (0 moved to their new places), 1 deleted" rec.log || { cat rec.log; fail "reconcile note"; }
+[ "$(sqlite3 edit.db "SELECT count(*) FROM runs WHERE scheme = 'sfr-v'")" = 0 ] || fail "the edited-out run kept"
+[ "$(sqlite3 edit.db "SELECT count(*) FROM runs")" = 4 ] || fail "not 4 runs after reconciling"
+
+echo "hostile sweeps held: crash, OOM kill and group kill recorded; $refused of 40 bit flips refused, $same unchanged"
