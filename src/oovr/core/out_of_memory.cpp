@@ -25,11 +25,6 @@ namespace {
 
 std::atomic<uint64_t> g_failed_bytes{0};
 
-std::string megabytes(uint64_t bytes) {
-  if (bytes >= (uint64_t(1) << 30)) return fmt::format("{:.1f} GB", double(bytes) / double(uint64_t(1) << 30));
-  return fmt::format("{} MB", (bytes + (1 << 20) - 1) >> 20);
-}
-
 // The process's peak resident memory (Linux's VmHWM), or 0.
 uint64_t peak_resident_bytes() {
   std::FILE* f = std::fopen("/proc/self/status", "r");
@@ -44,6 +39,11 @@ uint64_t peak_resident_bytes() {
 
 }  // namespace
 
+std::string rough_bytes(uint64_t bytes) {
+  if (bytes >= (uint64_t(1) << 30)) return fmt::format("{:.1f} GB", double(bytes) / double(uint64_t(1) << 30));
+  return fmt::format("{} MB", (bytes + (1 << 20) - 1) >> 20);
+}
+
 bool records_failed_allocations() {
 #ifdef OOVR_SANITIZER_ALLOCATOR
   return false;
@@ -57,8 +57,8 @@ uint64_t failed_allocation_bytes() { return g_failed_bytes.load(std::memory_orde
 std::string out_of_memory_detail() {
   const uint64_t failed = failed_allocation_bytes(), peak = peak_resident_bytes();
   std::string s;
-  if (failed > 0) s = "a request for " + megabytes(failed) + " failed";
-  if (peak > 0) s += (s.empty() ? "" : ", with ") + megabytes(peak) + " of memory in use at the peak";
+  if (failed > 0) s = "a request for " + rough_bytes(failed) + " failed";
+  if (peak > 0) s += (s.empty() ? "" : ", with ") + rough_bytes(peak) + " of memory in use at the peak";
   return s;
 }
 

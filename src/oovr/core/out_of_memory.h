@@ -12,6 +12,9 @@
 
 namespace oovr {
 
+// "2.0 GB", "12 MB": a size as messages give it.
+std::string rough_bytes(uint64_t bytes);
+
 // Bytes of the last allocation through operator new that failed; 0 when none
 // has, or where the sanitizers' allocator replaces oovr's operator new.
 uint64_t failed_allocation_bytes();

@@ -16,6 +16,9 @@ namespace oovr {
 
 class Cache {
  public:
+  // What one line's tag and state take (tag, dirty bit, category, the
+  // replacement policy's state), for memory estimates.
+  static constexpr uint64_t kBytesPerLine = sizeof(uint64_t) + sizeof(uint8_t) + sizeof(Category) + sizeof(WayState);
   Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name);
 
   struct Eviction {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "oovr/core/error.h"
+#include "oovr/core/host.h"
 
 namespace oovr {
 
@@ -45,6 +46,15 @@ uint64_t UnitTraffic::total_inter_gpm_bytes() const {
   return s;
 }
 
+uint64_t MemorySystem::state_bytes(const MemorySpec& spec, const AddressMap& map) {
+  const uint64_t line = std::max<uint64_t>(spec.line.value, 1);
+  const auto lines = [&](const CacheSpec& c) { return c.size.value / line; };
+  const uint64_t gpms = uint64_t(spec.gpms), sms = uint64_t(spec.sms_per_gpm);
+  const uint64_t cache_lines = gpms * sms * lines(spec.l1) + gpms * (lines(spec.l2) + lines(spec.remote));
+  const uint64_t per_page = sizeof(int8_t) + 2 * sizeof(uint32_t) + gpms * sizeof(uint64_t);
+  return cache_lines * Cache::kBytesPerLine + map.pages() * per_page;
+}
+
 MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
     : m_spec(spec), m_map(map), m_page_bytes(map.page_bytes()), m_line_bytes(map.line_bytes()) {
   if (map.line_bytes() != spec.line.value || map.page_bytes() != spec.page.value)
@@ -54,6 +64,10 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
   m_page_shift = __builtin_ctzll(m_page_bytes);
   m_policy = PlacementPolicies::find(spec.placement)->make(spec.gpms);
   m_topology = Topologies::find(spec.topology)->make(spec.gpms);
+  // Asked before the allocations: 32 GPMs of 1,024 SMs with 16 MB L1s would
+  // be about 110 GB of tags, which a cgroup's limit answers with SIGKILL.
+  check_memory_room(state_bytes(spec, map), "the memory system (" + std::to_string(spec.gpms) + " GPMs of " +
+                                                std::to_string(spec.sms_per_gpm) + " SMs: its caches' tags and pages' state)");
   for (int g = 0; g < spec.gpms; ++g) {
     for (int s = 0; s < spec.sms_per_gpm; ++s)
       m_l1.emplace_back(spec.l1, m_line_bytes, "gpm[" + std::to_string(g) + "].sm[" + std::to_string(s) + "].l1");

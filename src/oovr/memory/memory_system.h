@@ -86,7 +86,11 @@ class MemorySystem {
  public:
   // The address map must hold every region before the memory system is
   // built: its page tables cover the map as it is then.
+  // Throws Error, before allocating, when its state (state_bytes) is more
+  // than this process may still use (core/host.h, check_memory_room).
   MemorySystem(const MemorySpec& spec, const AddressMap& map);
+  // The bytes of a memory system's caches' tags and pages' state.
+  static uint64_t state_bytes(const MemorySpec& spec, const AddressMap& map);
   MemorySystem(const MemorySystem&) = delete;
   MemorySystem& operator=(const MemorySystem&) = delete;
 
