@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "collect_job.h"
 #include "game_data.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep", "hardware"})
+  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep", "hardware", "collect", "sweep_name"})
     fs::create_directories(dir / sub);
   // Hardware data: the first lines of the shipped H100 file and the tests' one.
   if (argc == 3)
@@ -83,6 +84,27 @@ int main(int argc, char** argv) {
     };
     oovr::run_points(s, {0}, o);
   }
+  // --collect (fuzz_collect): the task file of fuzz_collect's job, its
+  // lines as a task writes them, whole, cut short, and one forged.
+  {
+    oovr::Sweep s = oovr::parse_sweep(kCollectSweep, "c.toml", "");
+    oovr::resolve_all(s);
+    std::string lines;
+    oovr::SweepRunOptions o;
+    o.use_cache = false;
+    o.on_record = [&](const oovr::RunRecord& r) { lines += oovr::to_json(r).dump() + "\n"; };
+    oovr::run_points(s, {0, 1}, o);
+    std::ofstream(dir / "collect" / "task.jsonl", std::ios::binary) << lines;
+    std::ofstream(dir / "collect" / "cut.jsonl", std::ios::binary) << lines.substr(0, lines.size() * 2 / 3);
+    std::string forged = lines.substr(0, lines.find('\n') + 1);
+    const size_t id = forged.find("\"id\":\"");
+    if (id != std::string::npos) forged.replace(id + 6, 16, "\"><script>x</sc");
+    std::ofstream(dir / "collect" / "forged.jsonl", std::ios::binary) << forged;
+  }
+  // Sweep names (fuzz_sweep_name).
+  for (const char* name : {"paper", "quick-2.v1_x", "x\ntouch PWNED\n#", "<img src=x>", "../up", "\xc2\x9b" "31m"})
+    std::ofstream(dir / "sweep_name" / ("name-" + std::to_string(std::hash<std::string>{}(name) % 100000)), std::ios::binary)
+        << name;
   // A trace of a small frame: its payload and its cache entry.
   {
     const oovr::Scene scene = oovr::BuiltinScenes::find("crowd")->make();

@@ -25,7 +25,22 @@ images = true
 gpms = [2, 4, 8]
 TOML
 "$oovr" sweep small.toml --db small.db > sweep.log 2>&1 || { cat sweep.log; exit 1; }
+# A second sweep into the same database whose text, scene name and error
+# carry markup that would run script if written into the page unescaped.
+cat > evil.toml <<'TOML'
+# </pre><script>document.title='PWNED'</script>
+name = "evil"
+description = "<script>document.title='PWNED'</script>"
+scenes = ["<img src=x onerror=\"document.title='PWNED'\">.obj"]
+schemes = ["baseline"]
+resolutions = ["160x128"]
+frames = 4
+TOML
+if "$oovr" sweep evil.toml --db small.db > evil.log 2>&1; then echo "the missing scene ran"; exit 1; fi
+grep -q "1 failed" evil.log || { cat evil.log; exit 1; }
 "$oovr" report small.db --out rep > report.log 2>&1 || { cat report.log; exit 1; }
+grep -q "&lt;img src=x onerror=" rep/index.html || { echo "the scene's name is not in the page, escaped"; exit 1; }
+if grep -q "<img src=x\|<script" rep/index.html; then echo "markup from the database reached the page unescaped"; exit 1; fi
 grep -q "^report: rep/index.html$" report.log || { cat report.log; exit 1; }
 for f in index.html report.py claims.json sweep-small-gpms.png sweep-small-gpms.svg \
          paper-figure-15-speed-up-over-the-baseline.png paper-figure-16-inter-gpm-traffic-against-the-baseline.svg; do
@@ -67,5 +82,8 @@ PY
 tables=$(grep -o "<table" dom.html | wc -l)
 [ "$tables" -ge 2 ] || { echo "the page has $tables tables"; exit 1; }
 grep -q "oovr report" dom.html || exit 1
+# Nothing from the database ran: the title is the page's own.
+grep -q "<title>oovr report</title>" dom.html || { echo "the page's title was changed: script ran"; exit 1; }
+if grep -q PWNED dom.html && ! grep -q "&lt;img src=x onerror=" dom.html; then echo "markup ran in Chromium"; exit 1; fi
 grep -q "<img src=\"sweep-small-gpms.png\"" dom.html || exit 1
-echo "Chromium shows the report: $tables tables"
+echo "Chromium shows the report: $tables tables, markup from the database shown as text, not run"

@@ -116,4 +116,48 @@ grep -q "3 runs kept (0 moved to their new places), 1 deleted" rec.log || { cat 
 [ "$(sqlite3 edit.db "SELECT count(*) FROM runs WHERE scheme = 'sfr-v'")" = 0 ] || fail "the edited-out run kept"
 [ "$(sqlite3 edit.db "SELECT count(*) FROM runs")" = 4 ] || fail "not 4 runs after reconciling"
 
+# --collect of a task file with forged and damaged lines among real ones:
+# the real ones are stored, each other line named and left out.
+"$oovr" sweep s.toml --db job.db --backend slurm --slurm-dir job --chunk 4 > submit.log 2>&1 || true
+[ -f job/manifest.json ] || { cat submit.log; fail "no job folder written"; }
+"$oovr" sweep --task 0 --slurm-dir job > task.log 2>&1 || { cat task.log; fail "the task did not run"; }
+[ "$(wc -l < job/task-0.jsonl)" -eq 4 ] || fail "the task wrote $(wc -l < job/task-0.jsonl) lines, not 4"
+/usr/bin/python3 - job/task-0.jsonl <<'PY'
+import json, sys
+path = sys.argv[1]
+lines = open(path).read().splitlines()
+real = [json.loads(l) for l in lines]
+forged = []
+def variant(f):
+    r = json.loads(json.dumps(real[0]))
+    f(r)
+    forged.append(json.dumps(r))
+variant(lambda r: r.update(id='"><script>document.title="PWNED"</script>'))    # an id of another form
+variant(lambda r: r.update(id="0123456789abcdef"))                             # of oovr's form, not its setup's
+variant(lambda r: r.update(scene="courtyard"))                                 # contradicts its id
+variant(lambda r: r.update(frames=99999999999))                                # would narrow
+variant(lambda r: r.update(position=1e30))                                     # not a whole number
+variant(lambda r: r.update(schema_version=1e30))
+variant(lambda r: r.update(result=None))                                       # done without a result
+variant(lambda r: r["metrics"].append(r["metrics"][0]))                        # a metric twice
+variant(lambda r: r["result"].update(frame_latency_s=0))                       # cannot be divided by
+variant(lambda r: r["result"].update(frame_latency_s=-1e308))
+variant(lambda r: r.update(position=3))                                        # another point's place
+# The forged lines first: the real ones after them must still go in.
+open(path, "w").write("\n".join(forged + lines[:3]) + "\n")
+PY
+rc=0
+"$oovr" sweep s.toml --db job.db --slurm-dir job --collect > collect.log 2>&1 || rc=$?
+[ $rc -eq 1 ] || { cat collect.log; fail "collect: exit status $rc, not 1 (a point is missing)"; }
+grep -q "collected 3 runs from 1 task files" collect.log || { cat collect.log; fail "the real lines were not stored"; }
+[ "$(grep -c "is not a run of this job" collect.log)" -eq 11 ] || { cat collect.log; fail "not 11 lines left out"; }
+for why in "a run id that is not oovr's" "is not the one its id names" \
+           "frames is 99999999999" "position is 1e+30" "schema_version is 1e+30" "done without a result" \
+           "is given twice" "the frame latency is 0" "says it is point 4 of the sweep"; do
+  grep -qF "$why" collect.log || { cat collect.log; fail "collect: no line says '$why'"; }
+done
+if grep -q "$(printf '\033')" collect.log; then fail "collect printed a control character"; fi
+"$oovr" report job.db --out job-report > job-report.log 2>&1 || { cat job-report.log; fail "report of the collected database"; }
+if grep -q PWNED job-report/index.html; then fail "a forged line reached the report"; fi
+
 echo "hostile sweeps held: crash, OOM kill and group kill recorded; $refused of 40 bit flips refused, $same unchanged"

@@ -93,4 +93,24 @@ dump local.db > local.dump
 dump slurm.db > slurm.dump
 [ "$(sqlite3 slurm.db "SELECT count(*) FROM runs WHERE status = 'done'")" = 8 ] || { echo "not 8 runs done"; exit 1; }
 cmp local.dump slurm.dump || { diff local.dump slurm.dump | cut -c 1-300 | head -20; exit 1; }
-echo "SLURM sweep equals the local one: 8 runs in 3 array tasks"
+# What reaches the sbatch script from the user: a sweep name with a new
+# line is refused before anything is written; a job folder whose name holds
+# shell syntax is quoted, and the job runs without running it.
+printf 'name = "x\\ntouch PWNED\\n#"\nscenes = ["crowd"]\nschemes = ["baseline"]\nresolutions = ["160x128"]\nframes = 4\n' > evil.toml
+if "$oovr" sweep evil.toml --db evil.db --backend slurm --wait > evil.log 2>&1; then cat evil.log; exit 1; fi
+grep -q "is not a sweep name" evil.log || { cat evil.log; exit 1; }
+cat > one.toml <<'TOML'
+name = "one"
+scenes = ["crowd"]
+schemes = ["baseline"]
+resolutions = ["160x128"]
+frames = 4
+TOML
+odd='job $(touch PWNED) `touch PWNED2`; touch PWNED3 #'
+"$oovr" sweep one.toml --db one.db --backend slurm --slurm-dir "$odd" --wait > one.log 2>&1 || {
+  cat one.log; tail -n 20 "$odd"/task-*.log; exit 1; }
+grep -q "collected 1 runs from 1 task files" one.log || { cat one.log; exit 1; }
+for f in PWNED PWNED2 PWNED3 "$odd/PWNED" "$work/PWNED"; do
+  [ ! -e "$f" ] || { echo "the job folder's name ran as a command ($f)"; exit 1; }
+done
+echo "SLURM sweep equals the local one: 8 runs in 3 array tasks, a hostile sweep name refused, a hostile job folder quoted"
