@@ -57,7 +57,7 @@ fuzz: deps $(SAN_BUILD)/build.ninja
 	@for t in $(FUZZ_TARGETS); do \
 	  dir=$$t; [ $$t = q3_shader ] && dir=shader; \
 	  echo "== fuzz_$$t ($(FUZZ_SECONDS) s)"; \
-	  UBSAN_OPTIONS=print_stacktrace=1 $(SAN_BUILD)/fuzz/fuzz_$$t $(SAN_BUILD)/corpus/$$dir -max_total_time=$(FUZZ_SECONDS) -max_len=65536 \
+	  UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp $(SAN_BUILD)/fuzz/fuzz_$$t $(SAN_BUILD)/corpus/$$dir -max_total_time=$(FUZZ_SECONDS) -max_len=65536 \
 	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 2>&1 | grep -E 'stat::number_of_executed_units|ERROR|SUMMARY|Done' ; \
 	  [ $${PIPESTATUS[0]} -eq 0 ] || exit 1; \
 	done

@@ -67,6 +67,18 @@ TEST(ModelChecks, PlyHeadersEndAtTheirOwnLine) {
   const std::string looped =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float operend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   EXPECT_NE(message_of([&] { load_model_bytes(looped, "l.ply"); }).find("no end_header line"), std::string::npos);
+  // And a binary PLY whose faces aborted assimp's triangulation (an
+  // ai_assert): oovr reads PLY itself now.
+  const std::string aborted(
+      "ply\x0a"
+      "format binary_little_endian 1.0\x0a"
+      "element vertex 3\x0aproperty float x\x0apropert[ float y\x0aproperty float z\x0a"
+      "element face 2\x0aproperty list uchar int vertex_indices\x0a"
+      "end_"
+      "header\x0a\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00"
+      "\x00\x00\x00\x00\x00\x00\x00\x00\x03\x00\x00\x00\x00\x01\x00\x00\x00\x02\x00\x00\x00",
+      218);
+  (void)message_of([&] { (void)load_model_bytes(aborted, "a.ply"); });
   const std::string own_line = "ply\r\nformat ascii 1.0\r\nelement vertex 0\r\nend_header \r\n";
   EXPECT_EQ(message_of([&] { precheck_model_bytes(own_line, "o.ply"); }), "<no error>");
 }

@@ -122,8 +122,9 @@ class Reader {
     for (const auto& [k, node] : t) {
       const std::string key(k.str());
       // One spelling per value: both would leave one of them unused.
+      const toml::node& at = node;  // a named copy: clang 14 cannot capture a structured binding
       const auto once = [&](const auto& field, const char* other) {
-        if (field) fail(node, key + " and " + other + " both given: give one");
+        if (field) fail(at, key + " and " + other + " both given: give one");
       };
       if (key == "scenes" || key == "scene") {
         once(l.scenes, key == "scene" ? "scenes" : "scene");

@@ -1,5 +1,5 @@
-// Loads OBJ, glTF 2 and PLY files through assimp and AC3D files through
-// oovr's own reader (model.h). Textures are de-duplicated by their resolved
+// Loads OBJ, glTF 2 and GLB files through assimp and PLY and AC3D files
+// through oovr's own readers (model.h). Textures are de-duplicated by their resolved
 // source (canonical path, or embedded index), so materials that name the
 // same image share one texture, as a real engine would bind one texture
 // object for all of them.
@@ -292,6 +292,34 @@ class AssimpLoader {
 
 }  // namespace
 
+namespace {
+
+// A PLY file, read by oovr's own reader (model_checks.h): one mesh, one
+// untextured object.
+Scene ply_scene(const std::string& bytes, const std::string& path) {
+  const PlyMesh p = read_ply(bytes, path);
+  if (p.indices.empty()) throw Error("cannot load '" + path + "': the file has no triangles");
+  Scene scene;
+  scene.name = fs::path(path).stem().string();
+  scene.description = "loaded from " + path;
+  Mesh m;
+  m.name = scene.name;
+  m.vertices.resize(p.positions.size());
+  for (size_t v = 0; v < p.positions.size(); ++v) {
+    m.vertices[v].position = p.positions[v];
+    m.vertices[v].uv = p.uvs[v];
+  }
+  m.indices = p.indices;
+  scene.meshes.push_back(std::move(m));
+  scene.materials.push_back(Material::textured(scene.name, -1));
+  scene.objects.push_back({scene.name, 0, 0, Mat4::identity()});
+  scene.camera = orbit_camera_around(scene);
+  scene.validate();
+  return scene;
+}
+
+}  // namespace
+
 bool is_model_path(const std::string& path) {
   const std::string ext = lower_extension(path);
   return std::find(std::begin(kSupported), std::end(kSupported), ext) != std::end(kSupported);
@@ -323,6 +351,7 @@ Scene load_model_file(const std::string& path) {
     scene.validate();
     return scene;
   }
+  if (lower_extension(path) == ".ply") return ply_scene(read_input_file(path, "model", InputLimits::get().file_bytes), path);
   return AssimpLoader(path, true).load(precheck_model_file(path));
 }
 
@@ -337,6 +366,7 @@ Scene load_model_bytes(const std::string& bytes, const std::string& name) {
     scene.validate();
     return scene;
   }
+  if (lower_extension(name) == ".ply") return ply_scene(bytes, name);
   return AssimpLoader(name, false).load(precheck_model_bytes(bytes, name));
 }
 

@@ -1,6 +1,6 @@
-// Model files (OBJ, glTF 2, GLB, PLY through assimp; AC3D through oovr's own
-// reader, formats/ac3d.h). Each (node, mesh) instance becomes one object
-// (one draw) in node order.
+// Model files (OBJ, glTF 2, GLB through assimp; PLY and AC3D through oovr's
+// own readers, model_checks.h and ac3d.h). Each (node, mesh) instance
+// becomes one object (one draw) in node order.
 //
 // assimp reads only what oovr has checked (model_checks.h): the model file
 // itself comes from memory after its checks, and the files it names (an

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -14,6 +16,7 @@
 #include "oovr/core/files.h"
 #include "oovr/core/limits.h"
 #include "oovr/core/text.h"
+#include "oovr/core/units.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
@@ -31,23 +34,34 @@ int ply_type_size(const std::string& t) {
 }
 
 // PLY (Turk 1994): an ASCII header of elements and their properties, then
-// the records. assimp trusts the header's counts (and aborts on some
-// truncated files), so the records are walked here first: every declared
-// record, and every list item, must be in the file.
+// the records. oovr reads it itself (assimp trusted the header's counts,
+// looped for ever on a header whose end_header ended a property's name, and
+// aborted on faces its triangulation did not expect): every declared record
+// and list item must be in the file; the vertices' x, y, z (and s, t or u,
+// v) and the faces' index lists are kept.
+enum class PlyKind { signed_int, unsigned_int, real };
 struct PlyProperty {
+  std::string name;
   bool list = false;
   int count_size = 0;  // bytes of a list's count (binary)
   int size = 0;        // bytes of a value or a list item (binary)
+  PlyKind kind = PlyKind::real;
 };
 struct PlyElement {
+  std::string name;
   uint64_t count = 0;
   std::vector<PlyProperty> properties;
 };
 
-void check_ply(const std::string& bytes, const std::string& name) {
+PlyKind ply_kind(const std::string& t) {
+  if (t == "float" || t == "float32" || t == "double" || t == "float64") return PlyKind::real;
+  if (t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32") return PlyKind::signed_int;
+  return PlyKind::unsigned_int;
+}
+
+PlyMesh parse_ply(const std::string& bytes, const std::string& name) {
   if (bytes.compare(0, 4, "ply\n") != 0 && bytes.compare(0, 5, "ply\r\n") != 0) bad(name, "not a PLY file (no 'ply' magic)");
-  // The header ends at a line that is "end_header" alone (a property
-  // named "operend_header" once looped assimp's reader for ever).
+  // The header ends at a line that is "end_header" alone.
   size_t end = std::string::npos, newline = std::string::npos;
   for (size_t at = bytes.find('\n'); at != std::string::npos; at = bytes.find('\n', at + 1)) {
     const size_t next = bytes.find('\n', at + 1);
@@ -73,10 +87,9 @@ void check_ply(const std::string& bytes, const std::string& name) {
     if (w == "format") {
       words >> format;
     } else if (w == "element") {
-      std::string element;
       PlyElement e;
-      words >> element >> e.count;
-      if (!words) bad(name, "a PLY element without a count: '" + line + "'");
+      words >> e.name >> e.count;
+      if (!words) bad(name, "a PLY element without a count: '" + printable(line) + "'");
       total += e.count;
       check_limit(total, lim.elements, "elements", "model '" + name + "'", "PLY records declared");
       elements.push_back(e);
@@ -91,61 +104,117 @@ void check_ply(const std::string& bytes, const std::string& name) {
         p.list = true;
         p.count_size = ply_type_size(count_type);
         p.size = ply_type_size(item_type);
-        if (!p.count_size || !p.size) bad(name, "unknown PLY list types in '" + line + "'");
+        p.kind = ply_kind(item_type);
+        if (!p.count_size || !p.size || ply_kind(count_type) == PlyKind::real)
+          bad(name, "unknown PLY list types in '" + printable(line) + "'");
       } else {
         p.size = ply_type_size(type);
-        if (!p.size) bad(name, "unknown PLY property type '" + type + "'");
+        p.kind = ply_kind(type);
+        if (!p.size) bad(name, "unknown PLY property type '" + printable(type) + "'");
       }
+      words >> p.name;
       elements.back().properties.push_back(p);
     }  // other lines (comments, and the free text some exporters write) say nothing of the records
   }
   const bool ascii = format == "ascii", little = format == "binary_little_endian";
-  if (!ascii && !little && format != "binary_big_endian") bad(name, "unknown PLY format '" + format + "'");
+  if (!ascii && !little && format != "binary_big_endian") bad(name, "unknown PLY format '" + printable(format) + "'");
   const auto truncated = [&](const std::string& what) { bad(name, "the PLY file ends inside its " + what + " (truncated?)"); };
   size_t at = newline + 1;
-  // ASCII: the next whitespace-separated token.
-  const auto token = [&](const std::string& what) {
-    while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
-    if (at >= bytes.size()) truncated(what);
-    const size_t begin = at;
-    while (at < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
-    return std::string_view(bytes).substr(begin, at - begin);
+  // The next value, as a double (counts and indices are checked whole).
+  const auto value = [&](int size, PlyKind kind, const std::string& what) -> double {
+    if (ascii) {
+      while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+      if (at >= bytes.size()) truncated(what);
+      const size_t begin = at;
+      while (at < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+      double v = 0;
+      const auto [ptr, ec] = std::from_chars(bytes.data() + begin, bytes.data() + at, v);
+      if (ec != std::errc() || ptr != bytes.data() + at)
+        bad(name, "a PLY value that is not a number: '" + printable(bytes.substr(begin, std::min<size_t>(at - begin, 40))) + "'");
+      return v;
+    }
+    if (bytes.size() - at < size_t(size)) truncated(what);
+    uint64_t raw = 0;
+    for (int i = 0; i < size; ++i) raw = (raw << 8) | uint8_t(bytes[at + size_t(little ? size - 1 - i : i)]);
+    at += size_t(size);
+    if (kind == PlyKind::real) {
+      if (size == 4) {
+        const uint32_t r32 = uint32_t(raw);
+        float f;
+        std::memcpy(&f, &r32, 4);
+        return double(f);
+      }
+      double d;
+      std::memcpy(&d, &raw, 8);
+      return d;
+    }
+    if (kind == PlyKind::signed_int && size < 8 && (raw >> (size * 8 - 1)) & 1)
+      return double(int64_t(raw) - (int64_t(1) << (size * 8)));
+    return double(raw);
   };
+  PlyMesh mesh;
+  uint64_t vertices = 0;
   for (size_t e = 0; e < elements.size(); ++e) {
+    const PlyElement& el = elements[e];
     // A record without properties takes no bytes: nothing to walk (and
     // walking 10^8 of them took over 10 s, fuzzing found).
-    if (elements[e].properties.empty()) continue;
+    if (el.properties.empty()) continue;
     const std::string what = "element " + std::to_string(e) + "'s records";
-    for (uint64_t r = 0; r < elements[e].count; ++r) {
-      for (const PlyProperty& p : elements[e].properties) {
-        if (ascii) {
-          const std::string_view t = token(what);
-          if (!p.list) continue;
-          uint64_t n = 0;
-          for (const char c : t) {
-            if (c < '0' || c > '9' || n > (uint64_t(1) << 32)) bad(name, "a bad PLY list length '" + std::string(t) + "'");
-            n = n * 10 + uint64_t(c - '0');
-          }
-          for (uint64_t i = 0; i < n; ++i) (void)token(what);
-        } else {
-          if (!p.list) {
-            if (bytes.size() - at < size_t(p.size)) truncated(what);
-            at += size_t(p.size);
-            continue;
-          }
-          if (bytes.size() - at < size_t(p.count_size)) truncated(what);
-          uint64_t n = 0;
-          for (int i = 0; i < p.count_size; ++i) {
-            const uint64_t byte = uint8_t(bytes[at + size_t(little ? p.count_size - 1 - i : i)]);
-            n = (n << 8) | byte;
-          }
-          at += size_t(p.count_size);
-          if (n > (bytes.size() - at) / size_t(p.size)) truncated(what);
-          at += size_t(n) * size_t(p.size);
+    const bool is_vertex = el.name == "vertex" && vertices == 0, is_face = el.name == "face";
+    int ix = -1, iy = -1, iz = -1, iu = -1, iv = -1, ifaces = -1;
+    for (size_t k = 0; k < el.properties.size(); ++k) {
+      const std::string& n = el.properties[k].name;
+      if (el.properties[k].list) {
+        if (n == "vertex_indices" || n == "vertex_index") ifaces = int(k);
+        continue;
+      }
+      if (n == "x") ix = int(k);
+      else if (n == "y") iy = int(k);
+      else if (n == "z") iz = int(k);
+      else if (n == "s" || n == "u" || n == "texture_u") iu = int(k);
+      else if (n == "t" || n == "v" || n == "texture_v") iv = int(k);
+    }
+    if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) bad(name, "the PLY vertices have no x, y and z");
+    std::vector<double> v(el.properties.size());
+    std::vector<uint32_t> face;
+    for (uint64_t r = 0; r < el.count; ++r) {
+      for (size_t k = 0; k < el.properties.size(); ++k) {
+        const PlyProperty& p = el.properties[k];
+        if (!p.list) {
+          v[k] = value(p.size, p.kind, what);
+          continue;
         }
+        const double count = value(p.count_size, PlyKind::unsigned_int, what);
+        if (!(count >= 0 && count <= double(uint64_t(1) << 32) && count == std::floor(count)))
+          bad(name, "a bad PLY list length " + format_number(count));
+        const uint64_t n = uint64_t(count);
+        if (!ascii && n > (bytes.size() - at) / size_t(p.size)) truncated(what);
+        const bool keep = is_face && int(k) == ifaces;
+        if (keep) face.clear();
+        for (uint64_t i = 0; i < n; ++i) {
+          const double x = value(p.size, p.kind, what);
+          if (!keep) continue;
+          if (!(x >= 0 && x < double(vertices) && x == std::floor(x)))
+            bad(name, "a PLY face names vertex " + format_number(x) + " of " + std::to_string(vertices));
+          face.push_back(uint32_t(x));
+        }
+        // A polygon is a fan around its first corner; fewer than three
+        // corners draw nothing.
+        if (keep)
+          for (size_t i = 2; i < face.size(); ++i) {
+            if (mesh.indices.size() + 3 > lim.elements)
+              exceeded_limit(lim.elements, "elements", "model '" + name + "'", "PLY indices");
+            mesh.indices.insert(mesh.indices.end(), {face[0], face[i - 1], face[i]});
+          }
+      }
+      if (is_vertex) {
+        mesh.positions.push_back({float(v[size_t(ix)]), float(v[size_t(iy)]), float(v[size_t(iz)])});
+        mesh.uvs.push_back({iu >= 0 ? float(v[size_t(iu)]) : 0.0f, iv >= 0 ? float(v[size_t(iv)]) : 0.0f});
       }
     }
+    if (is_vertex) vertices = el.count;
   }
+  return mesh;
 }
 
 // glTF 2 JSON: buffers no larger than the bytes that hold them, accessors
@@ -387,11 +456,13 @@ void check_obj(const std::string& bytes, const std::string& name) {
 
 }  // namespace
 
+PlyMesh read_ply(const std::string& bytes, const std::string& name) { return parse_ply(bytes, name); }
+
 std::string precheck_model_bytes(const std::string& bytes, const std::string& name) {
   const std::string ext = lower_extension(name);
   if (ext == ".glb") return check_glb(bytes, name);
   if (ext == ".gltf") return check_gltf_json(bytes, name, 0, false);
-  if (ext == ".ply") check_ply(bytes, name);
+  if (ext == ".ply") (void)read_ply(bytes, name);
   else if (ext == ".obj") check_obj(bytes, name);
   else bad(name, "not a model file oovr checks (" + (ext.empty() ? std::string("no extension") : ext) + ")");
   return bytes;

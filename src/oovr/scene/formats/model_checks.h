@@ -13,9 +13,26 @@
 // importer crashes on a skin whose joint is its own mesh node).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
+
+#include "oovr/core/math.h"
 
 namespace oovr {
+
+// A PLY file's geometry, as oovr's own reader finds it: the first "vertex"
+// element's x, y, z (s, t or u, v when given) and the "face" elements'
+// vertex_indices, each polygon a fan of triangles.
+struct PlyMesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec2> uvs;
+  std::vector<uint32_t> indices;
+};
+// Reads a PLY file's bytes (`name` for messages). Throws Error naming the
+// file and what cannot be: a count the bytes do not hold, a face naming a
+// vertex that is not there, a value that is not a number.
+PlyMesh read_ply(const std::string& bytes, const std::string& name);
 
 // Checks the bytes of model file `name` (for messages and its extension; a
 // .gltf's external buffers are looked up beside it) and returns what assimp
