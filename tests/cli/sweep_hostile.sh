@@ -116,6 +116,13 @@ grep -q "3 runs kept (0 moved to their new places), 1 deleted" rec.log || { cat 
 [ "$(sqlite3 edit.db "SELECT count(*) FROM runs WHERE scheme = 'sfr-v'")" = 0 ] || fail "the edited-out run kept"
 [ "$(sqlite3 edit.db "SELECT count(*) FROM runs")" = 4 ] || fail "not 4 runs after reconciling"
 
+# `oovr paper` without --resume starts afresh, but never by deleting a
+# database that holds another sweep.
+mkdir -p pap && cp good.db pap/paper.db
+if "$oovr" paper --scenes crowd --out pap > pap.log 2>&1; then fail "the paper deleted a database of other sweeps"; fi
+grep -q "holds other sweeps ('s'), which a new run of the paper would delete" pap.log || { cat pap.log; fail "paper: no clear error"; }
+cmp -s good.db pap/paper.db || fail "the paper changed a database of other sweeps"
+
 # --collect of a task file with forged and damaged lines among real ones:
 # the real ones are stored, each other line named and left out.
 "$oovr" sweep s.toml --db job.db --backend slurm --slurm-dir job --chunk 4 > submit.log 2>&1 || true
