@@ -562,21 +562,15 @@ std::string record_checksum(const RunRecord& r) {
 }
 
 std::string canonical_setup(const RunRecord& r) {
-  nlohmann::ordered_json j;
-  j["scene"] = r.scene;
-  j["scheme"] = r.scheme;
-  j["resolution"] = r.resolution;
-  j["frame"] = r.frame;
-  j["frames"] = r.frames;
-  j["aniso"] = r.aniso;
+  // Each key's base value, else its text (result_json's base_value), in
+  // key order as the configuration holds them.
   std::map<std::string, nlohmann::ordered_json> sorted;
   if (r.config.is_object())
     for (const auto& [key, e] : r.config.items())
       sorted[key] = e.is_object() && e.contains("base") ? e.at("base") : e.is_object() && e.contains("value") ? e.at("value") : e;
   nlohmann::ordered_json config = nlohmann::ordered_json::object();
   for (const auto& [key, v] : sorted) config[key] = v;
-  j["config"] = config;
-  return j.dump();
+  return canonical_point(r.scene, r.scheme, r.resolution, r.frame, r.frames, r.aniso, config);
 }
 
 namespace {

@@ -284,6 +284,19 @@ std::string describe(const SweepPoint& p) {
 
 }  // namespace
 
+std::string canonical_point(const std::string& scene, const std::string& scheme, const std::string& resolution, int frame,
+                            int frames, int aniso, const nlohmann::ordered_json& config) {
+  nlohmann::ordered_json j;
+  j["scene"] = scene;
+  j["scheme"] = scheme;
+  j["resolution"] = resolution;
+  j["frame"] = frame;
+  j["frames"] = frames;
+  j["aniso"] = aniso;
+  j["config"] = config;
+  return j.dump();
+}
+
 bool is_sweep_name(const std::string& name) {
   if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-') return false;
   return std::all_of(name.begin(), name.end(), [](char c) {
@@ -435,19 +448,10 @@ void resolve(SweepPoint& p, const Config& machine) {
     check_config(c);
     const StereoRig rig = parse_frame_resolution(p.resolution);
     p.window = measured_window({p.scheme}, c, p.frames, "frames");
-    // What determines the result, in one canonical form: numbers in base
-    // units, however they were written ("64GBps" and 64e9 are one point).
-    nlohmann::ordered_json j;
-    j["scene"] = p.scene;
-    j["scheme"] = p.scheme;
-    j["resolution"] = std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height());
-    j["frame"] = p.frame;
-    j["frames"] = p.window;
-    j["aniso"] = p.aniso;
     nlohmann::ordered_json config = nlohmann::ordered_json::object();
     for (const auto& [key, e] : c.entries()) config[key] = base_value(e);
-    j["config"] = config;
-    p.canonical = j.dump();
+    p.canonical = canonical_point(p.scene, p.scheme, std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()),
+                                  p.frame, p.window, p.aniso, config);
     p.id = stable_id(p.canonical);
     p.config = std::move(c);
   } catch (const UnknownKeyError& e) {  // the kind kept, for the Python module's KeyError

@@ -88,4 +88,11 @@ std::string trace_group(const SweepPoint& p);
 // "ab12...": FNV-1a 64 of `text` as 16 lower-case hex digits.
 std::string stable_id(const std::string& text);
 
+// The JSON a point's id hashes: what determines its result, numbers in base
+// units ("64GBps" and 64e9 are one point). `config`: every key's base value
+// (or its text, for keys without a unit), keys in order. resolve() and
+// results_db's check of a stored run both make it here, so that they agree.
+std::string canonical_point(const std::string& scene, const std::string& scheme, const std::string& resolution, int frame,
+                            int frames, int aniso, const nlohmann::ordered_json& config);
+
 }  // namespace oovr
