@@ -432,6 +432,12 @@ void ResultsDb::add_death(const std::string& id) {
   s.step();
 }
 
+bool ResultsDb::has_column(const std::string& table, const std::string& column) const {
+  Statement s(m_db, "SELECT count(*) FROM pragma_table_info(?) WHERE name = ?", m_path);
+  s.bind(1, table).bind(2, column);
+  return s.step() && s.integer(0) == 1;
+}
+
 bool ResultsDb::has_table(const std::string& name) const {
   Statement s(m_db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?", m_path);
   s.bind(1, name);
@@ -508,7 +514,12 @@ void ResultsDb::verify() const {
   }
   std::set<std::string> sweeps;
   {
-    Statement s(m_db, "SELECT name, swept_keys, points, file, definition, command, checksum FROM sweeps", m_path);
+    // A version 1 database opened read-only has no checksums (NULL below).
+    const bool sums = has_column("sweeps", "checksum");
+    Statement s(m_db,
+                std::string("SELECT name, swept_keys, points, file, definition, command, ") + (sums ? "checksum" : "NULL") +
+                    " FROM sweeps",
+                m_path);
     while (s.step()) {
       const std::string name = s.text(0);
       if (!s.value(6).is_null() && s.text(6) != sweep_checksum(name, s.text(3), s.text(4), s.text(1), s.integer(2), s.text(5)))
@@ -529,7 +540,7 @@ void ResultsDb::verify() const {
   for (const InFlight& f : in_flight())
     if (!is_run_id(f.id) || f.deaths < 0 || f.pid < 0) damaged("a point marked in flight that is not one of oovr's");
   std::map<std::string, std::string> checksums;
-  {
+  if (has_column("runs", "checksum")) {
     Statement s(m_db, "SELECT id, checksum FROM runs", m_path);
     while (s.step())
       if (!s.value(1).is_null()) checksums[s.text(0)] = s.text(1);

@@ -172,6 +172,7 @@ class ResultsDb {
   void exec(const std::string& sql) const;
   std::set<std::string> columns() const;
   bool has_table(const std::string& name) const;
+  bool has_column(const std::string& table, const std::string& column) const;
   std::unique_ptr<DatabaseLock> m_lock;  // the writer's own lock, released after SQLite closes the file
   std::string m_path;
   sqlite3* m_db = nullptr;
