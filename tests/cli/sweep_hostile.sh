@@ -114,6 +114,12 @@ ln -s good.db link.db
 if "$oovr" sweep s.toml --db link.db --resume > link.log 2>&1; then fail "a link was followed"; fi
 grep -q "is a symbolic link" link.log || { cat link.log; fail "link: no clear error"; }
 
+# A command line holding a control character (here in the database's
+# name) is recorded escaped: the sweep runs.
+esc_db=$(printf 'esc\033[31m.db')
+"$oovr" sweep s.toml --db "$esc_db" > esc.log 2>&1 || { cat esc.log; fail "a control character in the command line"; }
+sqlite3 "$esc_db" "SELECT DISTINCT command FROM runs" | grep -qF 'esc\x1b[31m.db' || fail "the command line not escaped"
+
 # An edited sweep file: refused on --resume, reconciled when asked.
 cp good.db edit.db
 sed 's/"sfr-v"/"sfr-h"/' s.toml > edited.toml

@@ -20,6 +20,7 @@
 #include "oovr/core/host.h"
 #include "oovr/core/out_of_memory.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/text.h"
 #include "oovr/core/version.h"
 #include "oovr/experiments/frames.h"
 #include "oovr/experiments/result_images.h"
@@ -67,7 +68,7 @@ RunRecord record_of(const Sweep& s, size_t index, const std::string& command) {
   r.config = to_json(entries);
   r.oovr_version = version();
   r.git_commit = git_commit();
-  r.command = command;
+  r.command = printable(command, true);  // as a record may hold it (results_db.h): no control characters
   r.host = host_name().empty() ? "unknown" : host_name();
   r.started = utc_now();
   return r;
@@ -120,14 +121,14 @@ SweepRecord sweep_record(const Sweep& s, const std::string& command) {
   r.definition = s.definition;
   r.swept_keys = s.swept_keys;
   r.points = s.points.size();
-  r.command = command;
+  r.command = printable(command, true);
   return r;
 }
 
 RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, const std::string& command) {
   RunRecord r = record_of(s, index, command);
   r.status = "failed";
-  r.error = error;
+  r.error = printable(error, true);  // an error may quote a hostile file
   return r;
 }
 
@@ -291,7 +292,7 @@ class PointPool {
       req.need_first_image = m_sweep.images;
       g.frames = load_window(loaded, parse_frame_resolution(first.resolution), first.config, req);
     } catch (const Error& e) {
-      why = e.what();
+      why = printable(e.what(), true);
     } catch (const std::bad_alloc&) {
       why = out_of_memory_message("loading " + first.scene + " at " + first.resolution);
     }
@@ -321,7 +322,7 @@ class PointPool {
         r.images = images_of(frames.outputs.front(), result);
     } catch (const Error& e) {
       r.status = "failed";
-      r.error = e.what();
+      r.error = printable(e.what(), true);
     } catch (const std::bad_alloc&) {
       r.status = "failed";
       r.error = out_of_memory_message("simulating " + p.scheme + " on " + p.scene);
