@@ -40,9 +40,15 @@ struct Job {
       tasks[0].push_back({i, s.points[i].id});
       ids.insert(s.points[i].id);
     }
-    nlohmann::json m = {{"schema", "oovr.slurm-sweep"}, {"sweep", s.name},        {"sweep_file", "/c.toml"},
-                        {"base_dir", "/"},               {"swept_keys", s.swept_keys}, {"points", s.points.size()},
-                        {"command", "oovr sweep c.toml"}, {"use_cache", false},     {"tasks", tasks}};
+    nlohmann::json m = {{"schema", "oovr.slurm-sweep"},
+                        {"sweep", s.name},
+                        {"sweep_file", "/c.toml"},
+                        {"base_dir", "/"},
+                        {"swept_keys", s.swept_keys},
+                        {"points", s.points.size()},
+                        {"command", "oovr sweep c.toml"},
+                        {"use_cache", false},
+                        {"tasks", tasks}};
     std::ofstream(dir / "manifest.json") << m.dump(1) << "\n";
     std::ofstream(dir / "sweep.toml") << kCollectSweep;
   }

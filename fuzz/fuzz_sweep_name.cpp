@@ -42,7 +42,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
   }
   try {
-    const oovr::Sweep s = oovr::parse_sweep("name = \"" + quoted + "\"\nscenes = [\"crowd\"]\nschemes = [\"baseline\"]\n", "f.toml", "");
+    const oovr::Sweep s =
+        oovr::parse_sweep("name = \"" + quoted + "\"\nscenes = [\"crowd\"]\nschemes = [\"baseline\"]\n", "f.toml", "");
     const std::string& n = s.name;
     if (!oovr::is_sweep_name(n) || n.empty() || n.size() > 64) __builtin_trap();
     if (n.find_first_of("/<>&\"' \\$`;|*?()[]{}") != std::string::npos || n == "." || n == ".." || n[0] == '-') __builtin_trap();

@@ -102,7 +102,9 @@ int main(int argc, char** argv) {
     std::ofstream(dir / "collect" / "forged.jsonl", std::ios::binary) << forged;
   }
   // Sweep names (fuzz_sweep_name).
-  for (const char* name : {"paper", "quick-2.v1_x", "x\ntouch PWNED\n#", "<img src=x>", "../up", "\xc2\x9b" "31m"})
+  for (const char* name : {"paper", "quick-2.v1_x", "x\ntouch PWNED\n#", "<img src=x>", "../up",
+                           "\xc2\x9b"
+                           "31m"})
     std::ofstream(dir / "sweep_name" / ("name-" + std::to_string(std::hash<std::string>{}(name) % 100000)), std::ios::binary)
         << name;
   // A trace of a small frame: its payload and its cache entry.
