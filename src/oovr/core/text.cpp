@@ -61,29 +61,44 @@ std::string shell_command_line(int argc, const char* const* argv) {
   return out;
 }
 
+namespace {
+
+// The bytes of a control character at text[i] that printable() escapes: 1
+// (C0, DEL), 2 (C1 as UTF-8) or 0 (none).
+size_t control_at(std::string_view text, size_t i, bool keep_lines) {
+  const auto c = static_cast<unsigned char>(text[i]);
+  if (keep_lines && (c == '\n' || c == '\t')) return 0;
+  if (c < 0x20 || c == 0x7f) return 1;
+  if (c == 0xc2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+      static_cast<unsigned char>(text[i + 1]) <= 0x9f)
+    return 2;
+  return 0;
+}
+
+}  // namespace
+
 std::string printable(std::string_view text, bool keep_lines) {
   static const char* hex = "0123456789abcdef";
   std::string out;
   out.reserve(text.size());
   for (size_t i = 0; i < text.size(); ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (keep_lines && (c == '\n' || c == '\t')) {
-      out += char(c);
-    } else if (c < 0x20 || c == 0x7f) {
-      out += "\\x";
-      out += hex[c >> 4];
-      out += hex[c & 15];
-    } else if (c == 0xc2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
-               static_cast<unsigned char>(text[i + 1]) <= 0x9f) {
-      const auto d = static_cast<unsigned char>(text[++i]);
-      out += "\\u00";
-      out += hex[d >> 4];
-      out += hex[d & 15];
-    } else {
-      out += char(c);
+    const size_t n = control_at(text, i, keep_lines);
+    if (n == 0) {
+      out += text[i];
+      continue;
     }
+    const auto c = static_cast<unsigned char>(text[i += n - 1]);
+    out += n == 1 ? "\\x" : "\\u00";
+    out += hex[c >> 4];
+    out += hex[c & 15];
   }
   return out;
+}
+
+bool has_control_characters(std::string_view text, bool keep_lines) {
+  for (size_t i = 0; i < text.size(); ++i)
+    if (control_at(text, i, keep_lines)) return true;
+  return false;
 }
 
 }  // namespace oovr

@@ -34,5 +34,8 @@ std::string shell_command_line(int argc, const char* const* argv);
 // as UTF-8), which could move the cursor, recolour or retitle it, become
 // \xNN (\u0080..\u009f for C1); new lines and tabs stay when `keep_lines`.
 std::string printable(std::string_view text, bool keep_lines = false);
+// Whether `text` holds a character printable() would escape (printable(text,
+// keep_lines) != text, without making the copy).
+bool has_control_characters(std::string_view text, bool keep_lines = false);
 
 }  // namespace oovr

@@ -121,10 +121,9 @@ PaperResults run_paper(PaperOptions& o) {
   for (const auto& note : plan.notes)
     if (o.progress) o.progress(note);
   begin_sweep(s, plan, db, o.command);
-  const auto held = db.run_status();
   std::vector<size_t> todo;
-  for (size_t i : which)
-    if (!held.count(s.points[i].id)) todo.push_back(i);
+  for (size_t i : plan.todo)
+    if (wanted(s.points[i])) todo.push_back(i);
   if (o.progress && todo.size() < which.size())
     o.progress(fmt::format("{} of {} points in {} already", which.size() - todo.size(), which.size(), o.db));
   if (o.on_plan) o.on_plan(todo.size());

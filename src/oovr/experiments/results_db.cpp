@@ -179,11 +179,7 @@ ResultsDb::ResultsDb(const std::string& path, Access access, const DatabaseLock*
     }
     if (!has_tables && access == Access::read_only) throw Error("'" + path + "' is not an oovr results database (it is empty)");
     if (has_tables) {
-      bool ours = false;
-      {
-        Statement s(m_db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'meta'", path);
-        ours = s.step() && s.integer(0) == 1;
-      }
+      bool ours = has_table("meta");
       if (ours) {
         Statement s(m_db, "SELECT value FROM meta WHERE key = 'schema'", path);
         ours = s.step() && s.text(0) == kSchemaName;
@@ -337,8 +333,7 @@ void ResultsDb::remove(const std::string& id) {
   Statement s(m_db, "DELETE FROM runs WHERE id = ?", m_path);
   s.bind(1, id);
   s.step();
-  if (!has_table("in_flight")) return;
-  Statement f(m_db, "DELETE FROM in_flight WHERE id = ?", m_path);
+  Statement f(m_db, "DELETE FROM in_flight WHERE id = ?", m_path);  // a writer's database has the table
   f.bind(1, id);
   f.step();
 }
@@ -586,12 +581,6 @@ std::string canonical_setup(const RunRecord& r) {
 
 namespace {
 
-bool has_control(const std::string& s, bool allow_lines) {
-  for (const unsigned char c : s)
-    if ((c < 0x20 && !(allow_lines && (c == '\n' || c == '\t'))) || c == 0x7f) return true;
-  return false;
-}
-
 bool is_resolution(const std::string& s) {
   const size_t x = s.find('x');
   const auto digits = [](const std::string& d) {
@@ -613,10 +602,10 @@ void check_run_record(const RunRecord& r) {
                                      {"git_commit", &r.git_commit},
                                      {"host", &r.host},
                                      {"started", &r.started}})
-    if (value->empty() || value->size() > 4096 || has_control(*value, false))
+    if (value->empty() || value->size() > kMaxNameChars || has_control_characters(*value))
       bad(std::string(field) + " '" + printable(*value) + "' is empty, too long or holds control characters");
   for (const auto& [field, value] : {std::pair<const char*, const std::string*>{"command", &r.command}, {"error", &r.error}})
-    if (has_control(*value, true)) bad(std::string(field) + " holds control characters");
+    if (has_control_characters(*value, true)) bad(std::string(field) + " holds control characters");
   if (!is_resolution(r.resolution)) bad("resolution '" + printable(r.resolution) + "' is not WIDTHxHEIGHT");
   if (r.position < 0 || size_t(r.position) >= kMaxPoints) bad("position " + std::to_string(r.position));
   if (r.frame < 0 || r.frame > 1'000'000) bad("frame " + std::to_string(r.frame));

@@ -147,7 +147,7 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
                                    {"the oovr executable's path", exe},
                                    {"--partition", o.partition},
                                    {"--time", o.time_limit}})
-    if (printable(text) != text) throw Error(std::string(what) + " '" + printable(text) + "' holds control characters");
+    if (has_control_characters(text)) throw Error(std::string(what) + " '" + printable(text) + "' holds control characters");
   std::string script = "#!/bin/sh\n";
   script += "# oovr sweep '" + s.name + "': " + std::to_string(todo.size()) + " points in " + std::to_string(tasks) +
             " tasks, written by: " + printable(command) + "\n";

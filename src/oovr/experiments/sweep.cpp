@@ -23,9 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The longest name or value a sweep file may give (a scene's path, a
-// setting): what a run record keeps (results_db.h).
-constexpr size_t kMaxText = 4096;
 // About what a resolved point holds (its configuration), for the bound on
 // what a sweep's points may hold in all: kMaxPoints of them.
 constexpr uint64_t kPointBytes = 25'000;
@@ -69,8 +66,9 @@ class Reader {
       const auto* s = x.as_string();
       if (!s) fail(x, key + " takes strings");
       if (s->get().empty()) fail(x, key + " has an empty name");
-      if (s->get().size() > kMaxText) fail(x, key + " has a name of more than " + std::to_string(kMaxText) + " characters");
-      if (printable(s->get()) != s->get()) fail(x, key + " has a name with control characters");
+      if (s->get().size() > kMaxNameChars)
+        fail(x, key + " has a name of more than " + std::to_string(kMaxNameChars) + " characters");
+      if (has_control_characters(s->get())) fail(x, key + " has a name with control characters");
       out.push_back(s->get());
     });
     return out;
@@ -94,8 +92,9 @@ class Reader {
   std::string value(const toml::node& n, const std::string& key) const {
     if (const auto* s = n.as_string()) {
       if (s->get().empty()) fail(n, key + " has an empty value");
-      if (s->get().size() > kMaxText) fail(n, key + " has a value of more than " + std::to_string(kMaxText) + " characters");
-      if (printable(s->get()) != s->get()) fail(n, key + " has a value with control characters");
+      if (s->get().size() > kMaxNameChars)
+        fail(n, key + " has a value of more than " + std::to_string(kMaxNameChars) + " characters");
+      if (has_control_characters(s->get())) fail(n, key + " has a value with control characters");
       return s->get();
     }
     if (const auto* i = n.as_integer()) return std::to_string(i->get());

@@ -25,6 +25,10 @@ namespace oovr {
 // several sweeps into one database.
 inline constexpr size_t kMaxPoints = 100000;
 
+// The longest name or value a sweep file may give (a scene's path, a
+// setting), and so the longest a run record keeps (results_db.h).
+inline constexpr size_t kMaxNameChars = 4096;
+
 // Whether `name` is a sweep name oovr takes: 1 to 64 letters, digits, '_',
 // '-' and '.', not starting with '.' or '-'. A sweep's name reaches a SLURM
 // job script, file names, the report's HTML and the terminal.
