@@ -50,7 +50,7 @@ asan: deps $(SAN_BUILD)/build.ninja
 # sweep files and run records, hardware data),
 # each run for FUZZ_SECONDS from seeds written by oovr-fuzz-seeds; a crash,
 # a hang (-timeout) or a blown memory limit fails the target.
-FUZZ_TARGETS ?= bsp sgi q3_shader config trace model ac3d torcs pk3 sweep hardware collect sweep_name
+FUZZ_TARGETS ?= bsp sgi q3_shader config trace model ac3d torcs pk3 sweep hardware collect sweep_name apitrace
 fuzz: deps $(SAN_BUILD)/build.ninja
 	cmake --build $(SAN_BUILD) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS)) oovr-fuzz-seeds
 	$(SAN_BUILD)/fuzz/oovr-fuzz-seeds $(SAN_BUILD)/corpus $(CURDIR)

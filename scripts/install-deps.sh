@@ -24,6 +24,8 @@ packages=(
   # libraries
   libassimp-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libtomlplusplus-dev libpng-dev zlib1g-dev libpugixml-dev
+  # apitrace's trace files (real game frames) are snappy-compressed
+  libsnappy-dev
   # the results database (and its command-line shell, for queries and tests)
   libsqlite3-dev sqlite3
   # oovr report's plots

@@ -1,0 +1,185 @@
+// Writes apitrace trace files (docs/apitrace-format.md) for tests and fuzz
+// seeds: a trace of chosen calls without a game or apitrace. Each value is
+// encoded to bytes by a member function and a call is a name with named,
+// encoded arguments:
+//
+//   TraceWriter w;
+//   w.call("glDrawArrays", {{"mode", w.e("GL_TRIANGLES", 4)}, {"first", w.u(0)}, {"count", w.u(3)}});
+//   std::string file = w.finish();
+#pragma once
+
+#include <snappy.h>
+
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace oovr::test {
+
+class TraceWriter {
+ public:
+  using Arg = std::pair<std::string, std::string>;  // name, encoded value
+
+  // `properties` follow the version (version 6 only).
+  explicit TraceWriter(unsigned version = 6,
+                       std::vector<std::pair<std::string, std::string>> properties = {{"process.name", "test"}})
+      : m_version(version) {
+    put_uint(m_stream, version);
+    if (version >= 6) {
+      put_uint(m_stream, version);
+      for (const auto& [k, v] : properties) {
+        put_string(m_stream, k);
+        put_string(m_stream, v);
+      }
+      put_uint(m_stream, 0);
+    }
+  }
+
+  // Encoded values.
+  static std::string null() { return std::string(1, '\x00'); }
+  static std::string boolean(bool b) { return std::string(1, b ? '\x02' : '\x01'); }
+  static std::string u(uint64_t v) { return tagged(0x04, v); }
+  static std::string i(int64_t v) { return v < 0 ? tagged(0x03, uint64_t(-v)) : tagged(0x04, uint64_t(v)); }
+  static std::string f(float v) {
+    std::string s(1, '\x05');
+    s.append(reinterpret_cast<const char*>(&v), 4);
+    return s;
+  }
+  static std::string d(double v) {
+    std::string s(1, '\x06');
+    s.append(reinterpret_cast<const char*>(&v), 8);
+    return s;
+  }
+  static std::string str(const std::string& v) {
+    std::string s(1, '\x07');
+    put_string(s, v);
+    return s;
+  }
+  static std::string blob(const void* data, size_t n) {
+    std::string s(1, '\x08');
+    put_uint(s, n);
+    s.append(static_cast<const char*>(data), n);
+    return s;
+  }
+  template <class T>
+  static std::string blob(const std::vector<T>& v) {
+    return blob(v.data(), v.size() * sizeof(T));
+  }
+  static std::string opaque(uint64_t address) { return tagged(0x0d, address); }
+  static std::string array(const std::vector<std::string>& items) {
+    std::string s(1, '\x0b');
+    put_uint(s, items.size());
+    for (const auto& i : items) s += i;
+    return s;
+  }
+  // An enum value; each name gets a signature of its own, written on first use.
+  std::string e(const std::string& name, int64_t value) {
+    std::string s(1, '\x09');
+    const auto key = name + "=" + std::to_string(value);
+    auto it = m_enums.find(key);
+    if (it != m_enums.end()) {
+      put_uint(s, it->second);
+    } else {
+      const uint64_t id = m_enums.size();
+      m_enums[key] = id;
+      put_uint(s, id);
+      if (m_version >= 3) put_uint(s, 1);
+      put_string(s, name);
+      s += i(value);
+    }
+    if (m_version >= 3) s += i(value);
+    return s;
+  }
+
+  // One call: its ENTER (with the arguments) and its LEAVE (with `ret` when
+  // not empty). Returns its number.
+  uint64_t call(const std::string& name, const std::vector<Arg>& args, const std::string& ret = "", bool fake = false) {
+    const uint64_t no = enter(name, args, fake);
+    leave(no, ret);
+    return no;
+  }
+  uint64_t enter(const std::string& name, const std::vector<Arg>& args, bool fake = false, uint64_t thread = 0) {
+    m_stream += '\x00';
+    if (m_version >= 4) put_uint(m_stream, thread);
+    auto it = m_functions.find(name);
+    if (it != m_functions.end()) {
+      put_uint(m_stream, it->second);
+    } else {
+      const uint64_t id = m_functions.size() + 4;  // apitrace's API functions start at 4
+      m_functions[name] = id;
+      put_uint(m_stream, id);
+      put_string(m_stream, name);
+      put_uint(m_stream, args.size());
+      for (const auto& a : args) put_string(m_stream, a.first);
+    }
+    if (fake) {
+      m_stream += '\x05';
+      put_uint(m_stream, 1);
+    }
+    for (size_t k = 0; k < args.size(); ++k) {
+      m_stream += '\x01';
+      put_uint(m_stream, k);
+      m_stream += args[k].second;
+    }
+    m_stream += '\x00';
+    return m_calls++;
+  }
+  void leave(uint64_t no, const std::string& ret = "") {
+    m_stream += '\x01';
+    put_uint(m_stream, no);
+    if (!ret.empty()) {
+      m_stream += '\x02';
+      m_stream += ret;
+    }
+    m_stream += '\x00';
+  }
+  // Raw bytes appended to the stream (malformed events).
+  void raw(const std::string& bytes) { m_stream += bytes; }
+  const std::string& stream() const { return m_stream; }
+
+  // The file: 'a' 't' and the stream in snappy chunks of `chunk` bytes.
+  std::string finish(size_t chunk = 1 << 20) const { return container(m_stream, chunk); }
+  static std::string container(const std::string& stream, size_t chunk = 1 << 20) {
+    std::string out = "at";
+    for (size_t at = 0; at < stream.size(); at += chunk) {
+      std::string c;
+      snappy::Compress(stream.data() + at, std::min(chunk, stream.size() - at), &c);
+      const uint32_t n = uint32_t(c.size());
+      const char len[4] = {char(n), char(n >> 8), char(n >> 16), char(n >> 24)};
+      out.append(len, 4);
+      out += c;
+    }
+    return out;
+  }
+
+  static void put_uint(std::string& s, uint64_t v) {
+    do {
+      uint8_t b = v & 0x7F;
+      v >>= 7;
+      if (v) b |= 0x80;
+      s += char(b);
+    } while (v);
+  }
+  static void put_string(std::string& s, const std::string& v) {
+    put_uint(s, v.size());
+    s += v;
+  }
+
+ private:
+  static std::string tagged(char tag, uint64_t v) {
+    std::string s(1, tag);
+    put_uint(s, v);
+    return s;
+  }
+
+  unsigned m_version;
+  std::string m_stream;
+  std::map<std::string, uint64_t> m_functions;
+  std::map<std::string, uint64_t> m_enums;
+  uint64_t m_calls = 0;
+};
+
+}  // namespace oovr::test
