@@ -2,7 +2,7 @@
 # Installs oovr's build and test dependencies from Debian 12's archive.
 # Idempotent: asks dpkg what is missing and runs apt-get only for that.
 #
-# Usage: scripts/install-deps.sh [--game-data] [--services]
+# Usage: scripts/install-deps.sh [--game-data] [--services] [--capture]
 #   --game-data  also install the real game levels used as workloads:
 #                OpenArena maps and textures (about 410 MB), Nexuiz
 #                (nexuiz-data, about 800 MB) and TORCS tracks (about
@@ -13,6 +13,9 @@
 #                `oovr sweep --backend slurm`) and Chromium (to open
 #                `oovr report`'s page headless). Without them those tests
 #                report "skipped"; CI installs them.
+#   --capture    also install what captures a real game's frames
+#                (scripts/capture-frames.sh, the round-trip test):
+#                apitrace, Xvfb and OpenArena's engine. CI installs them.
 set -euo pipefail
 
 packages=(
@@ -54,12 +57,18 @@ services=(
   chromium fonts-dejavu-core
 )
 
+capture=(
+  apitrace apitrace-tracers xvfb xauth
+  openarena
+)
+
 for arg in "$@"; do
   case "$arg" in
     --game-data) packages+=("${game_data[@]}") ;;
     --services) packages+=("${services[@]}") ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
-    *) echo "install-deps: unknown option '$arg' (use --game-data, --services or --help)" >&2; exit 2 ;;
+    --capture) packages+=("${capture[@]}") ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    *) echo "install-deps: unknown option '$arg' (use --game-data, --services, --capture or --help)" >&2; exit 2 ;;
   esac
 done
 

@@ -40,11 +40,11 @@ struct Reference {
 // scene hash changed too, a loader or a scene changed instead: record both.
 constexpr uint32_t kRecordedVersion = 1;
 constexpr Reference kReferences[] = {
-    {"crowd", 0, "96x64", 8825377480391382473u, 16997077439721387403u},
-    {"courtyard", 5, "96x64", 13209774018795840922u, 11421391068056993798u},
-    {"oa:oa_dm4", 0, "96x64", 4997083778515744369u, 2787289683188192321u},
-    {"nexuiz:strength", 0, "96x64", 12022897656697453944u, 10426362947222672922u},
-    {"torcs:forza", 0, "96x64", 8709396679541752112u, 6131576962161297412u},
+    {"crowd", 0, "96x64", 7155168817299488758u, 16997077439721387403u},
+    {"courtyard", 5, "96x64", 6739315327548645814u, 11421391068056993798u},
+    {"oa:oa_dm4", 0, "96x64", 15964993765765942389u, 2787289683188192321u},
+    {"nexuiz:strength", 0, "96x64", 11821387306815008176u, 10426362947222672922u},
+    {"torcs:forza", 0, "96x64", 18442517620297510886u, 6131576962161297412u},
 };
 
 bool installed(const std::string& scene) {

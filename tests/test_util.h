@@ -104,7 +104,7 @@ inline Scene triangle_scene(const std::vector<Vec2>& points, const std::vector<u
   Material mat = Material::textured("white", -1);
   mat.two_sided = true;
   s.materials.push_back(mat);
-  s.objects.push_back({"triangles", 0, 0, Mat4::identity()});
+  s.objects.push_back(Object::of("triangles", 0, 0, Mat4::identity()));
   s.camera.frames.push_back({});
   return s;
 }

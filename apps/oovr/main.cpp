@@ -24,6 +24,7 @@
 #include "oovr/experiments/simulation.h"
 #include "oovr/pipeline/frame_summary.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/formats/apitrace.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
 #include "oovr/schemes/i_scheme.h"
@@ -74,7 +75,10 @@ int cmd_scene_info(const SceneInfoArgs& a) {
     return 0;
   }
   fmt::print("scene          {}\n", i.name);
-  fmt::print("draws          {}\n", i.draws);
+  fmt::print("draws          {}{}\n", i.draws,
+             i.draws_max ? fmt::format(" in the first frame; per frame median {}, from {} to {}", i.draws_median, i.draws_min,
+                                       i.draws_max)
+                         : "");
   fmt::print("triangles      {}\n", i.triangles);
   fmt::print("vertices       {}\n", i.vertices);
   fmt::print("textures       {} ({} with mip chains)\n", i.textures, human_bytes(i.texture_bytes));
@@ -178,7 +182,7 @@ int cmd_render(const RenderArgs& a) {
   fmt::print("{}: frame {} of {}, {}x{} stereo ({}x{} per eye) -> {}\n", scene.name, a.frame, scene.camera.frames.size(),
              view.frame_width, view.frame_height, rig.eye_width, rig.eye_height, a.out);
   fmt::print("  draws {}, triangles {}, set up left {} right {}, culled (back-facing or outside the view) {}\n",
-             scene.objects.size(), scene.triangle_count(), sum.setup[0], sum.setup[1], sum.culled);
+             scene.draws(a.frame).size(), scene.triangle_count(a.frame), sum.setup[0], sum.setup[1], sum.culled);
   fmt::print("  fragments covered {}, shaded {}, passed {}; quads {}\n", sum.covered, sum.shaded, sum.passed, sum.quads);
   fmt::print("  trace: {} (object, eye, tile) records, {} texture line reads ({}-byte lines)\n", sum.records,
              sum.texture_line_reads, sum.line_bytes);
@@ -337,6 +341,13 @@ int main(int argc, char** argv) {
   corr_cmd->add_option("--max-spread", corr.max_spread, "Fail when the largest ratio oovr/GPU over the smallest exceeds this")
       ->check(kFinite & CLI::Range(1.0, 1e9));
 
+  std::string cut_in, cut_out;
+  int cut_last = 0;
+  auto* cut_cmd = app.add_subcommand("trace-cut", "Keep an apitrace capture's frames up to one (scripts/capture-frames.sh)");
+  cut_cmd->add_option("--in", cut_in, "The capture (an apitrace file)")->required();
+  cut_cmd->add_option("--out", cut_out, "The file to write")->required();
+  cut_cmd->add_option("--last-frame", cut_last, "The last frame kept (from 0)")->required()->check(CLI::NonNegativeNumber);
+
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
   render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
@@ -386,6 +397,12 @@ int main(int argc, char** argv) {
         return cli::compare(cmp, list);
       }
       if (app.got_subcommand(render_cmd)) return cmd_render(render);
+      if (app.got_subcommand(cut_cmd)) {
+        const uint64_t kept = apitrace::cut_trace(cut_in, cut_out, cut_last);
+        fmt::print("trace-cut: frames 0 to {} of {} kept in {} ({} bytes)\n", cut_last, printable(cut_in), printable(cut_out),
+                   kept);
+        return 0;
+      }
       if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
       if (app.got_subcommand(paper_cmd)) return cli::paper(paper);
       if (app.got_subcommand(sweep_cmd)) return cli::sweep(sweep);

@@ -110,6 +110,17 @@ bool data_missing(const std::string& scene) {
 
 // --time: frames --frame .. --frame + --frames - 1 of every scene at every
 // resolution, as oovr correlate reads them (docs/validation.md).
+// The reference draws scenes whose draws are the same in every frame; a
+// captured game's frames are validated against glretrace, apitrace's own
+// replayer of the capture (docs/validation.md).
+Scene load_reference_scene(const std::string& name) {
+  Scene s = load_scene(name);
+  if (s.captured())
+    throw Error("scene '" + name + "' is a captured game: the reference renderer does not draw it; " +
+                "it is compared with glretrace's snapshots of the capture instead (docs/validation.md)");
+  return s;
+}
+
 int time_frames(const Args& a) {
   std::vector<std::string> resolutions = split_list(a.resolutions);
   if (resolutions.empty()) resolutions.push_back(a.resolution);
@@ -136,7 +147,7 @@ int time_frames(const Args& a) {
   data.workload = {git_commit(), one_pass ? "one-pass" : "real", "rgba8", a.aniso};
   fmt::print("timing on {}: {} repetitions after one warm-up, anisotropy {}\n", data.renderer, a.repeat, a.aniso);
   for (const auto& name : a.scenes) {
-    const Scene scene = load_scene(name);
+    const Scene scene = load_reference_scene(name);
     const int path = int(scene.camera.frames.size());
     if (a.frame >= path)
       throw Error("frame " + std::to_string(a.frame) + " is out of range: the camera path has " + std::to_string(path) +
@@ -183,7 +194,7 @@ int run(const Args& a) {
 }
 
 int compare(const Args& a, const StereoRig& rig) {
-  Scene scene = load_scene(a.scene);
+  Scene scene = load_reference_scene(a.scene);
   if (a.isolate >= 0) {
     // Keep one draw, untextured and white, so that both images are its
     // coverage mask and every differing pixel can be listed.

@@ -217,8 +217,8 @@ PaperResults run_paper(PaperOptions& o) {
     w.aniso = o.aniso;
     const FrameWindow window = load_window(loaded, parse_frame_resolution(o.sweep_resolution), o.config, w);
     PaperSceneStats& st = stats[k];
-    st.draws = scene.objects.size();
-    for (const auto& ob : scene.objects) st.triangles += scene.meshes[size_t(ob.mesh)].indices.size() / 3;
+    st.draws = scene.draws(o.first_frame).size();
+    st.triangles = scene.triangle_count(o.first_frame);
     for (const auto& t : scene.textures) st.texture_bytes += t.bytes();
     Config probe = o.config;
     const TimingSpec timing = TimingSpec::from_config(probe);

@@ -15,9 +15,10 @@ uint64_t texture_bytes(const Texture& t) {
 
 }  // namespace
 
-uint32_t OOApplication::add_object(const Scene& scene, uint32_t draw, Viewport left, Viewport right) {
-  if (draw >= scene.objects.size()) throw Error("OO application: draw " + std::to_string(draw) + " does not exist");
-  const Object& so = scene.objects[draw];
+uint32_t OOApplication::add_object(const Scene& scene, uint32_t draw, Viewport left, Viewport right, int frame) {
+  const std::vector<Object>& draws = scene.draws(frame);
+  if (draw >= draws.size()) throw Error("OO application: draw " + std::to_string(draw) + " does not exist");
+  const Object& so = draws[draw];
   const Mesh& mesh = scene.meshes[size_t(so.mesh)];
   OOObject o;
   o.draw = draw;
@@ -30,10 +31,10 @@ uint32_t OOApplication::add_object(const Scene& scene, uint32_t draw, Viewport l
   return uint32_t(m_objects.size() - 1);
 }
 
-uint32_t OOApplication::add_object_auto(const Scene& scene, uint32_t draw, Viewport viewport) {
+uint32_t OOApplication::add_object_auto(const Scene& scene, uint32_t draw, Viewport viewport, int frame) {
   Viewport right = viewport;
   right.x += viewport.width;
-  return add_object(scene, draw, viewport, right);
+  return add_object(scene, draw, viewport, right, frame);
 }
 
 void OOApplication::add_dependency(uint32_t object, uint32_t earlier) {
@@ -43,14 +44,15 @@ void OOApplication::add_dependency(uint32_t object, uint32_t earlier) {
   if (std::find(a.begin(), a.end(), earlier) == a.end()) a.push_back(earlier);
 }
 
-OOApplication make_application(const Scene& scene, int frame_width, int frame_height) {
+OOApplication make_application(const Scene& scene, int frame_width, int frame_height, int frame) {
   OOApplication app;
   const Viewport left{0, 0, frame_width / 2, frame_height};
   // Draws and objects correspond one to one, so a draw's constraints name
   // objects with the same indices.
-  for (uint32_t d = 0; d < scene.objects.size(); ++d) {
-    app.add_object_auto(scene, d, left);
-    for (uint32_t p : scene.objects[d].after) app.add_dependency(d, p);
+  const std::vector<Object>& draws = scene.draws(frame);
+  for (uint32_t d = 0; d < draws.size(); ++d) {
+    app.add_object_auto(scene, d, left, frame);
+    for (uint32_t p : draws[d].after) app.add_dependency(d, p);
   }
   return app;
 }

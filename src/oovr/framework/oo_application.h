@@ -28,9 +28,10 @@ struct OOObject {
 class OOApplication {
  public:
   // An object with both viewports given (GL_OVR_multiview2 style). Returns its id.
-  uint32_t add_object(const Scene& scene, uint32_t draw, Viewport left, Viewport right);
+  // `frame`: the camera frame whose draws `draw` indexes (Scene::draws).
+  uint32_t add_object(const Scene& scene, uint32_t draw, Viewport left, Viewport right, int frame = 0);
   // The auto-model: viewportR is `viewport` shifted right by its width.
-  uint32_t add_object_auto(const Scene& scene, uint32_t draw, Viewport viewport);
+  uint32_t add_object_auto(const Scene& scene, uint32_t draw, Viewport viewport, int frame = 0);
   // `object` must follow `earlier` (an object added before it).
   void add_dependency(uint32_t object, uint32_t earlier);
 
@@ -44,6 +45,6 @@ class OOApplication {
 // auto-model viewports for a side-by-side stereo frame of the given size
 // (the left eye's viewport is the left half), and the scene's ordering
 // constraints (Object::after) as dependencies.
-OOApplication make_application(const Scene& scene, int frame_width, int frame_height);
+OOApplication make_application(const Scene& scene, int frame_width, int frame_height, int frame = 0);
 
 }  // namespace oovr

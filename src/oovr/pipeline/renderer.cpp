@@ -57,10 +57,12 @@ namespace {
 constexpr int kSubpixelBits = 8;  // llvmpipe's FIXED_ORDER: 1/256 pixel
 constexpr float kSubpixelScale = float(1 << kSubpixelBits);
 
-// Per-pixel lighting's varyings (Shading::deluxe): the tangent frame S, T,
-// N and the tangent-space direction to the eye, as DarkPlaces' vertex
-// shader hands them to its fragment shader.
+// A draw's extra varyings: per-pixel lighting's (Shading::deluxe) tangent
+// frame S, T, N and the tangent-space direction to the eye, as DarkPlaces'
+// vertex shader hands them to its fragment shader; or a vertex colour's
+// RGBA (0..1), OpenGL's primary colour, in the first four.
 constexpr int kLitVaryings = 12;
+constexpr int kColourVaryings = 4;
 
 struct ClipVertex {
   Vec4 pos;
@@ -128,18 +130,31 @@ uint32_t outcode(const Vec4& p) {
   return c;
 }
 
+// Whether a draw's pass is multiplied by its mesh's vertex colours (not
+// when its first layer replaces the colour, GL_REPLACE).
+bool uses_vertex_colours(const Scene& scene, const Object& o) {
+  const Pass& pass = scene.pass_of(o);
+  return !scene.meshes[size_t(o.mesh)].colours.empty() && pass.shading == Shading::layers &&
+         !(!pass.layers.empty() && pass.layers.front().combine == Combine::replace);
+}
+
 class GeometryStage {
  public:
-  GeometryStage(const Scene& scene, const StereoView& view) : m_scene(scene), m_view(view) {}
+  GeometryStage(const Scene& scene, const std::vector<Object>& draws, const StereoView& view)
+      : m_scene(scene), m_draws(draws), m_view(view) {}
 
   // Transforms object o once (SMP: world-space positions shared by both
   // eyes), projects into each eye and appends set-up triangles.
   void run(uint32_t o, std::vector<SetupTri>& out, std::vector<LitTri>& lit_out, ObjectWork& work) {
-    const Object& obj = m_scene.objects[o];
+    const Object& obj = m_draws[o];
     const Mesh& mesh = m_scene.meshes[size_t(obj.mesh)];
     const Material& mat = m_scene.materials[size_t(obj.material)];
-    const bool lit = m_scene.pass_of(obj).shading == Shading::deluxe;
-    m_lit_out = lit ? &lit_out : nullptr;
+    const Pass& pass = m_scene.pass_of(obj);
+    const bool lit = pass.shading == Shading::deluxe;
+    const bool coloured = uses_vertex_colours(m_scene, obj);
+    m_lit_out = lit || coloured ? &lit_out : nullptr;
+    m_obj = &obj;
+    m_pass = &pass;
     work.vertices = uint32_t(mesh.vertices.size());
     work.triangles = uint32_t(mesh.triangle_count());
     work.vertex_bytes = mesh.vertex_bytes();
@@ -156,13 +171,23 @@ class GeometryStage {
       }
     }
     for (int e = 0; e < m_view.eyes; ++e) {
-      const Mat4& clip_from_world = m_view.clip_from_world[e];
       m_clip.resize(mesh.vertices.size());
       m_codes.resize(mesh.vertices.size());
-      for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-        m_clip[i] = transform_point(clip_from_world, m_world[i]);
-        m_codes[i] = outcode(m_clip[i]);
+      if (obj.view == DrawView::world) {
+        const Mat4& clip_from_world = m_view.clip_from_world[e];
+        for (size_t i = 0; i < mesh.vertices.size(); ++i) m_clip[i] = transform_point(clip_from_world, m_world[i]);
+      } else {
+        // A captured draw: its own projection, re-projected from this eye's
+        // offset from the head (3-D), or alike in both eyes (2-D). One
+        // composed matrix, as OpenGL's fixed-function vertex stage uses.
+        Mat4 clip_from_object = obj.clip_from_eye * obj.world_from_object;
+        if (obj.view == DrawView::captured && m_view.eye_offset_m[e] != 0.0f)
+          clip_from_object =
+              obj.clip_from_eye * (translate({-m_view.eye_offset_m[e] / m_scene.metres_per_unit, 0, 0}) * obj.world_from_object);
+        for (size_t i = 0; i < mesh.vertices.size(); ++i)
+          m_clip[i] = transform_point(clip_from_object, mesh.vertices[i].position);
       }
+      for (size_t i = 0; i < mesh.vertices.size(); ++i) m_codes[i] = outcode(m_clip[i]);
       for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
         const uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
         const uint32_t c0 = m_codes[i0], c1 = m_codes[i1], c2 = m_codes[i2];
@@ -183,6 +208,9 @@ class GeometryStage {
             const float vals[kLitVaryings] = {f.s.x, f.s.y, f.s.z, f.t.x,         f.t.y,         f.t.z,
                                               f.n.x, f.n.y, f.n.z, dot(eye, f.s), dot(eye, f.t), dot(eye, f.n)};
             std::copy(vals, vals + kLitVaryings, v[k].lit);
+          } else if (coloured) {
+            const uint32_t c = mesh.colours[vid[k]];
+            for (int ch = 0; ch < kColourVaryings; ++ch) v[k].lit[ch] = float((c >> (8 * ch)) & 255u) / 255.0f;
           }
         }
         const uint32_t clip_planes = c0 | c1 | c2;
@@ -285,8 +313,10 @@ class GeometryStage {
     const float z0 = zw[r0] - (dzdx * (xw[r0] - 0.5f) + dzdy * (yw[r0] - 0.5f));
 
     int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    // Front faces wind counter-clockwise; a material culls back faces, or
+    // front faces (glCullFace(GL_FRONT)), or none.
+    if (!mat.two_sided && (area < 0) != mat.cull_front) return false;
     if (area < 0) {
-      if (!mat.two_sided) return false;  // back face (front = counter-clockwise)
       std::swap(X[1], X[2]);
       std::swap(Y[1], Y[2]);
       std::swap(iw[1], iw[2]);
@@ -303,12 +333,27 @@ class GeometryStage {
     t.maxx = int32_t(std::min<int64_t>(floor_div(maxX, 1 << kSubpixelBits), vp.x + vp.width - 1));
     t.miny = int32_t(std::max<int64_t>(ceil_div(minY, 1 << kSubpixelBits), vp.y));
     t.maxy = int32_t(std::min<int64_t>(floor_div(maxY, 1 << kSubpixelBits), vp.y + vp.height - 1));
+    const ViewRect& r = m_obj->scissor;
+    if (!r.whole()) {
+      // glScissor and a sub-window glViewport, in this eye's viewport.
+      const auto px = [](float f, int size) { return int(std::floor(f * float(size) + 0.5f)); };
+      t.minx = std::max(t.minx, vp.x + px(r.x0, vp.width));
+      t.maxx = std::min(t.maxx, vp.x + px(r.x1, vp.width) - 1);
+      t.miny = std::max(t.miny, vp.y + px(r.y0, vp.height));
+      t.maxy = std::min(t.maxy, vp.y + px(r.y1, vp.height) - 1);
+    }
     if (t.minx > t.maxx || t.miny > t.maxy) return false;
     t.object = o;
     t.eye = uint32_t(e);
     t.dzdx = dzdx;
     t.dzdy = dzdy;
     t.z0 = z0;
+    if (m_pass->offset_factor != 0 || m_pass->offset_units != 0) {
+      // glPolygonOffset (GL 4.5 Section 14.6.5): factor x the largest depth
+      // slope + units x the smallest resolvable difference of a 24-bit
+      // depth buffer.
+      t.z0 += m_pass->offset_factor * std::max(std::abs(dzdx), std::abs(dzdy)) + m_pass->offset_units * (1.0f / 16777216.0f);
+    }
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3, k = (i + 2) % 3;
       const int64_t dx = X[k] - X[j], dy = Y[k] - Y[j];
@@ -344,7 +389,10 @@ class GeometryStage {
   }
 
   const Scene& m_scene;
+  const std::vector<Object>& m_draws;
   const StereoView& m_view;
+  const Object* m_obj = nullptr;
+  const Pass* m_pass = nullptr;
   std::vector<Vec3> m_world;
   std::vector<TangentFrame> m_frames;
   std::vector<LitTri>* m_lit_out = nullptr;
@@ -367,6 +415,8 @@ struct PreparedPass {
   const Pass* pass;
   std::vector<PreparedLayer> layers;
   bool lightmap_coords = false;  // some layer samples with lightmap coordinates
+  bool coloured = false;         // vertex colours multiply the pass (uses_vertex_colours)
+  bool replace = false;          // the first layer's texel is the colour (Combine::replace)
   // Shading::deluxe: which layer holds what (-1: none).
   int diffuse = -1, normal = -1, gloss = -1, glow = -1, lightmap = -1, deluxe = -1;
 };
@@ -590,7 +640,8 @@ class TileRasterizer {
           }
           if (t.lit != SetupTri::kNoLit) {
             const LitTri& L = m_lit[t.lit];
-            for (int k = 0; k < kLitVaryings; ++k) lit[p][k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
+            const int n = pp.coloured ? kColourVaryings : kLitVaryings;
+            for (int k = 0; k < n; ++k) lit[p][k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
           }
         }
 
@@ -647,17 +698,26 @@ class TileRasterizer {
             detail::Rgba& o = c[p];
             if (first) {
               // The first layer's texel starts the colour; the pass
-              // colour multiplies it.
+              // colour and the vertex colour multiply it (unless it
+              // replaces them).
               o = s;
               if (L.scale != 1.0f) {
                 o.r *= L.scale;
                 o.g *= L.scale;
                 o.b *= L.scale;
               }
-              o.r *= cr;
-              o.g *= cg;
-              o.b *= cb;
-              o.a *= ca;
+              if (!pp.replace) {
+                o.r *= cr;
+                o.g *= cg;
+                o.b *= cb;
+                o.a *= ca;
+              }
+              if (pp.coloured) {
+                o.r *= lit[p][0];
+                o.g *= lit[p][1];
+                o.b *= lit[p][2];
+                o.a *= lit[p][3];
+              }
             } else if (L.combine == Combine::modulate) {
               const float k = L.scale / 255.0f;
               o.r *= s.r * k;
@@ -676,12 +736,18 @@ class TileRasterizer {
         if (deluxe) {
           for (int p = 0; p < 4; ++p)
             if (live & (1u << p)) c[p] = shade_deluxe(pp, m_texel[p], lit[p]);
-        } else if (first) {  // no layers: the pass colour alone
+        } else if (first) {  // no layers: the pass colour alone, times any vertex colour
           for (int p = 0; p < 4; ++p) {
             c[p].r *= cr;
             c[p].g *= cg;
             c[p].b *= cb;
             c[p].a *= ca;
+            if (pp.coloured) {
+              c[p].r *= lit[p][0];
+              c[p].g *= lit[p][1];
+              c[p].b *= lit[p][2];
+              c[p].a *= lit[p][3];
+            }
           }
         }
 
@@ -714,6 +780,8 @@ class TileRasterizer {
             r.a = src.a * blend_factor(pass.src, src, dst, 3) + dst.a * blend_factor(pass.dst, src, dst, 3);
             src = r;
           }
+          ++m_cur.passed;
+          if (!pass.colour_write) continue;  // glColorMask: depth only
           if (reads_colour) m_cur.colour_read_mask |= 1u << line;
           out[0] = quantize(src.r);
           out[1] = quantize(src.g);
@@ -721,7 +789,6 @@ class TileRasterizer {
           out[3] = quantize(src.a);
           m_ids[pix] = t.object;
           m_cur.colour_write_mask |= 1u << line;
-          ++m_cur.passed;
         }
         if (record) m_quad_lines.flush(m_out->lines);
       }
@@ -768,18 +835,19 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
   trace.line_bytes = settings.line_bytes;
   trace.texture_format = settings.texture_format;
   line_block_shape(settings.line_bytes, trace.block_w, trace.block_h);
-  trace.objects.resize(scene.objects.size());
+  const std::vector<Object>& draws = scene.draws(frame);
+  trace.objects.resize(draws.size());
 
   // Geometry: objects in parallel, each into its own list, then concatenated
   // in draw order so that bins keep draw order.
-  std::vector<std::vector<SetupTri>> per_object(scene.objects.size());
-  std::vector<std::vector<LitTri>> per_object_lit(scene.objects.size());
+  std::vector<std::vector<SetupTri>> per_object(draws.size());
+  std::vector<std::vector<LitTri>> per_object_lit(draws.size());
   const unsigned threads = settings.threads ? settings.threads : default_thread_count();
   {
-    const size_t chunks = std::min<size_t>(scene.objects.size(), size_t(threads) * 8);
+    const size_t chunks = std::min<size_t>(draws.size(), size_t(threads) * 8);
     parallel_for(chunks, threads, [&](size_t c) {
-      GeometryStage stage(scene, view);
-      const size_t begin = scene.objects.size() * c / chunks, end = scene.objects.size() * (c + 1) / chunks;
+      GeometryStage stage(scene, draws, view);
+      const size_t begin = draws.size() * c / chunks, end = draws.size() * (c + 1) / chunks;
       for (size_t o = begin; o < end; ++o) stage.run(uint32_t(o), per_object[o], per_object_lit[o], trace.objects[o]);
     });
   }
@@ -833,11 +901,13 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
   }
   // Each draw's pass, its layers' coordinate transforms at this frame's time.
   const double seconds = scene.camera.seconds(frame);
-  std::vector<PreparedPass> passes(scene.objects.size());
-  for (size_t o = 0; o < scene.objects.size(); ++o) {
-    const Pass& pass = scene.pass_of(scene.objects[o]);
+  std::vector<PreparedPass> passes(draws.size());
+  for (size_t o = 0; o < draws.size(); ++o) {
+    const Pass& pass = scene.pass_of(draws[o]);
     PreparedPass& pp = passes[o];
     pp.pass = &pass;
+    pp.coloured = uses_vertex_colours(scene, draws[o]);
+    pp.replace = !pass.layers.empty() && pass.layers.front().combine == Combine::replace;
     for (const TextureLayer& l : pass.layers) {
       const UvTransform xf = l.transform(seconds);
       const bool lm = l.coords == TexCoords::lightmap;

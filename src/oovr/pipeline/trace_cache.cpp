@@ -134,8 +134,10 @@ uint64_t scene_fingerprint(const Scene& s) {
       h.bytes(l.rgba.data(), l.rgba.size());
     }
   }
+  h.pod(s.metres_per_unit);
   for (const auto& m : s.materials) {
     h.pod(m.two_sided);
+    h.pod(m.cull_front);
     h.pod(m.passes.size());
     for (const Pass& p : m.passes) {
       h.pod(p.layers.size());
@@ -162,19 +164,33 @@ uint64_t scene_fingerprint(const Scene& s) {
       h.pod(p.depth_write);
       h.pod(p.specular_power);
       h.pod(p.specular_intensity);
+      h.pod(p.offset_factor);
+      h.pod(p.offset_units);
+      h.pod(p.colour_write);
     }
   }
   for (const auto& m : s.meshes) {
     h.bytes(m.vertices.data(), m.vertices.size() * sizeof(Vertex));
     h.bytes(m.indices.data(), m.indices.size() * sizeof(uint32_t));
     h.bytes(m.frames.data(), m.frames.size() * sizeof(TangentFrame));
+    h.pod(m.colours.size());
+    h.bytes(m.colours.data(), m.colours.size() * sizeof(uint32_t));
   }
-  for (const auto& o : s.objects) {
-    h.pod(o.mesh);
-    h.pod(o.material);
-    h.pod(o.pass);
-    h.pod(o.world_from_object);
-  }
+  const auto draws = [&](const std::vector<Object>& list) {
+    h.pod(list.size());
+    for (const auto& o : list) {
+      h.pod(o.mesh);
+      h.pod(o.material);
+      h.pod(o.pass);
+      h.pod(o.world_from_object);
+      h.pod(o.view);
+      h.pod(o.clip_from_eye);
+      h.pod(o.scissor);
+    }
+  };
+  draws(s.objects);
+  h.pod(s.frame_objects.size());
+  for (const auto& f : s.frame_objects) draws(f);
   return h.h;
 }
 
@@ -310,8 +326,9 @@ std::string trace_mismatch(const FrameTrace& t, const Scene& scene, int frame, c
     return "a trace of a " + std::to_string(t.frame_width) + "x" + std::to_string(t.frame_height) + " frame";
   if (t.line_bytes != settings.line_bytes || t.texture_format != settings.texture_format)
     return "a trace with another line size or texture format";
-  if (t.objects.size() != scene.objects.size())
-    return "a trace of " + std::to_string(t.objects.size()) + " objects, the scene has " + std::to_string(scene.objects.size());
+  if (t.objects.size() != scene.draws(frame).size())
+    return "a trace of " + std::to_string(t.objects.size()) + " objects, the scene's frame has " +
+           std::to_string(scene.draws(frame).size());
   for (const TileWork& w : t.tiles)
     if (w.eye >= view.eyes) return "a trace with more eyes than the view";
   if (!settings.record_texture_lines && !t.tex_lines.empty()) return "a trace with texture lines where none are recorded";

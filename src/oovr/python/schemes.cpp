@@ -122,12 +122,21 @@ struct PyTrace {
 
 // ----- the run's input and its FrameSim
 
+// Draws of the input's frame with the most (a captured game's frames draw
+// different numbers of objects; other scenes draw the same in each).
+size_t most_draws(const SchemeInput& in) {
+  size_t n = in.scene->draws(0).size();
+  for (const FrameTrace* f : in.frames)
+    if (f) n = std::max(n, in.scene->draws(f->frame).size());
+  return n;
+}
+
 struct PyInput {
   Token token;
   SchemeInput in;
   size_t objects() const {
     check_alive(token, "a SchemeInput");
-    return in.scene->objects.size();
+    return most_draws(in);
   }
 };
 
@@ -533,7 +542,7 @@ void bind_schemes(py::module_& m) {
              s->sim = std::make_unique<FrameSim>(i->in, int(framebuffers));
              s->framebuffers = int(framebuffers);
              s->frames = i->in.frames;
-             s->objects = i->in.scene->objects.size();
+             s->objects = most_draws(i->in);
              s->dram_bytes = MemorySpec::from_config(i->in.config).dram_capacity.value;
              return s;
            }),

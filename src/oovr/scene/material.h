@@ -48,8 +48,10 @@ struct UvTransform {
 // texel is the starting colour, then multiplied by the pass colour):
 // modulate multiplies RGBA (an RGB scale, e.g. a lightmap's overbright
 // factor, applies to the texel's RGB); add adds the texel's RGB x scale
-// (fixed function's GL_ADD for RGB; alpha still multiplies).
-enum class Combine : uint8_t { modulate, add };
+// (fixed function's GL_ADD for RGB; alpha still multiplies); replace, on
+// the first layer only, takes the texel as it is: neither the pass colour
+// nor the vertex colours multiply it (fixed function's GL_REPLACE).
+enum class Combine : uint8_t { modulate, add, replace };
 
 struct TextureLayer {
   LayerKind kind = LayerKind::diffuse;
@@ -113,9 +115,13 @@ struct Pass {
   float alpha_ref = 0.5f;
   DepthFunc depth_func = DepthFunc::less;
   bool depth_write = true;
+  bool colour_write = true;  // glColorMask: false writes depth only (a captured game's depth clear)
   // Shading::deluxe's specular term: DarkPlaces' r_shadow_glossexponent and
   // r_shadow_glossintensity defaults.
   float specular_power = 32.0f, specular_intensity = 1.0f;
+  // glPolygonOffset: depth moved by factor x the triangle's largest depth
+  // slope + units x the depth buffer's resolution (decals over walls).
+  float offset_factor = 0, offset_units = 0;
 
   // The index of the first layer of kind `k`, or -1.
   int layer(LayerKind k) const;
@@ -134,6 +140,7 @@ struct Material {
   std::string name;
   std::vector<Pass> passes;  // drawn in order; at least one
   bool two_sided = false;    // no back-face culling
+  bool cull_front = false;   // cull front faces instead (glCullFace(GL_FRONT)); unless two_sided
 
   // A one-pass material (Pass::textured).
   static Material textured(std::string name, int diffuse, int lightmap = -1, float lightmap_scale = 1.0f);

@@ -9,15 +9,24 @@
 
 namespace oovr {
 
-uint64_t Scene::triangle_count() const {
+const char* draw_view_name(DrawView v) {
+  switch (v) {
+    case DrawView::world: return "world";
+    case DrawView::captured: return "captured";
+    case DrawView::screen: return "screen";
+  }
+  return "?";
+}
+
+uint64_t Scene::triangle_count(int frame) const {
   uint64_t n = 0;
-  for (const auto& o : objects) n += meshes[size_t(o.mesh)].triangle_count();
+  for (const auto& o : draws(frame)) n += meshes[size_t(o.mesh)].triangle_count();
   return n;
 }
 
-uint64_t Scene::vertex_count() const {
+uint64_t Scene::vertex_count(int frame) const {
   uint64_t n = 0;
-  for (const auto& o : objects) n += meshes[size_t(o.mesh)].vertices.size();
+  for (const auto& o : draws(frame)) n += meshes[size_t(o.mesh)].vertices.size();
   return n;
 }
 
@@ -57,6 +66,14 @@ void Scene::validate() const {
   const auto where = [&](const std::string& what) { return "scene '" + name + "': " + what; };
   // Every source's scene, before the simulator spends ~18 KB on each draw.
   check_limit(objects.size(), InputLimits::get().draws, "draws", "scene '" + name + "'", "draws");
+  if (!frame_objects.empty()) {
+    if (!objects.empty()) throw Error(where("has both draws for every frame and draws per frame"));
+    if (frame_objects.size() != camera.frames.size())
+      throw Error(where("has draws for " + std::to_string(frame_objects.size()) + " frames and a camera path of " +
+                        std::to_string(camera.frames.size())));
+    for (const auto& f : frame_objects)
+      check_limit(f.size(), InputLimits::get().draws, "draws", "scene '" + name + "'", "draws in a frame");
+  }
   for (size_t i = 0; i < textures.size(); ++i) {
     const Texture& t = textures[i];
     if (t.levels.empty() || t.width() <= 0 || t.height() <= 0) throw Error(where("texture '" + t.name + "' has no image"));
@@ -83,6 +100,8 @@ void Scene::validate() const {
       if (i >= mesh.vertices.size()) throw Error(where("mesh '" + mesh.name + "' has an index past its vertices"));
     if (!mesh.frames.empty() && mesh.frames.size() != mesh.vertices.size())
       throw Error(where("mesh '" + mesh.name + "' has tangent frames for some vertices only"));
+    if (!mesh.colours.empty() && mesh.colours.size() != mesh.vertices.size())
+      throw Error(where("mesh '" + mesh.name + "' has colours for some vertices only"));
     // Positions far enough out to overflow a float once transformed (a
     // vertex at 3e38 blanked a model while the timing model reported it as
     // nearly free) or not numbers at all are refused; texture coordinates
@@ -99,8 +118,17 @@ void Scene::validate() const {
                             " with a texture coordinate that is not a number"));
     }
   }
-  for (size_t k = 0; k < objects.size(); ++k) {
-    const Object& o = objects[k];
+  for (int f = 0; f < std::max<int>(1, int(frame_objects.size())); ++f) {
+    const std::vector<Object>& list = draws(f);
+    for (size_t k = 0; k < list.size(); ++k) check_object(list, k);
+  }
+  if (camera.frames.empty()) throw Error(where("camera path has no frames"));
+}
+
+void Scene::check_object(const std::vector<Object>& list, size_t k) const {
+  const auto where = [&](const std::string& what) { return "scene '" + name + "': " + what; };
+  {
+    const Object& o = list[k];
     if (o.mesh < 0 || o.mesh >= int(meshes.size()))
       throw Error(where("object '" + o.name + "' names a mesh that does not exist"));
     if (o.material < 0 || o.material >= int(materials.size()))
@@ -111,8 +139,16 @@ void Scene::validate() const {
       if (p >= k) throw Error(where("object '" + o.name + "' must follow a draw that is not before it"));
     if (pass_of(o).shading == Shading::deluxe && meshes[size_t(o.mesh)].frames.empty())
       throw Error(where("object '" + o.name + "' is lit per pixel but its mesh has no tangent frames"));
+    if (o.view != DrawView::world && pass_of(o).shading == Shading::deluxe)
+      throw Error(where("object '" + o.name + "' is a captured draw lit per pixel, which oovr does not draw"));
+    const ViewRect& r = o.scissor;
+    if (!(r.x0 >= 0 && r.y0 >= 0 && r.x1 <= 1 && r.y1 <= 1 && r.x0 <= r.x1 && r.y0 <= r.y1))
+      throw Error(where("object '" + o.name + "' has a scissor rectangle outside its viewport"));
+    for (int c = 0; c < 4; ++c)
+      for (int row = 0; row < 4; ++row)
+        if (!std::isfinite(o.clip_from_eye.at(row, c)) || !std::isfinite(o.world_from_object.at(row, c)))
+          throw Error(where("object '" + o.name + "' has a transform that is not finite"));
   }
-  if (camera.frames.empty()) throw Error(where("camera path has no frames"));
 }
 
 }  // namespace oovr

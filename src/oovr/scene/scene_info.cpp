@@ -8,16 +8,27 @@ namespace oovr {
 SceneInfo scene_info(const Scene& s) {
   SceneInfo i;
   i.name = s.name;
-  i.draws = s.objects.size();
+  // A captured game's figures are its first frame's, with the spread of
+  // draws over its frames beside them.
+  const std::vector<Object>& draws = s.draws(0);
+  i.draws = draws.size();
   i.triangles = s.triangle_count();
   i.vertices = s.vertex_count();
+  if (s.captured()) {
+    std::vector<uint64_t> n;
+    for (const auto& f : s.frame_objects) n.push_back(f.size());
+    std::sort(n.begin(), n.end());
+    i.draws_min = n.front();
+    i.draws_median = n[n.size() / 2];
+    i.draws_max = n.back();
+  }
   i.meshes = s.meshes.size();
   i.materials = s.materials.size();
   i.textures = s.textures.size();
   i.texture_bytes = s.texture_bytes();
   i.camera_frames = s.camera.frames.size();
   for (const auto& t : s.textures) i.texture_use.push_back({t.name, t.width(), t.height(), int(t.levels.size()), t.bytes(), 0});
-  for (const auto& o : s.objects) {
+  for (const auto& o : draws) {
     i.texture_layers += s.pass_of(o).layers.size();
     i.lit_draws += s.pass_of(o).shading == Shading::deluxe;
     // An object counts once per texture even if it names it twice.
@@ -42,6 +53,7 @@ nlohmann::ordered_json scene_info_json(const SceneInfo& i, const std::vector<std
   j["textures"] = i.textures;
   j["texture_bytes"] = i.texture_bytes;
   j["camera_frames"] = i.camera_frames;
+  if (i.draws_max) j["draws_per_frame"] = {{"min", i.draws_min}, {"median", i.draws_median}, {"max", i.draws_max}};
   j["texture_layers"] = i.texture_layers;
   j["lit_draws"] = i.lit_draws;
   j["max_objects_sharing_a_texture"] = i.max_sharing;

@@ -24,6 +24,9 @@ struct SceneInfo {
   uint64_t draws = 0, triangles = 0, vertices = 0, meshes = 0, materials = 0;
   uint64_t textures = 0, texture_bytes = 0;
   uint64_t camera_frames = 0;
+  // A captured game's draws per frame (0 for scenes that draw the same in
+  // every frame); the other figures are its first frame's.
+  uint64_t draws_min = 0, draws_median = 0, draws_max = 0;
   uint64_t texture_layers = 0;          // layers sampled, summed over the draws (passes)
   uint64_t lit_draws = 0;               // draws lit per pixel (Shading::deluxe)
   std::vector<TextureUse> texture_use;  // in texture order

@@ -22,6 +22,7 @@ StereoView make_stereo_view(const CameraPath& path, int frame, const StereoRig& 
     const float offset = (e == kLeft ? -0.5f : 0.5f) * rig.ipd_m;
     const Vec3 eye = pose.position + right * offset;
     v.eye_position[e] = eye;
+    v.eye_offset_m[e] = offset;
     v.clip_from_world[e] = clip_from_eye * look_at(eye, eye + forward, pose.up);
     v.viewport[e] = {e * rig.eye_width, 0, rig.eye_width, rig.eye_height};
   }

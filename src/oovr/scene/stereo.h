@@ -34,6 +34,10 @@ struct StereoView {
   Viewport viewport[kEyes];
   Mat4 clip_from_world[kEyes];  // projection * view, per eye
   Vec3 eye_position[kEyes];
+  // Each eye's offset from the head along the head's right axis, metres
+  // (-ipd/2 and +ipd/2; 0 in a mono view): how captured 3-D draws are
+  // re-projected (DrawView::captured).
+  float eye_offset_m[kEyes] = {0, 0};
 };
 
 // The view of frame `frame` of the scene's camera path. Each eye is the head

@@ -200,11 +200,14 @@ void FrameSim::end_draw(int gpm) {
   m_memory->end_draw(gpm);
 }
 
-int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after) {
-  if (object >= scene().objects.size()) throw Error("geometry of object " + std::to_string(object) + ", which does not exist");
+int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after, int frame_k) {
+  if (frame_k < 0 || size_t(frame_k) >= m_in.frames.size())
+    throw Error("geometry in frame " + std::to_string(frame_k) + " of the window, which does not exist");
+  const std::vector<Object>& objects = draws(frame(frame_k));
+  if (object >= objects.size()) throw Error("geometry of object " + std::to_string(object) + ", which does not exist");
   if (gpm < 0 || gpm >= gpms()) throw Error("geometry on GPM " + std::to_string(gpm) + ", which does not exist");
   if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
-  const Object& o = scene().objects[object];
+  const Object& o = objects[object];
   const Mesh& mesh = scene().meshes[size_t(o.mesh)];
   m_scratch.clear();
   const uint64_t line = m_memory_spec.line.value;

@@ -53,6 +53,9 @@ class FrameSim {
   const MachineModel& machine() const { return *m_machine; }
   const TimingSpec& timing() const { return m_timing_spec; }
   const Scene& scene() const { return *m_in.scene; }
+  // The draws of a frame's trace (a captured game draws other objects in
+  // each frame; other scenes the same ones): what its object indices name.
+  const std::vector<Object>& draws(const FrameTrace& f) const { return scene().draws(f.frame); }
   const Config& config() const { return m_in.config; }
   const FrameTrace& frame(int k = 0) const { return *m_in.frames[size_t(k)]; }
   uint32_t colour(int fb) const { return m_colour[size_t(fb)]; }
@@ -73,7 +76,9 @@ class FrameSim {
   // index buffers are read; `vertex_passes` is 1 with SMP (both eyes share
   // the transform) and the number of eyes without; `triangles` is the number
   // set up (summed over the eyes projected into).
-  int geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after = {});
+  // `frame_k`: which of the input's frames the object is drawn in (AFR's
+  // frames in flight).
+  int geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after = {}, int frame_k = 0);
   // Rasterisation, shading, texturing and ROP work of `records` on `gpm`,
   // writing framebuffer pair `fb`; `incoming` bytes of set-up triangles
   // arrive from GPM `from` first (when from != gpm).

@@ -4,7 +4,7 @@ namespace oovr {
 
 void sort_first(FrameSim& sim, const TileOwner& owner, Geometry geometry) {
   const FrameTrace& f = sim.frame();
-  const std::vector<ObjectRecords> objects = records_by_object(f, sim.scene().objects.size());
+  const std::vector<ObjectRecords> objects = records_by_object(f, sim.draws(f).size());
   const int n = sim.gpms();
   std::vector<std::vector<const TileWork*>> mine(static_cast<size_t>(n));
   for (uint32_t o = 0; o < objects.size(); ++o) {

@@ -398,7 +398,7 @@ int SceneBuilder::mesh(Mesh m) {
 }
 
 int SceneBuilder::object(const std::string& name, int mesh_, int material_, const Mat4& t) {
-  m_scene.objects.push_back({name, mesh_, material_, t});
+  m_scene.objects.push_back(Object::of(name, mesh_, material_, t));
   return int(m_scene.objects.size()) - 1;
 }
 

@@ -269,7 +269,8 @@ class Ac3dParser {
     }
     m_scene.meshes.push_back(std::move(mesh));
     m_scene.materials.push_back(m);
-    m_scene.objects.push_back({name, int(m_scene.meshes.size()) - 1, int(m_scene.materials.size()) - 1, Mat4::identity()});
+    m_scene.objects.push_back(
+        Object::of(name, int(m_scene.meshes.size()) - 1, int(m_scene.materials.size()) - 1, Mat4::identity()));
   }
 
   int texture_index(const std::string& file) {

@@ -610,6 +610,50 @@ const std::vector<std::pair<std::string, std::string>>& Reader::properties() con
 void Reader::read_blobs(bool on) { m->copy_blobs = on; }
 bool Reader::next(Call& call) { return m->next(call); }
 bool Reader::truncated() const { return m->truncated; }
+uint64_t Reader::chunk_end() const { return m->file_offset; }
+
+uint64_t cut_trace(const std::string& in, const std::string& out, int last_frame) {
+  if (last_frame < 0) throw Error("a trace is cut after a frame numbered 0 or more");
+  uint64_t keep = 0;
+  {
+    Reader r(in);
+    r.read_blobs(false);
+    Call c;
+    int frame = 0;
+    while (frame <= last_frame && r.next(c))
+      if (c.ends_frame()) ++frame;
+    if (frame <= last_frame)
+      throw Error("apitrace file '" + in + "' has " + std::to_string(frame) + " frames: it cannot be cut after frame " +
+                  std::to_string(last_frame));
+    keep = r.chunk_end();
+  }
+  check_output_path(out, "cut trace");
+  const std::string tmp = out + ".part";
+  std::FILE* src = std::fopen(in.c_str(), "rb");
+  if (!src) throw Error("cannot open apitrace file '" + in + "': " + std::strerror(errno));
+  std::FILE* dst = std::fopen(tmp.c_str(), "wb");
+  if (!dst) {
+    std::fclose(src);
+    throw Error("cannot write '" + tmp + "': " + std::strerror(errno));
+  }
+  std::string buf(1 << 20, '\0');
+  uint64_t left = keep;
+  bool ok = true;
+  while (left > 0 && ok) {
+    const size_t n = std::fread(buf.data(), 1, size_t(std::min<uint64_t>(left, buf.size())), src);
+    ok = n > 0 && std::fwrite(buf.data(), 1, n, dst) == n;
+    left -= n;
+  }
+  ok = ok && std::fflush(dst) == 0;
+  const int err = errno;
+  std::fclose(src);
+  ok = std::fclose(dst) == 0 && ok;
+  if (!ok || std::rename(tmp.c_str(), out.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw Error("cannot write '" + out + "': " + std::strerror(err ? err : errno));
+  }
+  return keep;
+}
 uint64_t Reader::offset() const { return m->chunk_start + m->at; }
 const std::string& Reader::name() const { return m->name; }
 

@@ -128,6 +128,9 @@ class Reader {
   // Whether the file ends inside a chunk or a call (a traced game that was
   // killed): the calls before that point are read, the cut one is dropped.
   bool truncated() const;
+  // Bytes of the file read so far: the end of the chunk the last call came
+  // from. The file up to there is itself a trace (cut_trace).
+  uint64_t chunk_end() const;
   // Bytes of the logical (decompressed) stream read so far, and of the file.
   uint64_t offset() const;
   const std::string& name() const;
@@ -136,5 +139,12 @@ class Reader {
   struct Impl;
   std::unique_ptr<Impl> m;
 };
+
+// Writes to `out` the part of the trace at `in` that holds its frames 0 to
+// `last_frame`: its chunks up to the one that ends that frame (a trace
+// apitrace and oovr read, cut at a chunk's end; the calls of the next frame
+// in that chunk stay). Returns the bytes kept. Error when the trace has no
+// such frame or a file cannot be read or written.
+uint64_t cut_trace(const std::string& in, const std::string& out, int last_frame);
 
 }  // namespace oovr::apitrace

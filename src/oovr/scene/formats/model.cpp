@@ -164,7 +164,7 @@ class AssimpLoader {
       const int mat = material(am->mMaterialIndex);
       std::string name = node->mName.length ? node->mName.C_Str() : "node";
       if (am->mName.length) name.append("/").append(am->mName.C_Str());
-      m_scene.objects.push_back({name, m_mesh_of[mi], mat, world});
+      m_scene.objects.push_back(Object::of(name, m_mesh_of[mi], mat, world));
     }
     for (unsigned c = 0; c < node->mNumChildren; ++c) visit(node->mChildren[c], world, depth + 1);
   }
@@ -312,7 +312,7 @@ Scene ply_scene(const std::string& bytes, const std::string& path) {
   m.indices = p.indices;
   scene.meshes.push_back(std::move(m));
   scene.materials.push_back(Material::textured(scene.name, -1));
-  scene.objects.push_back({scene.name, 0, 0, Mat4::identity()});
+  scene.objects.push_back(Object::of(scene.name, 0, 0, Mat4::identity()));
   scene.camera = orbit_camera_around(scene);
   scene.validate();
   return scene;

@@ -26,15 +26,22 @@ class Afr final : public Scheme {
     // Frames are issued in turn: GPM g renders frame g. Units are added
     // draw by draw across the frames so that memory is replayed the way the
     // GPMs would interleave.
+    // (A captured game's frames draw different numbers of objects: a GPM
+    // whose frame has fewer draws is done with them sooner.)
     std::vector<std::vector<ObjectRecords>> records;
-    for (int g = 0; g < n; ++g) records.push_back(records_by_object(sim.frame(g), sim.scene().objects.size()));
-    for (uint32_t o = 0; o < sim.scene().objects.size(); ++o)
+    size_t most = 0;
+    for (int g = 0; g < n; ++g) {
+      records.push_back(records_by_object(sim.frame(g), sim.draws(sim.frame(g)).size()));
+      most = std::max(most, records.back().size());
+    }
+    for (uint32_t o = 0; o < most; ++o)
       for (int g = 0; g < n; ++g) {
         const FrameTrace& f = sim.frame(g);
+        if (o >= records[size_t(g)].size()) continue;
         std::vector<const TileWork*> all = records[size_t(g)][o].eye[0];
         all.insert(all.end(), records[size_t(g)][o].eye[1].begin(), records[size_t(g)][o].eye[1].end());
         sim.command(g);
-        const int geo = sim.geometry(g, o, 1, uint64_t(f.objects[o].setup[0]) + f.objects[o].setup[1]);
+        const int geo = sim.geometry(g, o, 1, uint64_t(f.objects[o].setup[0]) + f.objects[o].setup[1], {}, g);
         if (!all.empty()) sim.tiles(g, all, g, f, {geo});
         sim.end_draw(g);
       }

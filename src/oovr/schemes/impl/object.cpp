@@ -28,7 +28,7 @@ class ObjectLevel final : public Scheme {
     FrameSim sim(in, sort_last_framebuffers(n));
     Composer composer(sim, CompositionSpec::from_config(sim.config()), [](int, int) { return 0; });
     const FrameTrace& f = sim.frame();
-    const std::vector<ObjectRecords> objects = records_by_object(f, sim.scene().objects.size());
+    const std::vector<ObjectRecords> objects = records_by_object(f, sim.draws(f).size());
     for (uint32_t o = 0; o < objects.size(); ++o) {
       const int g = int(o % uint32_t(n));
       for (int e = 0; e < 2; ++e) {

@@ -51,7 +51,7 @@ class Machine final : public RuntimeExecutor {
         m_composer(composer),
         m_f(sim.frame()),
         m_last_object(size_t(sim.gpms()), -1),
-        m_command(size_t(sim.gpms()), std::vector<int>(sim.scene().objects.size(), -1)) {}
+        m_command(size_t(sim.gpms()), std::vector<int>(sim.draws(sim.frame()).size(), -1)) {}
 
   double now() const override { return m_sim.engine().now(); }
   double progress(int unit) const override { return 1.0 - m_sim.engine().work_left(unit); }
@@ -62,7 +62,7 @@ class Machine final : public RuntimeExecutor {
       if (std::find(regions.begin(), regions.end(), x) == regions.end()) regions.push_back(x);
     };
     for (uint32_t o : objects) {
-      const Object& so = m_sim.scene().objects[o];
+      const Object& so = m_sim.draws(m_f)[o];
       if (geometry) {
         add(m_sim.layout().vertex_region(so.mesh));
         add(m_sim.layout().index_region(so.mesh));
@@ -142,10 +142,11 @@ class OO final : public Scheme {
     });
     Machine machine(sim, composer);
 
-    const OOApplication app = make_application(sim.scene(), f.frame_width, f.frame_height);
-    std::vector<std::vector<const TileWork*>> records(sim.scene().objects.size());
-    std::vector<uint64_t> vertices(sim.scene().objects.size());
-    const std::vector<ObjectRecords> by_object = records_by_object(f, sim.scene().objects.size());
+    const size_t draws = sim.draws(f).size();
+    const OOApplication app = make_application(sim.scene(), f.frame_width, f.frame_height, f.frame);
+    std::vector<std::vector<const TileWork*>> records(draws);
+    std::vector<uint64_t> vertices(draws);
+    const std::vector<ObjectRecords> by_object = records_by_object(f, draws);
     for (size_t o = 0; o < records.size(); ++o) {
       records[o] = by_object[o].eye[0];
       records[o].insert(records[o].end(), by_object[o].eye[1].begin(), by_object[o].eye[1].end());
@@ -191,10 +192,11 @@ class OO final : public Scheme {
     const auto& batches = runtime.batches();
     for (const auto& b : batches) tris += b.triangles;
     r.metrics.push_back({"batches", double(batches.size()), ""});
-    r.metrics.push_back({"objects", double(sim.scene().objects.size()), ""});
+    const size_t objects = sim.draws(sim.frame()).size();
+    r.metrics.push_back({"objects", double(objects), ""});
     r.metrics.push_back({"batch_triangles", batches.empty() ? 0.0 : double(tris) / double(batches.size()), ""});
-    r.notes.push_back(std::to_string(batches.size()) + " batches of " + std::to_string(sim.scene().objects.size()) +
-                      " objects (mean " + std::to_string(batches.empty() ? 0 : tris / batches.size()) + " triangles); " +
+    r.notes.push_back(std::to_string(batches.size()) + " batches of " + std::to_string(objects) + " objects (mean " +
+                      std::to_string(batches.empty() ? 0 : tris / batches.size()) + " triangles); " +
                       (spec.predictor ? "predictor" : "round-robin") + ", pre-allocation " + (spec.prealloc ? "on" : "off") +
                       ", split " + (spec.split ? "on" : "off") + ", " + (spec.distributed_composition ? "distributed" : "root") +
                       " composition");

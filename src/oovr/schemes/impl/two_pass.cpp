@@ -21,7 +21,7 @@ class TwoPass final : public Scheme {
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
     const FrameTrace& f = sim.frame();
-    const std::vector<ObjectRecords> objects = records_by_object(f, sim.scene().objects.size());
+    const std::vector<ObjectRecords> objects = records_by_object(f, sim.draws(f).size());
     for (int e = 0; e < 2; ++e)
       for (uint32_t o = 0; o < objects.size(); ++o) {
         sim.command(0);

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Captures what a real game sends to its GPU, for oovr's captured-frame
+# scenes (docs/real-frames.md): the game plays a demo it ships, headless
+# (Xvfb, Mesa's llvmpipe), under apitrace; the capture is cut after the
+# window of frames oovr imports and kept in oovr's capture folder, where
+# `oovr scenes` lists it.
+#
+# Usage: scripts/capture-frames.sh GAME [--frames A-B] [--force]
+#   GAME      openarena: OpenArena 0.8.8's demo088-test1 (map oa_shouse,
+#             bots), drawn by ioquake3's fixed-function `opengl1` renderer;
+#             scene oa-demo:demo088
+#   --frames  the window oovr imports by default (default 40-103: the
+#             first 40 frames are the loading screens)
+#   --force   capture again even when the capture is there
+#
+# Idempotent: installs what is missing (scripts/install-deps.sh --capture),
+# does nothing when the capture exists with the same window. The folder is
+# $OOVR_CAPTURE_DIR, else $XDG_CACHE_HOME/oovr/captures, else
+# ~/.cache/oovr/captures. Takes about 4 minutes on 2 cores; the kept file is
+# about 60 MB.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { sed -n '2,22p' "$0"; }
+game="" frames="40-103" force=0
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --frames) [[ $# -ge 2 ]] || { echo "capture-frames: --frames needs A-B" >&2; exit 2; }; frames="$2"; shift 2 ;;
+    --force) force=1; shift ;;
+    -h|--help) usage; exit 0 ;;
+    -*) echo "capture-frames: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    *) [[ -z "$game" ]] || { echo "capture-frames: one game at a time" >&2; exit 2; }; game="$1"; shift ;;
+  esac
+done
+if [[ ! "$frames" =~ ^([0-9]{1,7})-([0-9]{1,7})$ ]] || (( BASH_REMATCH[2] < BASH_REMATCH[1] )); then
+  echo "capture-frames: --frames must be A-B with A <= B, not '$frames'" >&2
+  exit 2
+fi
+last=${BASH_REMATCH[2]}
+
+case "$game" in
+  openarena)
+    name=demo088
+    command=(/usr/games/openarena +set cl_renderer opengl1 +set s_initsound 0 +set timedemo 1
+             +set nextdemo quit +demo demo088-test1)
+    ;;
+  "") usage >&2; exit 2 ;;
+  *) echo "capture-frames: unknown game '$game' (games: openarena)" >&2; exit 2 ;;
+esac
+
+dir=${OOVR_CAPTURE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/oovr/captures}
+trace="$dir/$game-$name.trace"
+window="$dir/$game-$name.frames"
+if [[ $force -eq 0 && -f "$trace" && -f "$window" && "$(cat "$window")" == "$frames" ]]; then
+  echo "capture-frames: $trace is there (frames $frames); --force captures again"
+  exit 0
+fi
+
+scripts/install-deps.sh --capture
+oovr=${OOVR:-build/release/oovr}
+if [[ ! -x "$oovr" ]]; then
+  echo "capture-frames: building oovr first (make build)"
+  make build >/dev/null
+fi
+
+mkdir -p "$dir"
+work=$(mktemp -d "$dir/.capture-XXXXXX")
+trap 'rm -rf "$work"' EXIT
+# The game's settings and logs stay in the scratch folder, not in ~/.openarena.
+export HOME="$work/home"
+mkdir -p "$HOME"
+echo "capture-frames: recording ${command[*]} under apitrace (a few minutes)"
+if ! xvfb-run -a -s "-screen 0 640x480x24" apitrace trace -o "$work/full.trace" "${command[@]}" >"$work/game.log" 2>&1; then
+  tail -20 "$work/game.log" >&2
+  echo "capture-frames: the game failed under apitrace (its log is above)" >&2
+  exit 1
+fi
+"$oovr" trace-cut --in "$work/full.trace" --out "$work/cut.trace" --last-frame "$last"
+mv "$work/cut.trace" "$trace"
+printf '%s\n' "$frames" >"$window"
+echo "capture-frames: kept frames 0 to $last in $trace ($(du -h "$trace" | cut -f1)); scene oa-demo:$name (frames $frames)"

@@ -1,0 +1,1398 @@
+#include "oovr/scene/formats/gl_trace.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "oovr/core/error.h"
+#include "oovr/core/limits.h"
+#include "oovr/scene/formats/apitrace.h"
+
+namespace oovr {
+
+namespace {
+
+using apitrace::Call;
+using apitrace::Value;
+
+// OpenGL 1.x enumerants (the GL 1.5 and ARB_multitexture headers).
+enum : int64_t {
+  GL_POINTS = 0,
+  GL_LINES,
+  GL_LINE_LOOP,
+  GL_LINE_STRIP,
+  GL_TRIANGLES,
+  GL_TRIANGLE_STRIP,
+  GL_TRIANGLE_FAN,
+  GL_QUADS,
+  GL_QUAD_STRIP,
+  GL_POLYGON,
+  GL_BYTE = 0x1400,
+  GL_UNSIGNED_BYTE,
+  GL_SHORT,
+  GL_UNSIGNED_SHORT,
+  GL_INT,
+  GL_UNSIGNED_INT,
+  GL_FLOAT,
+  GL_DOUBLE = 0x140A,
+  GL_MODELVIEW = 0x1700,
+  GL_PROJECTION,
+  GL_TEXTURE,
+  GL_TEXTURE_2D = 0x0DE1,
+  GL_BLEND = 0x0BE2,
+  GL_ALPHA_TEST = 0x0BC0,
+  GL_DEPTH_TEST = 0x0B71,
+  GL_CULL_FACE = 0x0B44,
+  GL_POLYGON_OFFSET_FILL = 0x8037,
+  GL_SCISSOR_TEST = 0x0C11,
+  GL_FOG = 0x0B60,
+  GL_LIGHTING = 0x0B50,
+  GL_STENCIL_TEST = 0x0B90,
+  GL_CLIP_PLANE0 = 0x3000,
+  GL_TEXTURE_GEN_S = 0x0C60,
+  GL_TEXTURE_GEN_Q = 0x0C63,
+  GL_DITHER = 0x0BD0,
+  GL_MULTISAMPLE = 0x809D,
+  GL_NORMALIZE = 0x0BA1,
+  GL_COLOR_MATERIAL = 0x0B57,
+  GL_RESCALE_NORMAL = 0x803A,
+  GL_LINE_SMOOTH = 0x0B20,
+  GL_POINT_SMOOTH = 0x0B10,
+  GL_LINE_STIPPLE = 0x0B24,
+  GL_LIGHT0 = 0x4000,
+  GL_LIGHT7 = 0x4007,
+  GL_VERTEX_ARRAY = 0x8074,
+  GL_NORMAL_ARRAY,
+  GL_COLOR_ARRAY,
+  GL_INDEX_ARRAY,
+  GL_TEXTURE_COORD_ARRAY,
+  GL_EDGE_FLAG_ARRAY,
+  GL_TEXTURE0 = 0x84C0,
+  GL_ZERO = 0,
+  GL_ONE = 1,
+  GL_SRC_COLOR = 0x300,
+  GL_ONE_MINUS_SRC_COLOR,
+  GL_SRC_ALPHA,
+  GL_ONE_MINUS_SRC_ALPHA,
+  GL_DST_ALPHA,
+  GL_ONE_MINUS_DST_ALPHA,
+  GL_DST_COLOR,
+  GL_ONE_MINUS_DST_COLOR,
+  GL_NEVER = 0x200,
+  GL_LESS,
+  GL_EQUAL,
+  GL_LEQUAL,
+  GL_GREATER,
+  GL_NOTEQUAL,
+  GL_GEQUAL,
+  GL_ALWAYS,
+  GL_FRONT = 0x404,
+  GL_BACK = 0x405,
+  GL_FRONT_AND_BACK = 0x408,
+  GL_CW = 0x900,
+  GL_CCW = 0x901,
+  GL_BACK_LEFT = 0x402,
+  GL_TEXTURE_MAG_FILTER = 0x2800,
+  GL_TEXTURE_MIN_FILTER,
+  GL_TEXTURE_WRAP_S,
+  GL_TEXTURE_WRAP_T,
+  GL_NEAREST = 0x2600,
+  GL_LINEAR,
+  GL_NEAREST_MIPMAP_NEAREST = 0x2700,
+  GL_LINEAR_MIPMAP_NEAREST,
+  GL_NEAREST_MIPMAP_LINEAR,
+  GL_LINEAR_MIPMAP_LINEAR,
+  GL_CLAMP = 0x2900,
+  GL_REPEAT = 0x2901,
+  GL_CLAMP_TO_EDGE = 0x812F,
+  GL_RED = 0x1903,
+  GL_ALPHA = 0x1906,
+  GL_RGB,
+  GL_RGBA,
+  GL_LUMINANCE,
+  GL_LUMINANCE_ALPHA,
+  GL_BGR = 0x80E0,
+  GL_BGRA,
+  GL_TEXTURE_ENV = 0x2300,
+  GL_TEXTURE_ENV_MODE = 0x2200,
+  GL_MODULATE = 0x2100,
+  GL_DECAL = 0x2101,
+  GL_REPLACE = 0x1E01,
+  GL_ADD = 0x0104,
+  GL_UNPACK_ROW_LENGTH = 0x0CF2,
+  GL_UNPACK_SKIP_ROWS,
+  GL_UNPACK_SKIP_PIXELS,
+  GL_UNPACK_ALIGNMENT,
+  GL_COLOR_BUFFER_BIT = 0x4000,
+  GL_DEPTH_BUFFER_BIT = 0x100,
+  GL_STENCIL_BUFFER_BIT = 0x400,
+  GL_FILL = 0x1B02,
+  GL_FLAT = 0x1D00,
+  GL_SMOOTH = 0x1D01,
+  GL_ARRAY_BUFFER = 0x8892,
+  GL_ELEMENT_ARRAY_BUFFER = 0x8893,
+};
+
+constexpr int kUnits = 2;
+const Mat4 kIdentity = Mat4::identity();  // texture units oovr models (ioquake3's opengl1 uses two)
+
+// Calls that change nothing oovr draws: queries, context and window-system
+// calls, hints, object names, performance hints, the unused normal, and
+// state of features that an enabled-check refuses at draw time
+// (fog, lighting, stencil, clip planes, texture generation: see
+// refuse_state).
+const std::set<std::string>& harmless_calls() {
+  static const std::set<std::string> names = {"glGetError",
+                                              "glGetString",
+                                              "glGetStringi",
+                                              "glGetIntegerv",
+                                              "glGetFloatv",
+                                              "glGetBooleanv",
+                                              "glGetDoublev",
+                                              "glGetTexParameteriv",
+                                              "glGetTexParameterfv",
+                                              "glGetTexLevelParameteriv",
+                                              "glGetPointerv",
+                                              "glIsEnabled",
+                                              "glIsTexture",
+                                              "glGetFramebufferAttachmentParameteriv",
+                                              "glFinish",
+                                              "glFlush",
+                                              "glHint",
+                                              "glGenTextures",
+                                              "glDeleteTextures",
+                                              "glClearColor",
+                                              "glClearDepth",
+                                              "glClearStencil",
+                                              "glLineWidth",
+                                              "glPointSize",
+                                              "glNormal3f",
+                                              "glNormal3fv",
+                                              "glNormalPointer",
+                                              "glFogf",
+                                              "glFogfv",
+                                              "glFogi",
+                                              "glFogiv",
+                                              "glLightf",
+                                              "glLightfv",
+                                              "glLightModelf",
+                                              "glLightModelfv",
+                                              "glMaterialf",
+                                              "glMaterialfv",
+                                              "glColorMaterial",
+                                              "glTexGeni",
+                                              "glTexGenf",
+                                              "glTexGenfv",
+                                              "glStencilFunc",
+                                              "glStencilOp",
+                                              "glStencilMask",
+                                              "glClipPlane",
+                                              "glLineStipple",
+                                              "glReadPixels",
+                                              "glReadBuffer",
+                                              "glPixelStoref",
+                                              "glLockArraysEXT",
+                                              "glUnlockArraysEXT",
+                                              "glXMakeCurrent",
+                                              "glXMakeContextCurrent",
+                                              "glXCreateContext",
+                                              "glXCreateNewContext",
+                                              "glXCreateContextAttribsARB",
+                                              "glXDestroyContext",
+                                              "glXGetProcAddressARB",
+                                              "glXGetProcAddress",
+                                              "glXChooseVisual",
+                                              "glXChooseFBConfig",
+                                              "glXGetFBConfigs",
+                                              "glXGetFBConfigAttrib",
+                                              "glXGetVisualFromFBConfig",
+                                              "glXQueryExtension",
+                                              "glXQueryExtensionsString",
+                                              "glXQueryVersion",
+                                              "glXGetConfig",
+                                              "glXGetClientString",
+                                              "glXQueryServerString",
+                                              "glXIsDirect",
+                                              "glXGetCurrentContext",
+                                              "glXGetCurrentDisplay",
+                                              "glXGetCurrentDrawable",
+                                              "glXSwapIntervalEXT",
+                                              "glXSwapIntervalMESA",
+                                              "glXSwapIntervalSGI",
+                                              "glXQueryDrawable",
+                                              "glXSwapBuffers",
+                                              "eglSwapBuffers",
+                                              "eglMakeCurrent",
+                                              "eglGetProcAddress",
+                                              "eglCreateContext",
+                                              "eglGetDisplay",
+                                              "eglInitialize",
+                                              "eglChooseConfig",
+                                              "eglCreateWindowSurface",
+                                              "eglBindAPI",
+                                              "eglQueryString",
+                                              "eglGetConfigAttrib",
+                                              "eglDestroyContext",
+                                              "eglDestroySurface",
+                                              "eglTerminate",
+                                              "eglSwapInterval",
+                                              "eglGetError"};
+  return names;
+}
+
+struct ClientArray {
+  bool enabled = false;
+  int size = 4;
+  int64_t type = GL_FLOAT;
+  int stride = 0;
+  std::string data;  // the blob apitrace recorded (from the array's base)
+  bool have_data = false;
+};
+
+struct GlTextureObject {
+  std::map<int, MipLevel> levels;
+  int64_t base_format = GL_RGBA;                                          // the internal format's base: what a sampler returns
+  int64_t min_filter = GL_NEAREST_MIPMAP_LINEAR, mag_filter = GL_LINEAR;  // OpenGL's defaults
+  int64_t wrap_s = GL_REPEAT, wrap_t = GL_REPEAT;
+  int scene_index = -1;  // the Scene texture of its current contents; -1: changed since
+  int version = 0;
+};
+
+struct ImmediateVertex {
+  Vec4 position;
+  Vec2 uv[kUnits];
+  uint32_t colour;
+};
+
+// What decides a draw's material (Material and Pass), compared whole.
+struct MaterialKey {
+  int texture[kUnits] = {-1, -1};
+  int64_t env[kUnits] = {GL_MODULATE, GL_MODULATE};
+  int64_t src = GL_ONE, dst = GL_ZERO;
+  int64_t alpha_func = GL_ALWAYS;
+  float alpha_ref = 0;
+  int64_t depth_func = GL_ALWAYS;
+  bool depth_write = false, colour_write = true;
+  int cull = 0;  // 0 none, 1 back, 2 front
+  float offset_factor = 0, offset_units = 0;
+  auto tie() const {
+    return std::tie(texture[0], texture[1], env[0], env[1], src, dst, alpha_func, alpha_ref, depth_func, depth_write,
+                    colour_write, cull, offset_factor, offset_units);
+  }
+  bool operator<(const MaterialKey& o) const { return tie() < o.tie(); }
+};
+
+uint64_t fnv(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
+  const auto* p = static_cast<const uint8_t*>(data);
+  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+uint32_t pack_colour(float r, float g, float b, float a) {
+  const auto c = [](float v) { return uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+  return c(r) | c(g) << 8 | c(b) << 16 | c(a) << 24;
+}
+
+class Interpreter {
+ public:
+  Interpreter(apitrace::Reader& reader, const GlTraceWindow& w) : m_reader(reader), m_window(w) {
+    m_scene.name = "trace:" + reader.name();
+    m_scene.description =
+        "frames " + std::to_string(w.first) + " to " + std::to_string(w.first + w.count - 1) + " of an apitrace capture";
+  }
+
+  Scene run(GlTraceStats* stats) {
+    if (m_window.first < 0 || m_window.count < 1)
+      throw Error("a window of frames must start at 0 or later and hold at least one frame");
+    if (!(m_window.metres_per_unit > 0 && std::isfinite(m_window.metres_per_unit)))
+      throw Error("metres per unit must be a positive number");
+    Call c;
+    while (m_frame < m_window.first + m_window.count && m_reader.next(c)) {
+      ++m_stats.calls;
+      m_call = &c;
+      try {
+        interpret(c);
+      } catch (const Error& e) {
+        throw Error(where() + e.what());
+      }
+      if (c.ends_frame()) end_frame();
+    }
+    const int got = m_frame - m_window.first;
+    if (got < m_window.count) {
+      if (m_frame <= m_window.first)
+        throw Error("apitrace file '" + m_reader.name() + "' has " + std::to_string(m_frame) + " frames, so frame " +
+                    std::to_string(m_window.first) + " does not exist");
+      throw Error("apitrace file '" + m_reader.name() + "' has " + std::to_string(m_frame) + " frames: frames " +
+                  std::to_string(m_window.first) + " to " + std::to_string(m_window.first + m_window.count - 1) +
+                  " reach past its end");
+    }
+    m_scene.camera.frames.assign(size_t(m_window.count), CameraPose{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}});
+    m_scene.metres_per_unit = m_window.metres_per_unit;
+    m_scene.notes.push_back("the game's units taken as " + std::to_string(m_window.metres_per_unit) +
+                            " m for the eyes' offsets; each eye sees the game's whole view, scaled to its viewport");
+    if (m_clamp_notes)
+      m_scene.notes.push_back("GL_CLAMP drawn as GL_CLAMP_TO_EDGE (no border texels) on " + std::to_string(m_clamp_notes) +
+                              " textures");
+    if (m_mip_notes)
+      m_scene.notes.push_back(std::to_string(m_mip_notes) +
+                              " textures sampled with mipmaps were uploaded without all their levels; "
+                              "oovr built the missing ones");
+    m_stats.frames_in_trace = uint64_t(m_frame);
+    if (stats) *stats = m_stats;
+    m_scene.validate();
+    return std::move(m_scene);
+  }
+
+ private:
+  std::string where() const {
+    return "apitrace file '" + m_reader.name() + "', frame " + std::to_string(m_frame) + ", call " +
+           std::to_string(m_call ? m_call->no : 0) + " " + (m_call ? m_call->name() : std::string()) + ": ";
+  }
+  bool in_window() const { return m_frame >= m_window.first; }
+
+  static int64_t num(const Call& c, size_t i) { return c.arg(i).integer(); }
+  static float real(const Call& c, size_t i) { return float(c.arg(i).number()); }
+  [[noreturn]] static void unsupported(const std::string& what) {
+    throw Error(what + ", which oovr's OpenGL interpreter does not model");
+  }
+
+  Mat4& matrix() {
+    auto& stack = m_mode == GL_PROJECTION ? m_projection : m_mode == GL_TEXTURE ? m_texture_matrix : m_modelview;
+    return stack.back();
+  }
+  std::vector<Mat4>& stack() {
+    return m_mode == GL_PROJECTION ? m_projection : m_mode == GL_TEXTURE ? m_texture_matrix : m_modelview;
+  }
+
+  static Mat4 matrix_arg(const Call& c, size_t i) {
+    const Value& v = c.arg(i);
+    if (v.kind != Value::Kind::array || v.items.size() != 16) throw Error("a matrix that is not 16 numbers");
+    Mat4 m;
+    for (int k = 0; k < 16; ++k) m.m[k / 4][k % 4] = float(v.items[size_t(k)].number());
+    return m;
+  }
+
+  void set_cap(int64_t cap, bool on) {
+    if (cap == GL_TEXTURE_2D) {
+      m_texture_2d[m_unit] = on;
+    } else if (cap >= GL_CLIP_PLANE0 && cap < GL_CLIP_PLANE0 + 6) {
+      m_refused[cap] = on ? "a user clip plane (GL_CLIP_PLANEi)" : "";
+    } else if (cap >= GL_TEXTURE_GEN_S && cap <= GL_TEXTURE_GEN_Q) {
+      m_refused[cap + 0x10000 * m_unit] = on ? "texture coordinate generation (GL_TEXTURE_GEN)" : "";
+    } else if (cap >= GL_LIGHT0 && cap <= GL_LIGHT7) {
+      // Lights matter only with GL_LIGHTING, which is refused.
+    } else {
+      switch (cap) {
+        case GL_BLEND: m_blend = on; break;
+        case GL_ALPHA_TEST: m_alpha_test = on; break;
+        case GL_DEPTH_TEST: m_depth_test = on; break;
+        case GL_CULL_FACE: m_cull = on; break;
+        case GL_POLYGON_OFFSET_FILL: m_offset = on; break;
+        case GL_SCISSOR_TEST: m_scissor_test = on; break;
+        case GL_FOG: m_refused[cap] = on ? "fog (GL_FOG)" : ""; break;
+        case GL_LIGHTING: m_refused[cap] = on ? "fixed-function lighting (GL_LIGHTING)" : ""; break;
+        case GL_STENCIL_TEST: m_refused[cap] = on ? "the stencil test" : ""; break;
+        case GL_LINE_STIPPLE:
+        case GL_LINE_SMOOTH:
+        case GL_POINT_SMOOTH:
+        case GL_DITHER:
+        case GL_MULTISAMPLE:
+        case GL_NORMALIZE:
+        case GL_RESCALE_NORMAL:
+        case GL_COLOR_MATERIAL: break;  // no effect on filled, unlit, single-sampled triangles
+        default:
+          if (on) m_refused[cap] = "capability " + std::to_string(cap) + " enabled";
+          else m_refused[cap].clear();
+      }
+    }
+  }
+
+  ClientArray& client_array(int64_t which) {
+    switch (which) {
+      case GL_VERTEX_ARRAY: return m_vertex;
+      case GL_COLOR_ARRAY: return m_colour_array;
+      case GL_TEXTURE_COORD_ARRAY: return m_texcoord[m_client_unit];
+      case GL_NORMAL_ARRAY: return m_normal;
+      default: unsupported("client array " + std::to_string(which));
+    }
+  }
+
+  void set_pointer(ClientArray& a, const Call& c, bool has_size) {
+    size_t i = 0;
+    a.size = has_size ? int(num(c, i++)) : 3;
+    a.type = num(c, i++);
+    a.stride = int(num(c, i++));
+    const Value& p = c.arg(i);
+    if (p.kind == Value::Kind::blob) {
+      a.data = p.bytes;
+      a.have_data = true;
+    } else {
+      // A pointer into a buffer object, or a pointer apitrace did not
+      // record because no draw used it yet.
+      a.data.clear();
+      a.have_data = false;
+    }
+    if (a.size < 1 || a.size > 4 || a.stride < 0) throw Error("a client array of size " + std::to_string(a.size));
+  }
+
+  void interpret(const Call& c) {
+    const std::string& n = c.name();
+    if (n == "glEnable" || n == "glDisable") {
+      set_cap(num(c, 0), n == "glEnable");
+    } else if (n == "glEnableClientState" || n == "glDisableClientState") {
+      client_array(num(c, 0)).enabled = n == "glEnableClientState";
+    } else if (n == "glVertexPointer") {
+      set_pointer(m_vertex, c, true);
+    } else if (n == "glColorPointer") {
+      set_pointer(m_colour_array, c, true);
+    } else if (n == "glTexCoordPointer") {
+      set_pointer(m_texcoord[m_client_unit], c, true);
+    } else if (n == "glNormalPointer") {
+      set_pointer(m_normal, c, false);
+    } else if (n == "glActiveTexture" || n == "glActiveTextureARB") {
+      m_unit = select_unit(num(c, 0), false);
+    } else if (n == "glClientActiveTexture" || n == "glClientActiveTextureARB") {
+      m_client_unit = select_unit(num(c, 0), true);
+    } else if (n == "glMatrixMode") {
+      m_mode = num(c, 0);
+      if (m_mode != GL_MODELVIEW && m_mode != GL_PROJECTION && m_mode != GL_TEXTURE)
+        throw Error("matrix mode " + std::to_string(m_mode));
+    } else if (n == "glLoadMatrixf" || n == "glLoadMatrixd") {
+      matrix() = matrix_arg(c, 0);
+    } else if (n == "glMultMatrixf" || n == "glMultMatrixd") {
+      matrix() = matrix() * matrix_arg(c, 0);
+    } else if (n == "glLoadIdentity") {
+      matrix() = Mat4::identity();
+    } else if (n == "glPushMatrix") {
+      if (stack().size() >= 64) throw Error("more than 64 matrices pushed");
+      stack().push_back(stack().back());
+    } else if (n == "glPopMatrix") {
+      if (stack().size() <= 1) throw Error("a matrix popped from an empty stack");
+      stack().pop_back();
+    } else if (n == "glTranslatef" || n == "glTranslated") {
+      matrix() = matrix() * translate({real(c, 0), real(c, 1), real(c, 2)});
+    } else if (n == "glScalef" || n == "glScaled") {
+      matrix() = matrix() * scale({real(c, 0), real(c, 1), real(c, 2)});
+    } else if (n == "glRotatef" || n == "glRotated") {
+      const Vec3 axis = normalize(Vec3{real(c, 1), real(c, 2), real(c, 3)});
+      matrix() = matrix() * rotate(axis, radians(real(c, 0)));
+    } else if (n == "glOrtho") {
+      const double l = c.arg(0).number(), r = c.arg(1).number(), b = c.arg(2).number(), t = c.arg(3).number(),
+                   nv = c.arg(4).number(), f = c.arg(5).number();
+      if (l == r || b == t || nv == f) throw Error("a degenerate orthographic projection");
+      Mat4 o;
+      o.at(0, 0) = float(2 / (r - l));
+      o.at(1, 1) = float(2 / (t - b));
+      o.at(2, 2) = float(-2 / (f - nv));
+      o.at(0, 3) = float(-(r + l) / (r - l));
+      o.at(1, 3) = float(-(t + b) / (t - b));
+      o.at(2, 3) = float(-(f + nv) / (f - nv));
+      matrix() = matrix() * o;
+    } else if (n == "glFrustum") {
+      const double l = c.arg(0).number(), r = c.arg(1).number(), b = c.arg(2).number(), t = c.arg(3).number(),
+                   nv = c.arg(4).number(), f = c.arg(5).number();
+      if (l == r || b == t || nv == f || nv <= 0) throw Error("a degenerate perspective projection");
+      Mat4 p;
+      p.at(0, 0) = float(2 * nv / (r - l));
+      p.at(1, 1) = float(2 * nv / (t - b));
+      p.at(0, 2) = float((r + l) / (r - l));
+      p.at(1, 2) = float((t + b) / (t - b));
+      p.at(2, 2) = float(-(f + nv) / (f - nv));
+      p.at(2, 3) = float(-2 * f * nv / (f - nv));
+      p.at(3, 2) = -1;
+      p.at(3, 3) = 0;
+      matrix() = matrix() * p;
+    } else if (n == "glViewport") {
+      m_viewport = {int(num(c, 0)), int(num(c, 1)), int(num(c, 2)), int(num(c, 3))};
+      if (m_viewport[2] <= 0 || m_viewport[3] <= 0 || m_viewport[2] > 16384 || m_viewport[3] > 16384)
+        throw Error("a viewport of " + std::to_string(m_viewport[2]) + "x" + std::to_string(m_viewport[3]));
+      // The window is the largest viewport the game sets (it sets the
+      // whole window for its 2-D pass every frame).
+      m_window_w = std::max(m_window_w, m_viewport[0] + m_viewport[2]);
+      m_window_h = std::max(m_window_h, m_viewport[1] + m_viewport[3]);
+    } else if (n == "glScissor") {
+      m_scissor = {int(num(c, 0)), int(num(c, 1)), int(num(c, 2)), int(num(c, 3))};
+    } else if (n == "glDepthRange" || n == "glDepthRangef") {
+      m_depth_near = std::clamp(float(c.arg(0).number()), 0.0f, 1.0f);
+      m_depth_far = std::clamp(float(c.arg(1).number()), 0.0f, 1.0f);
+    } else if (n == "glBlendFunc") {
+      m_src = num(c, 0);
+      m_dst = num(c, 1);
+    } else if (n == "glAlphaFunc") {
+      m_alpha_func = num(c, 0);
+      m_alpha_ref = std::clamp(real(c, 1), 0.0f, 1.0f);
+    } else if (n == "glDepthFunc") {
+      m_depth_func = num(c, 0);
+    } else if (n == "glDepthMask") {
+      m_depth_mask = num(c, 0) != 0;
+    } else if (n == "glColorMask") {
+      m_colour_mask = {num(c, 0) != 0, num(c, 1) != 0, num(c, 2) != 0, num(c, 3) != 0};
+    } else if (n == "glCullFace") {
+      m_cull_face = num(c, 0);
+    } else if (n == "glFrontFace") {
+      m_front_face = num(c, 0);
+    } else if (n == "glPolygonOffset") {
+      m_offset_factor = real(c, 0);
+      m_offset_units = real(c, 1);
+    } else if (n == "glPolygonMode") {
+      m_polygon_mode = num(c, 1);
+    } else if (n == "glShadeModel") {
+      m_shade_model = num(c, 0);
+    } else if (n == "glDrawBuffer") {
+      m_draw_buffer = num(c, 0);
+    } else if (n == "glColor3f" || n == "glColor3d") {
+      m_colour = pack_colour(real(c, 0), real(c, 1), real(c, 2), 1);
+    } else if (n == "glColor4f" || n == "glColor4d") {
+      m_colour = pack_colour(real(c, 0), real(c, 1), real(c, 2), real(c, 3));
+    } else if (n == "glColor3ub") {
+      m_colour = uint32_t(num(c, 0) & 255) | uint32_t(num(c, 1) & 255) << 8 | uint32_t(num(c, 2) & 255) << 16 | 0xFF000000u;
+    } else if (n == "glColor4ub") {
+      m_colour = uint32_t(num(c, 0) & 255) | uint32_t(num(c, 1) & 255) << 8 | uint32_t(num(c, 2) & 255) << 16 |
+                 uint32_t(num(c, 3) & 255) << 24;
+    } else if (n == "glColor3fv" || n == "glColor4fv" || n == "glColor3ubv" || n == "glColor4ubv") {
+      const Value& v = c.arg(0);
+      const bool ub = n.find("ub") != std::string::npos;
+      const size_t k = n[7] == '3' ? 3 : 4;
+      if (v.kind != Value::Kind::array || v.items.size() < k)
+        throw Error("a colour of fewer than " + std::to_string(k) + " numbers");
+      float f[4] = {1, 1, 1, 1};
+      for (size_t i = 0; i < k; ++i) f[i] = float(v.items[i].number()) / (ub ? 255.0f : 1.0f);
+      m_colour = pack_colour(f[0], f[1], f[2], f[3]);
+    } else if (n == "glTexCoord2f" || n == "glTexCoord2d") {
+      m_texcoord_now[0] = {real(c, 0), real(c, 1)};
+    } else if (n == "glTexCoord2fv") {
+      m_texcoord_now[0] = vec2_arg(c, 0);
+    } else if (n == "glMultiTexCoord2f" || n == "glMultiTexCoord2fARB") {
+      const int u = select_unit(num(c, 0), false);
+      m_texcoord_now[u] = {real(c, 1), real(c, 2)};
+    } else if (n == "glMultiTexCoord2fv" || n == "glMultiTexCoord2fvARB") {
+      const int u = select_unit(num(c, 0), false);
+      m_texcoord_now[u] = vec2_arg(c, 1);
+    } else if (n == "glBegin") {
+      if (m_in_begin) throw Error("glBegin inside glBegin");
+      m_in_begin = true;
+      m_begin_mode = num(c, 0);
+      m_immediate.clear();
+    } else if (n == "glEnd") {
+      if (!m_in_begin) throw Error("glEnd without glBegin");
+      m_in_begin = false;
+      immediate_draw();
+    } else if (n == "glVertex2f" || n == "glVertex2d" || n == "glVertex2i" || n == "glVertex2s") {
+      vertex({real(c, 0), real(c, 1), 0, 1});
+    } else if (n == "glVertex3f" || n == "glVertex3d") {
+      vertex({real(c, 0), real(c, 1), real(c, 2), 1});
+    } else if (n == "glVertex3fv" || n == "glVertex2fv") {
+      const Value& v = c.arg(0);
+      const size_t k = n[8] == '3' ? 3 : 2;
+      if (v.kind != Value::Kind::array || v.items.size() < k)
+        throw Error("a vertex of fewer than " + std::to_string(k) + " numbers");
+      vertex({float(v.items[0].number()), float(v.items[1].number()), k == 3 ? float(v.items[2].number()) : 0.0f, 1});
+    } else if (n == "glDrawElements" || n == "glDrawRangeElements") {
+      const bool range = n == "glDrawRangeElements";
+      indexed_draw(num(c, 0), num(c, range ? 3 : 1), num(c, range ? 4 : 2), c.arg(range ? 5 : 3));
+    } else if (n == "glDrawArrays") {
+      array_draw(num(c, 0), num(c, 1), num(c, 2));
+    } else if (n == "glClear") {
+      clear(uint64_t(num(c, 0)));
+    } else if (n == "glBindTexture") {
+      if (num(c, 0) != GL_TEXTURE_2D) unsupported("a texture target other than GL_TEXTURE_2D");
+      m_bound[m_unit] = uint32_t(num(c, 1));
+    } else if (n == "glTexImage2D") {
+      tex_image(c, false);
+    } else if (n == "glTexSubImage2D") {
+      tex_image(c, true);
+    } else if (n == "glTexParameterf" || n == "glTexParameteri") {
+      tex_parameter(num(c, 1), c.arg(2).number());
+    } else if (n == "glTexParameterfv" || n == "glTexParameteriv") {
+      const Value& v = c.arg(2);
+      if (v.kind != Value::Kind::array || v.items.empty()) throw Error("a texture parameter without a value");
+      tex_parameter(num(c, 1), v.items[0].number());
+    } else if (n == "glTexEnvf" || n == "glTexEnvi") {
+      if (num(c, 0) == GL_TEXTURE_ENV && num(c, 1) == GL_TEXTURE_ENV_MODE) m_env[m_unit] = int64_t(c.arg(2).number());
+      else m_refused[0x70000 + m_unit] = "a texture environment parameter other than GL_TEXTURE_ENV_MODE";
+    } else if (n == "glPixelStorei" || n == "glPixelStoref") {
+      const int64_t p = num(c, 0);
+      const int64_t v = int64_t(c.arg(1).number());
+      if (p == GL_UNPACK_ALIGNMENT) m_unpack_alignment = int(v);
+      else if (p == GL_UNPACK_ROW_LENGTH) m_unpack_row_length = int(v);
+      else if (p == GL_UNPACK_SKIP_ROWS) m_unpack_skip_rows = int(v);
+      else if (p == GL_UNPACK_SKIP_PIXELS) m_unpack_skip_pixels = int(v);
+      if (m_unpack_alignment != 1 && m_unpack_alignment != 2 && m_unpack_alignment != 4 && m_unpack_alignment != 8)
+        throw Error("an unpack alignment of " + std::to_string(m_unpack_alignment));
+      if (m_unpack_row_length < 0 || m_unpack_skip_rows < 0 || m_unpack_skip_pixels < 0)
+        throw Error("a negative unpack parameter");
+    } else if (n == "glBindBuffer" || n == "glBindBufferARB") {
+      const int64_t target = num(c, 0);
+      const bool bound = num(c, 1) != 0;
+      if (target == GL_ARRAY_BUFFER) m_array_buffer = bound;
+      else if (target == GL_ELEMENT_ARRAY_BUFFER) m_element_buffer = bound;
+    } else if (n == "memcpy") {
+      // Data written to a mapped buffer (fake): buffers are refused at draw time.
+    } else if (harmless_calls().count(n)) {
+      // No effect on what is drawn.
+    } else {
+      unsupported("a call (" + n + ")");
+    }
+  }
+
+  int select_unit(int64_t e, bool client) {
+    const int64_t u = e - GL_TEXTURE0;
+    if (u < 0 || u >= 32) throw Error("texture unit " + std::to_string(e));
+    if (u >= kUnits) {
+      // Units beyond the second are tracked as refused while selected.
+      (client ? m_client_unit_high : m_unit_high) = true;
+      return kUnits - 1;
+    }
+    (client ? m_client_unit_high : m_unit_high) = false;
+    return int(u);
+  }
+
+  static Vec2 vec2_arg(const Call& c, size_t i) {
+    const Value& v = c.arg(i);
+    if (v.kind != Value::Kind::array || v.items.size() < 2) throw Error("a coordinate of fewer than 2 numbers");
+    return {float(v.items[0].number()), float(v.items[1].number())};
+  }
+
+  void vertex(Vec4 p) {
+    if (!m_in_begin) throw Error("a vertex outside glBegin/glEnd");
+    if (m_immediate.size() >= (1u << 20)) throw Error("more than 2^20 vertices between glBegin and glEnd");
+    m_immediate.push_back({p, {m_texcoord_now[0], m_texcoord_now[1]}, m_colour});
+  }
+
+  void tex_parameter(int64_t pname, double value) {
+    GlTextureObject& t = m_textures[m_bound[m_unit]];
+    const int64_t v = int64_t(value);
+    switch (pname) {
+      case GL_TEXTURE_MIN_FILTER: t.min_filter = v; break;
+      case GL_TEXTURE_MAG_FILTER: t.mag_filter = v; break;
+      case GL_TEXTURE_WRAP_S: t.wrap_s = v; break;
+      case GL_TEXTURE_WRAP_T: t.wrap_t = v; break;
+      default: return;  // anisotropy, LOD bias and limits: see docs/real-frames.md
+    }
+    t.scene_index = -1;
+  }
+
+  // glTexImage2D(target, level, internalformat, width, height, border,
+  // format, type, pixels) and glTexSubImage2D(target, level, xoffset,
+  // yoffset, width, height, format, type, pixels).
+  void tex_image(const Call& c, bool sub) {
+    if (num(c, 0) != GL_TEXTURE_2D) unsupported("a texture target other than GL_TEXTURE_2D");
+    ++m_stats.texture_uploads;
+    const int level = int(num(c, 1));
+    const int64_t width = num(c, sub ? 4 : 3), height = num(c, sub ? 5 : 4);
+    const int64_t format = num(c, sub ? 6 : 6), type = num(c, sub ? 7 : 7);
+    const Value& pixels = c.arg(8);
+    if (level < 0 || level > 15) throw Error("mipmap level " + std::to_string(level));
+    const InputLimits& lim = InputLimits::get();
+    if (width < 0 || height < 0 || width > lim.image_side || height > lim.image_side)
+      throw Error("a texture of " + std::to_string(width) + "x" + std::to_string(height) + " texels");
+    if (!sub && num(c, 5) != 0) unsupported("a texture border");
+    if (type != GL_UNSIGNED_BYTE) unsupported("texel type " + std::to_string(type) + " (only GL_UNSIGNED_BYTE)");
+    int channels = 0;
+    switch (format) {
+      case GL_RGBA:
+      case GL_BGRA: channels = 4; break;
+      case GL_RGB:
+      case GL_BGR: channels = 3; break;
+      case GL_LUMINANCE_ALPHA: channels = 2; break;
+      case GL_LUMINANCE:
+      case GL_ALPHA:
+      case GL_RED: channels = 1; break;
+      default: unsupported("texel format " + std::to_string(format));
+    }
+    check_limit(uint64_t(width) * uint64_t(height), lim.image_texels, "image_texels", "a texture upload", "texels");
+    GlTextureObject& t = m_textures[m_bound[m_unit]];
+    if (!sub) t.base_format = base_format(num(c, 2));
+    MipLevel& dst = t.levels[level];
+    int64_t x0 = 0, y0 = 0;
+    if (sub) {
+      x0 = num(c, 2);
+      y0 = num(c, 3);
+      if (x0 < 0 || y0 < 0 || x0 + width > dst.width || y0 + height > dst.height)
+        throw Error("a sub-image outside level " + std::to_string(level) + " of texture " + std::to_string(m_bound[m_unit]));
+    } else {
+      // Every level of every texture counts against the scene's bytes.
+      m_texel_bytes -= dst.rgba.size();
+      m_texel_bytes += uint64_t(width) * uint64_t(height) * 4;
+      check_limit(m_texel_bytes, lim.scene_bytes, "scene_bytes", "the capture's textures", "bytes");
+      dst.width = int(width);
+      dst.height = int(height);
+      dst.rgba.assign(size_t(width * height * 4), 0);
+    }
+    t.scene_index = -1;
+    if (pixels.kind == Value::Kind::null) return;  // allocated, contents undefined (zeros here)
+    if (pixels.kind != Value::Kind::blob) unsupported("texels from a pixel unpack buffer");
+    // Rows as the unpack state lays them out (glsize.hpp's _gl_image_size).
+    const int64_t row_pixels = m_unpack_row_length > 0 ? m_unpack_row_length : width;
+    const int64_t row_bytes = (row_pixels * channels + m_unpack_alignment - 1) / m_unpack_alignment * m_unpack_alignment;
+    const int64_t first = m_unpack_skip_rows * row_bytes + m_unpack_skip_pixels * channels;
+    const auto* src = reinterpret_cast<const uint8_t*>(pixels.bytes.data());
+    if (height > 0 && width > 0 && uint64_t(first + (height - 1) * row_bytes + width * channels) > pixels.bytes.size())
+      throw Error("texels of " + std::to_string(pixels.bytes.size()) + " bytes, fewer than a " + std::to_string(width) + "x" +
+                  std::to_string(height) + " image needs");
+    for (int64_t y = 0; y < height; ++y)
+      for (int64_t x = 0; x < width; ++x) {
+        const uint8_t* s = src + first + y * row_bytes + x * channels;
+        uint8_t* d = dst.rgba.data() + ((y0 + y) * dst.width + (x0 + x)) * 4;
+        uint8_t r = 0, g = 0, b = 0, a = 255;
+        switch (format) {
+          case GL_RGBA:
+            r = s[0];
+            g = s[1];
+            b = s[2];
+            a = s[3];
+            break;
+          case GL_BGRA:
+            b = s[0];
+            g = s[1];
+            r = s[2];
+            a = s[3];
+            break;
+          case GL_RGB:
+            r = s[0];
+            g = s[1];
+            b = s[2];
+            break;
+          case GL_BGR:
+            b = s[0];
+            g = s[1];
+            r = s[2];
+            break;
+          case GL_LUMINANCE_ALPHA:
+            r = g = b = s[0];
+            a = s[1];
+            break;
+          case GL_LUMINANCE: r = g = b = s[0]; break;
+          case GL_ALPHA:
+            r = g = b = 0;
+            a = s[0];
+            break;
+          case GL_RED: r = s[0]; break;
+        }
+        d[0] = r;
+        d[1] = g;
+        d[2] = b;
+        d[3] = a;
+      }
+  }
+
+  // The base internal format (what the sampler returns) of an
+  // internalformat argument: sized and unsized RGB, RGBA, luminance and
+  // alpha formats, and the legacy component counts 1 to 4.
+  static int64_t base_format(int64_t f) {
+    switch (f) {
+      case 3:
+      case GL_RGB:
+      case 0x804F:
+      case 0x8050:
+      case 0x8051:
+      case 0x8052:
+      case 0x8053:
+      case 0x8054:
+      case 0x2A10: return GL_RGB;
+      case 4:
+      case GL_RGBA:
+      case 0x8055:
+      case 0x8056:
+      case 0x8057:
+      case 0x8058:
+      case 0x8059:
+      case 0x805A: return GL_RGBA;
+      case 1:
+      case GL_LUMINANCE:
+      case 0x803F:
+      case 0x8040:
+      case 0x8041:
+      case 0x8042: return GL_LUMINANCE;
+      case 2:
+      case GL_LUMINANCE_ALPHA:
+      case 0x8043:
+      case 0x8044:
+      case 0x8045:
+      case 0x8046:
+      case 0x8047:
+      case 0x8048: return GL_LUMINANCE_ALPHA;
+      case GL_ALPHA:
+      case 0x803B:
+      case 0x803C:
+      case 0x803D:
+      case 0x803E: return GL_ALPHA;
+      default: unsupported("texture internal format " + std::to_string(f));
+    }
+  }
+
+  // The Scene texture of GL texture `name` now, made when it changed.
+  int scene_texture(uint32_t name) {
+    auto it = m_textures.find(name);
+    if (it == m_textures.end() || it->second.levels.count(0) == 0) return -2;  // incomplete: GL samples nothing
+    GlTextureObject& t = it->second;
+    if (t.scene_index >= 0) return t.scene_index;
+    const MipLevel& base = t.levels.at(0);
+    if (base.width == 0 || base.height == 0) return -2;
+    const bool mip = t.min_filter != GL_NEAREST && t.min_filter != GL_LINEAR;
+    Texture tex;
+    tex.name = "gl texture " + std::to_string(name) + " v" + std::to_string(t.version++) + " (" + std::to_string(base.width) +
+               "x" + std::to_string(base.height) + ")";
+    tex.source = m_scene.name + "#" + tex.name;
+    if (t.wrap_s != t.wrap_t) unsupported("different wrap modes in s and t");
+    if (t.wrap_s == GL_CLAMP) ++m_clamp_notes;
+    tex.wrap = t.wrap_s == GL_REPEAT ? Wrap::repeat : Wrap::clamp_to_edge;
+    tex.mipmapped = mip;
+    tex.levels.push_back(base);
+    if (mip) {
+      // The game's own levels, as uploaded, while they form a chain.
+      for (int l = 1;; ++l) {
+        const MipLevel& prev = tex.levels.back();
+        if (prev.width == 1 && prev.height == 1) break;
+        const auto lv = t.levels.find(l);
+        const int w = std::max(1, prev.width / 2), h = std::max(1, prev.height / 2);
+        if (lv == t.levels.end() || lv->second.width != w || lv->second.height != h) {
+          ++m_mip_notes;
+          tex.levels.resize(size_t(l));
+          Texture rest;
+          rest.levels.push_back(tex.levels.back());
+          build_mip_chain(rest);
+          tex.levels.insert(tex.levels.end(), rest.levels.begin() + 1, rest.levels.end());
+          break;
+        }
+        tex.levels.push_back(lv->second);
+      }
+    }
+    // What the sampler returns for the internal format (alpha 1 for RGB).
+    for (MipLevel& l : tex.levels)
+      for (size_t i = 0; i < l.rgba.size(); i += 4) {
+        uint8_t* p = &l.rgba[i];
+        switch (t.base_format) {
+          case GL_RGB: p[3] = 255; break;
+          case GL_LUMINANCE:
+            p[1] = p[2] = p[0];
+            p[3] = 255;
+            break;
+          case GL_LUMINANCE_ALPHA: p[1] = p[2] = p[0]; break;
+          case GL_ALPHA: p[0] = p[1] = p[2] = 0; break;
+          default: break;
+        }
+      }
+    tex.opaque = true;
+    for (size_t i = 3; i < tex.levels[0].rgba.size() && tex.opaque; i += 4) tex.opaque = tex.levels[0].rgba[i] == 255;
+    m_scene.textures.push_back(std::move(tex));
+    t.scene_index = int(m_scene.textures.size()) - 1;
+    return t.scene_index;
+  }
+
+  void refuse_state() const {
+    for (const auto& [cap, what] : m_refused)
+      if (!what.empty()) unsupported("a draw with " + what);
+    if (m_polygon_mode != GL_FILL) unsupported("a draw with polygons drawn as lines or points (glPolygonMode)");
+    if (m_shade_model == GL_FLAT) unsupported("a draw with flat shading");
+    if (m_draw_buffer != GL_BACK && m_draw_buffer != GL_BACK_LEFT) unsupported("a draw into a buffer other than the back buffer");
+    if (m_array_buffer || m_element_buffer) unsupported("a draw from buffer objects");
+    if (m_unit_high || m_client_unit_high) unsupported("a draw with a texture unit beyond the second selected");
+    if (std::memcmp(&m_texture_matrix.back(), &kIdentity, sizeof(Mat4)) != 0) unsupported("a draw with a texture matrix");
+    const auto& cm = m_colour_mask;
+    if (!(cm[0] == cm[1] && cm[1] == cm[2] && cm[2] == cm[3])) unsupported("a draw with some colour channels masked");
+    if (m_cull && m_cull_face == GL_FRONT_AND_BACK) unsupported("a draw with both faces culled");
+    if (m_front_face != GL_CCW) unsupported("a draw with clockwise front faces (glFrontFace(GL_CW))");
+  }
+
+  static BlendFactor blend_factor(int64_t f) {
+    switch (f) {
+      case GL_ZERO: return BlendFactor::zero;
+      case GL_ONE: return BlendFactor::one;
+      case GL_SRC_COLOR: return BlendFactor::src_colour;
+      case GL_ONE_MINUS_SRC_COLOR: return BlendFactor::one_minus_src_colour;
+      case GL_SRC_ALPHA: return BlendFactor::src_alpha;
+      case GL_ONE_MINUS_SRC_ALPHA: return BlendFactor::one_minus_src_alpha;
+      case GL_DST_COLOR: return BlendFactor::dst_colour;
+      case GL_ONE_MINUS_DST_COLOR: return BlendFactor::one_minus_dst_colour;
+      case GL_DST_ALPHA: return BlendFactor::dst_alpha;
+      case GL_ONE_MINUS_DST_ALPHA: return BlendFactor::one_minus_dst_alpha;
+      default: unsupported("blend factor " + std::to_string(f));
+    }
+  }
+
+  int material(const MaterialKey& k) {
+    const auto it = m_materials.find(k);
+    if (it != m_materials.end()) return it->second;
+    Material m;
+    m.name = "gl state " + std::to_string(m_materials.size());
+    Pass p;
+    for (int u = 0; u < kUnits; ++u) {
+      if (k.texture[u] < 0) continue;
+      TextureLayer l;
+      l.kind = u == 0 ? LayerKind::diffuse : LayerKind::lightmap;
+      l.texture = k.texture[u];
+      l.coords = u == 0 ? TexCoords::surface : TexCoords::lightmap;
+      switch (k.env[u]) {
+        case GL_MODULATE: l.combine = Combine::modulate; break;
+        case GL_ADD:
+          if (p.layers.empty()) unsupported("GL_ADD on the first enabled texture unit");
+          l.combine = Combine::add;
+          break;
+        case GL_REPLACE:
+          if (!p.layers.empty()) unsupported("GL_REPLACE on the second texture unit");
+          l.combine = Combine::replace;
+          break;
+        default: unsupported("texture environment mode " + std::to_string(k.env[u]));
+      }
+      p.layers.push_back(l);
+    }
+    p.src = blend_factor(k.src);
+    p.dst = blend_factor(k.dst);
+    switch (k.alpha_func) {
+      case GL_ALWAYS: p.alpha_func = AlphaFunc::always; break;
+      case GL_GREATER: p.alpha_func = AlphaFunc::greater; break;
+      case GL_LESS: p.alpha_func = AlphaFunc::less; break;
+      case GL_GEQUAL: p.alpha_func = AlphaFunc::gequal; break;
+      default: unsupported("alpha function " + std::to_string(k.alpha_func));
+    }
+    p.alpha_ref = k.alpha_ref;
+    switch (k.depth_func) {
+      case GL_LESS: p.depth_func = DepthFunc::less; break;
+      case GL_LEQUAL: p.depth_func = DepthFunc::lequal; break;
+      case GL_EQUAL: p.depth_func = DepthFunc::equal; break;
+      case GL_ALWAYS: p.depth_func = DepthFunc::always; break;
+      default: unsupported("depth function " + std::to_string(k.depth_func));
+    }
+    p.depth_write = k.depth_write;
+    p.colour_write = k.colour_write;
+    p.offset_factor = k.offset_factor;
+    p.offset_units = k.offset_units;
+    m.two_sided = k.cull == 0;
+    m.cull_front = k.cull == 2;
+    m.passes.push_back(std::move(p));
+    m_scene.materials.push_back(std::move(m));
+    return m_materials[k] = int(m_scene.materials.size()) - 1;
+  }
+
+  MaterialKey state_key() {
+    MaterialKey k;
+    for (int u = 0; u < kUnits; ++u) {
+      if (!m_texture_2d[u]) continue;
+      const int t = scene_texture(m_bound[u]);
+      if (t == -2) {
+        // An incomplete texture: OpenGL disables the unit's texturing.
+        ++m_incomplete;
+        continue;
+      }
+      k.texture[u] = t;
+      k.env[u] = m_env[u];
+    }
+    if (k.texture[0] < 0 && k.texture[1] >= 0) {  // unit 1 alone: move it to the first layer's place
+      k.texture[0] = k.texture[1];
+      k.env[0] = k.env[1];
+      k.texture[1] = -1;
+      m_unit1_alone = true;
+    }
+    if (m_blend) {
+      k.src = m_src;
+      k.dst = m_dst;
+    }
+    if (m_alpha_test) {
+      k.alpha_func = m_alpha_func;
+      k.alpha_ref = m_alpha_ref;
+    }
+    if (m_depth_test) {
+      k.depth_func = m_depth_func;
+      k.depth_write = m_depth_mask;
+    }
+    k.colour_write = m_colour_mask[0];
+    k.cull = m_cull ? (m_cull_face == GL_FRONT ? 2 : 1) : 0;
+    if (m_offset) {
+      k.offset_factor = m_offset_factor;
+      k.offset_units = m_offset_units;
+    }
+    return k;
+  }
+
+  // Triangle list of a primitive of `count` vertices (GL's decompositions).
+  static void triangles(int64_t mode, size_t count, std::vector<uint32_t>& out) {
+    out.clear();
+    const auto tri = [&](size_t a, size_t b, size_t c) {
+      out.push_back(uint32_t(a));
+      out.push_back(uint32_t(b));
+      out.push_back(uint32_t(c));
+    };
+    switch (mode) {
+      case GL_TRIANGLES:
+        for (size_t i = 0; i + 2 < count; i += 3) tri(i, i + 1, i + 2);
+        break;
+      case GL_TRIANGLE_STRIP:
+        for (size_t i = 0; i + 2 < count; ++i) i % 2 == 0 ? tri(i, i + 1, i + 2) : tri(i + 1, i, i + 2);
+        break;
+      case GL_TRIANGLE_FAN:
+      case GL_POLYGON:
+        for (size_t i = 1; i + 1 < count; ++i) tri(0, i, i + 1);
+        break;
+      case GL_QUADS:
+        for (size_t i = 0; i + 3 < count; i += 4) {
+          tri(i, i + 1, i + 2);
+          tri(i, i + 2, i + 3);
+        }
+        break;
+      case GL_QUAD_STRIP:
+        for (size_t i = 0; i + 3 < count; i += 2) {
+          tri(i, i + 1, i + 3);
+          tri(i, i + 3, i + 2);
+        }
+        break;
+      case GL_POINTS:
+      case GL_LINES:
+      case GL_LINE_LOOP:
+      case GL_LINE_STRIP: unsupported("a draw of points or lines");
+      default: throw Error("primitive mode " + std::to_string(mode));
+    }
+  }
+
+  // Reads element `i` of a client array as `n` floats (missing ones as in
+  // OpenGL: 0, 0, 0, 1); colours of unsigned bytes are normalised.
+  static bool fetch(const ClientArray& a, uint64_t i, float out[4]) {
+    int bytes = 0;
+    switch (a.type) {
+      case GL_FLOAT: bytes = 4; break;
+      case GL_DOUBLE: bytes = 8; break;
+      case GL_UNSIGNED_BYTE:
+      case GL_BYTE: bytes = 1; break;
+      case GL_SHORT:
+      case GL_UNSIGNED_SHORT: bytes = 2; break;
+      case GL_INT:
+      case GL_UNSIGNED_INT: bytes = 4; break;
+      default: unsupported("client array type " + std::to_string(a.type));
+    }
+    const uint64_t stride = a.stride ? uint64_t(a.stride) : uint64_t(bytes) * uint64_t(a.size);
+    const uint64_t at = i * stride;
+    if (at + uint64_t(bytes) * uint64_t(a.size) > a.data.size()) return false;
+    out[0] = out[1] = out[2] = 0;
+    out[3] = 1;
+    const char* p = a.data.data() + at;
+    for (int k = 0; k < a.size; ++k) {
+      const char* q = p + k * bytes;
+      switch (a.type) {
+        case GL_FLOAT: {
+          float f;
+          std::memcpy(&f, q, 4);
+          out[k] = f;
+          break;
+        }
+        case GL_DOUBLE: {
+          double d;
+          std::memcpy(&d, q, 8);
+          out[k] = float(d);
+          break;
+        }
+        case GL_UNSIGNED_BYTE: out[k] = float(uint8_t(*q)); break;
+        case GL_BYTE: out[k] = float(int8_t(*q)); break;
+        case GL_SHORT: {
+          int16_t s;
+          std::memcpy(&s, q, 2);
+          out[k] = s;
+          break;
+        }
+        case GL_UNSIGNED_SHORT: {
+          uint16_t s;
+          std::memcpy(&s, q, 2);
+          out[k] = s;
+          break;
+        }
+        case GL_INT: {
+          int32_t s;
+          std::memcpy(&s, q, 4);
+          out[k] = float(s);
+          break;
+        }
+        case GL_UNSIGNED_INT: {
+          uint32_t s;
+          std::memcpy(&s, q, 4);
+          out[k] = float(s);
+          break;
+        }
+      }
+    }
+    return true;
+  }
+
+  void indexed_draw(int64_t mode, int64_t count, int64_t type, const Value& indices) {
+    if (count < 0) throw Error("a negative count");
+    if (!in_window() || count == 0) return;
+    if (indices.kind != Value::Kind::blob) unsupported("indices in a buffer object");
+    const int size = type == GL_UNSIGNED_INT ? 4 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_BYTE ? 1 : 0;
+    if (!size) throw Error("index type " + std::to_string(type));
+    if (uint64_t(count) * uint64_t(size) > indices.bytes.size())
+      throw Error(std::to_string(count) + " indices in a blob of " + std::to_string(indices.bytes.size()) + " bytes");
+    std::vector<uint32_t> element(static_cast<size_t>(count));
+    for (int64_t i = 0; i < count; ++i) {
+      const char* p = indices.bytes.data() + i * size;
+      uint32_t v = 0;
+      if (size == 4) std::memcpy(&v, p, 4);
+      else if (size == 2) {
+        uint16_t s;
+        std::memcpy(&s, p, 2);
+        v = s;
+      } else v = uint8_t(*p);
+      element[size_t(i)] = v;
+    }
+    array_vertices(mode, element);
+  }
+
+  void array_draw(int64_t mode, int64_t first, int64_t count) {
+    if (first < 0 || count < 0 || count > (int64_t(1) << 24))
+      throw Error("a draw of " + std::to_string(count) + " vertices from " + std::to_string(first));
+    if (!in_window() || count == 0) return;
+    check_vertex(uint64_t(first + count - 1));
+    std::vector<uint32_t> element(static_cast<size_t>(count));
+    for (int64_t i = 0; i < count; ++i) element[size_t(i)] = uint32_t(first + i);
+    array_vertices(mode, element);
+  }
+
+  // Error unless vertex `i` lies in the vertex array apitrace recorded
+  // (before anything the size of the draw is allocated).
+  void check_vertex(uint64_t i) const {
+    float f[4];
+    if (!m_vertex.enabled) unsupported("a draw without a vertex array");
+    if (!m_vertex.have_data || !fetch(m_vertex, i, f))
+      throw Error("vertex " + std::to_string(i) + " lies outside the vertex array apitrace recorded");
+  }
+
+  // A draw from the client arrays: vertex `element[i]` of each array.
+  void array_vertices(int64_t mode, const std::vector<uint32_t>& element) {
+    if (!m_vertex.enabled) unsupported("a draw without a vertex array");
+    refuse_state();
+    const uint32_t lo = *std::min_element(element.begin(), element.end());
+    const uint32_t hi = *std::max_element(element.begin(), element.end());
+    check_vertex(hi);
+    const uint64_t used = uint64_t(hi) - lo + 1;
+    check_limit(used, InputLimits::get().elements, "elements", "a draw", "vertices");
+    std::vector<ImmediateVertex> v(static_cast<size_t>(used));
+    for (uint64_t i = 0; i < used; ++i) {
+      float f[4];
+      if (!m_vertex.have_data || !fetch(m_vertex, lo + i, f))
+        throw Error("vertex " + std::to_string(lo + i) + " lies outside the vertex array apitrace recorded");
+      v[i].position = {f[0], f[1], f[2], f[3]};
+      for (int u = 0; u < kUnits; ++u) {
+        v[i].uv[u] = m_texcoord_now[u];
+        if (m_texcoord[u].enabled) {
+          if (!m_texcoord[u].have_data || !fetch(m_texcoord[u], lo + i, f))
+            throw Error("vertex " + std::to_string(lo + i) + " lies outside the texture coordinate array of unit " +
+                        std::to_string(u));
+          if (m_texcoord[u].size > 2 && f[3] != 1) unsupported("projective texture coordinates");
+          v[i].uv[u] = {f[0], f[1]};
+        }
+      }
+      v[i].colour = m_colour;
+      if (m_colour_array.enabled) {
+        if (!m_colour_array.have_data || !fetch(m_colour_array, lo + i, f))
+          throw Error("vertex " + std::to_string(lo + i) + " lies outside the colour array");
+        const float s = m_colour_array.type == GL_UNSIGNED_BYTE ? 1.0f / 255.0f : m_colour_array.type == GL_FLOAT ? 1.0f : 0;
+        if (s == 0) unsupported("colours of type " + std::to_string(m_colour_array.type));
+        v[i].colour = pack_colour(f[0] * s, f[1] * s, f[2] * s, m_colour_array.size == 4 ? f[3] * s : 1.0f);
+      }
+    }
+    std::vector<uint32_t> local;
+    triangles(mode, element.size(), local);
+    for (uint32_t& x : local) x = element[x] - lo;
+    add_draw(v, local);
+  }
+
+  void immediate_draw() {
+    if (!in_window() || m_immediate.empty()) return;
+    refuse_state();
+    std::vector<uint32_t> local;
+    triangles(m_begin_mode, m_immediate.size(), local);
+    add_draw(m_immediate, local);
+  }
+
+  void clear(uint64_t mask) {
+    if (mask & GL_STENCIL_BUFFER_BIT) {
+      // The stencil buffer is not drawn with (the stencil test is refused).
+    }
+    if (!in_window() || !(mask & (GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT))) return;
+    if (frame_draws().empty()) return;  // the frame starts cleared (to black, depth 1)
+    if (mask & GL_COLOR_BUFFER_BIT) unsupported("a colour clear after the frame's first draw");
+    // A depth clear of the scissor box (ioquake3 clears depth before each
+    // 3-D model it draws into the HUD): a screen rectangle at the far plane
+    // that writes depth only, drawn whatever is there.
+    const int w = m_window_w, h = m_window_h;
+    if (w <= 0 || h <= 0) throw Error("a clear before any glViewport");
+    std::vector<ImmediateVertex> q(4);
+    const float z = 1.0f;  // window depth 1: NDC z = 1
+    q[0].position = {-1, -1, z, 1};
+    q[1].position = {1, -1, z, 1};
+    q[2].position = {1, 1, z, 1};
+    q[3].position = {-1, 1, z, 1};
+    for (auto& x : q) x.colour = 0xFFFFFFFFu;
+    MaterialKey k;
+    k.depth_func = GL_ALWAYS;
+    k.depth_write = true;
+    k.colour_write = false;
+    Object o;
+    o.name = "depth clear";
+    o.mesh = mesh(q, {0, 1, 2, 0, 2, 3});
+    o.material = material(k);
+    o.view = DrawView::screen;
+    o.clip_from_eye = Mat4::identity();
+    o.world_from_object = Mat4::identity();
+    o.scissor = m_scissor_test ? rect(m_scissor) : ViewRect{};
+    frame_draws().push_back(std::move(o));
+    ++m_stats.clears;
+  }
+
+  std::vector<Object>& frame_draws() {
+    const size_t f = size_t(m_frame - m_window.first);
+    if (m_scene.frame_objects.size() <= f) m_scene.frame_objects.resize(f + 1);
+    return m_scene.frame_objects[f];
+  }
+
+  ViewRect rect(const std::array<int, 4>& r) const {
+    const float w = float(m_window_w), h = float(m_window_h);
+    ViewRect v{float(r[0]) / w, float(r[1]) / h, float(r[0] + r[2]) / w, float(r[1] + r[3]) / h};
+    v.x0 = std::clamp(v.x0, 0.0f, 1.0f);
+    v.y0 = std::clamp(v.y0, 0.0f, 1.0f);
+    v.x1 = std::clamp(v.x1, v.x0, 1.0f);
+    v.y1 = std::clamp(v.y1, v.y0, 1.0f);
+    return v;
+  }
+
+  int mesh(const std::vector<ImmediateVertex>& v, const std::vector<uint32_t>& indices) {
+    Mesh m;
+    m.vertices.resize(v.size());
+    m.colours.resize(v.size());
+    bool white = true;
+    for (size_t i = 0; i < v.size(); ++i) {
+      const Vec4& p = v[i].position;
+      if (p.w != 1.0f) {
+        if (p.w == 0.0f) unsupported("a vertex at infinity (w = 0)");
+        m.vertices[i].position = {p.x / p.w, p.y / p.w, p.z / p.w};
+      } else {
+        m.vertices[i].position = {p.x, p.y, p.z};
+      }
+      m.vertices[i].uv = v[i].uv[0];
+      m.vertices[i].lm_uv = v[i].uv[1];
+      m.colours[i] = v[i].colour;
+      white = white && v[i].colour == 0xFFFFFFFFu;
+    }
+    if (white) m.colours.clear();
+    m.indices = indices;
+    // The same vertices and indices drawn again (a wall in the next frame)
+    // are the same mesh: the same memory, as the schemes and caches see it.
+    uint64_t h = fnv(m.vertices.data(), m.vertices.size() * sizeof(Vertex));
+    h = fnv(m.colours.data(), m.colours.size() * sizeof(uint32_t), h);
+    h = fnv(m.indices.data(), m.indices.size() * sizeof(uint32_t), h);
+    auto [it, fresh] = m_meshes.emplace(h, int(m_scene.meshes.size()));
+    if (!fresh) {
+      const Mesh& o = m_scene.meshes[size_t(it->second)];
+      if (o.indices == m.indices && o.colours == m.colours && o.vertices.size() == m.vertices.size() &&
+          std::memcmp(o.vertices.data(), m.vertices.data(), m.vertices.size() * sizeof(Vertex)) == 0)
+        return it->second;
+      // A hash collision: keep the new mesh apart.
+    }
+    m.name = "draw " + std::to_string(m_scene.meshes.size());
+    m_scene.meshes.push_back(std::move(m));
+    if (fresh) it->second = int(m_scene.meshes.size()) - 1;
+    return int(m_scene.meshes.size()) - 1;
+  }
+
+  void add_draw(const std::vector<ImmediateVertex>& v, const std::vector<uint32_t>& indices) {
+    ++m_stats.draws;
+    if (m_window_w <= 0 || m_window_h <= 0) throw Error("a draw before any glViewport");
+    const MaterialKey key = state_key();
+    Object o;
+    o.mesh = mesh(v, indices);
+    o.material = material(key);
+    m_stats.triangles += indices.size() / 3;
+    const Mat4& p = m_projection.back();
+    // Orthographic (a last row of 0 0 0 1): a 2-D draw, alike in both eyes.
+    const bool ortho = p.at(3, 0) == 0 && p.at(3, 1) == 0 && p.at(3, 2) == 0 && p.at(3, 3) == 1;
+    o.view = ortho ? DrawView::screen : DrawView::captured;
+    if (ortho) ++m_stats.screen_draws;
+    // The viewport and depth range folded into the projection: NDC of the
+    // whole window, as the stereo rig's viewports expect.
+    const float W = float(m_window_w), H = float(m_window_h);
+    const float vx = float(m_viewport[0]), vy = float(m_viewport[1]), vw = float(m_viewport[2]), vh = float(m_viewport[3]);
+    Mat4 fold;
+    fold.at(0, 0) = vw / W;
+    fold.at(0, 3) = (2 * vx + vw) / W - 1;
+    fold.at(1, 1) = vh / H;
+    fold.at(1, 3) = (2 * vy + vh) / H - 1;
+    fold.at(2, 2) = m_depth_far - m_depth_near;
+    fold.at(2, 3) = m_depth_far + m_depth_near - 1;
+    // Identity folds (the whole window, depth range 0 to 1) leave the
+    // game's matrices exact.
+    o.clip_from_eye = std::memcmp(&fold, &kIdentity, sizeof(Mat4)) == 0 ? p : fold * p;
+    o.world_from_object = m_modelview.back();
+    ViewRect r = rect(m_viewport);
+    if (m_scissor_test) {
+      const ViewRect s = rect(m_scissor);
+      r = {std::max(r.x0, s.x0), std::max(r.y0, s.y0), std::min(r.x1, s.x1), std::min(r.y1, s.y1)};
+      r.x1 = std::max(r.x1, r.x0);
+      r.y1 = std::max(r.y1, r.y0);
+    }
+    o.scissor = r;
+    o.name = "frame " + std::to_string(m_frame) + " call " + std::to_string(m_call->no);
+    frame_draws().push_back(std::move(o));
+  }
+
+  void end_frame() {
+    if (in_window()) frame_draws();  // a frame without draws still is one
+    ++m_frame;
+  }
+
+  apitrace::Reader& m_reader;
+  GlTraceWindow m_window;
+  Scene m_scene;
+  GlTraceStats m_stats;
+  const Call* m_call = nullptr;
+  int m_frame = 0;
+
+  int64_t m_mode = GL_MODELVIEW;
+  std::vector<Mat4> m_modelview{Mat4::identity()}, m_projection{Mat4::identity()}, m_texture_matrix{Mat4::identity()};
+  std::array<int, 4> m_viewport{0, 0, 0, 0}, m_scissor{0, 0, 0, 0};
+  int m_window_w = 0, m_window_h = 0;
+  float m_depth_near = 0, m_depth_far = 1;
+  bool m_blend = false, m_alpha_test = false, m_depth_test = false, m_cull = false, m_offset = false, m_scissor_test = false;
+  int64_t m_src = GL_ONE, m_dst = GL_ZERO, m_alpha_func = GL_ALWAYS, m_depth_func = GL_LESS, m_cull_face = GL_BACK;
+  int64_t m_front_face = GL_CCW, m_polygon_mode = GL_FILL, m_shade_model = GL_SMOOTH, m_draw_buffer = GL_BACK;
+  float m_alpha_ref = 0, m_offset_factor = 0, m_offset_units = 0;
+  bool m_depth_mask = true;
+  std::array<bool, 4> m_colour_mask{true, true, true, true};
+  std::map<int64_t, std::string> m_refused;  // state a draw is refused with, by capability
+  bool m_array_buffer = false, m_element_buffer = false;
+  bool m_unit_high = false, m_client_unit_high = false;
+
+  int m_unit = 0, m_client_unit = 0;
+  bool m_texture_2d[kUnits] = {false, false};
+  uint32_t m_bound[kUnits] = {0, 0};
+  int64_t m_env[kUnits] = {GL_MODULATE, GL_MODULATE};
+  std::unordered_map<uint32_t, GlTextureObject> m_textures;
+  int m_unpack_alignment = 4, m_unpack_row_length = 0, m_unpack_skip_rows = 0, m_unpack_skip_pixels = 0;
+
+  ClientArray m_vertex, m_colour_array, m_normal, m_texcoord[kUnits];
+  uint32_t m_colour = 0xFFFFFFFFu;
+  Vec2 m_texcoord_now[kUnits] = {{0, 0}, {0, 0}};
+  bool m_in_begin = false;
+  int64_t m_begin_mode = GL_TRIANGLES;
+  std::vector<ImmediateVertex> m_immediate;
+
+  std::map<MaterialKey, int> m_materials;
+  std::unordered_map<uint64_t, int> m_meshes;
+  int m_clamp_notes = 0, m_mip_notes = 0, m_incomplete = 0;
+  uint64_t m_texel_bytes = 0;  // of every level uploaded
+  bool m_unit1_alone = false;
+};
+
+}  // namespace
+
+Scene import_gl_trace(const std::string& path, const GlTraceWindow& window, GlTraceStats* stats) {
+  apitrace::Reader reader(path);
+  return Interpreter(reader, window).run(stats);
+}
+
+Scene import_gl_trace_bytes(std::string bytes, const std::string& name, const GlTraceWindow& window, GlTraceStats* stats) {
+  apitrace::Reader reader(std::move(bytes), name);
+  return Interpreter(reader, window).run(stats);
+}
+
+}  // namespace oovr

@@ -1,0 +1,274 @@
+// The OpenGL interpreter (scene/formats/gl_trace.h) on traces written by
+// tests/apitrace_writer.h: what each call becomes in the scene, and the
+// calls and state it refuses.
+#include <gtest/gtest.h>
+
+#include "apitrace_writer.h"
+#include "oovr/core/error.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/formats/gl_trace.h"
+#include "oovr/scene/stereo.h"
+
+namespace oovr {
+namespace {
+
+using test::TraceWriter;
+
+// A GL 1.x game in miniature: the calls ioquake3's opengl1 renderer makes
+// for a frame, written as apitrace records them.
+class Game {
+ public:
+  TraceWriter w;
+
+  Game() {
+    w.call("glViewport", {{"x", w.i(0)}, {"y", w.i(0)}, {"width", w.i(64)}, {"height", w.i(48)}});
+    // A 2x2 texture, RGBA.
+    w.call("glBindTexture", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", w.u(7)}});
+    const std::vector<uint8_t> texels = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128};
+    w.call("glTexImage2D", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
+                            {"level", w.i(0)},
+                            {"internalformat", w.e("GL_RGBA", 0x1908)},
+                            {"width", w.i(2)},
+                            {"height", w.i(2)},
+                            {"border", w.i(0)},
+                            {"format", w.e("GL_RGBA", 0x1908)},
+                            {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)},
+                            {"pixels", w.blob(texels)}});
+    w.call("glTexParameterf", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
+                               {"pname", w.e("GL_TEXTURE_MIN_FILTER", 0x2801)},
+                               {"param", w.f(float(0x2601))}});  // GL_LINEAR: no mipmaps needed
+  }
+
+  void enable(const char* name, int64_t cap, bool on = true) { w.call(on ? "glEnable" : "glDisable", {{"cap", w.e(name, cap)}}); }
+  void matrix(const char* mode, int64_t value, const std::vector<float>& m) {
+    w.call("glMatrixMode", {{"mode", w.e(mode, value)}});
+    std::vector<std::string> items;
+    for (float f : m) items.push_back(w.f(f));
+    w.call("glLoadMatrixf", {{"m", w.array(items)}});
+  }
+  void perspective() {
+    // A 90-degree frustum, near 1, far 100.
+    matrix("GL_PROJECTION", 0x1701, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -101.0f / 99, -1, 0, 0, -200.0f / 99, 0});
+    matrix("GL_MODELVIEW", 0x1700, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
+  }
+  void ortho() {
+    w.call("glMatrixMode", {{"mode", w.e("GL_PROJECTION", 0x1701)}});
+    w.call("glLoadIdentity", {});
+    w.call("glOrtho",
+           {{"left", w.d(0)}, {"right", w.d(64)}, {"bottom", w.d(48)}, {"top", w.d(0)}, {"zNear", w.d(0)}, {"zFar", w.d(1)}});
+    w.call("glMatrixMode", {{"mode", w.e("GL_MODELVIEW", 0x1700)}});
+    w.call("glLoadIdentity", {});
+  }
+  // A textured, vertex-coloured quad at depth z, drawn from client arrays
+  // with glDrawElements, as apitrace records it (fake pointer calls first).
+  void quad(float z, uint8_t red = 255) {
+    const std::vector<float> xyz = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    const std::vector<float> st = {0, 0, 1, 0, 1, 1, 0, 1};
+    const std::vector<uint8_t> rgba = {red, 255, 255, 255, red, 255, 255, 255, red, 255, 255, 255, red, 255, 255, 255};
+    const std::vector<uint32_t> idx = {0, 1, 2, 0, 2, 3};
+    w.call("glEnableClientState", {{"array", w.e("GL_VERTEX_ARRAY", 0x8074)}});
+    w.call("glEnableClientState", {{"array", w.e("GL_TEXTURE_COORD_ARRAY", 0x8078)}});
+    w.call("glEnableClientState", {{"array", w.e("GL_COLOR_ARRAY", 0x8076)}});
+    w.call("glTexCoordPointer",
+           {{"size", w.i(2)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(st)}}, "", true);
+    w.call("glColorPointer",
+           {{"size", w.i(4)}, {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)}, {"stride", w.i(0)}, {"pointer", w.blob(rgba)}}, "",
+           true);
+    w.call("glVertexPointer", {{"size", w.i(3)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(xyz)}},
+           "", true);
+    w.call("glDrawElements", {{"mode", w.e("GL_TRIANGLES", 4)},
+                              {"count", w.i(6)},
+                              {"type", w.e("GL_UNSIGNED_INT", 0x1405)},
+                              {"indices", w.blob(idx)}});
+  }
+  void swap() { w.call("glXSwapBuffers", {{"dpy", w.opaque(1)}, {"drawable", w.u(2)}}); }
+
+  Scene import(int first = 0, int count = 1) const {
+    GlTraceWindow win;
+    win.first = first;
+    win.count = count;
+    return import_gl_trace_bytes(w.finish(), "game.trace", win);
+  }
+};
+
+TEST(GlTrace, AClientArrayDrawBecomesAnObjectWithItsMeshTextureAndState) {
+  Game g;
+  g.enable("GL_TEXTURE_2D", 0x0DE1);
+  g.enable("GL_DEPTH_TEST", 0x0B71);
+  g.enable("GL_BLEND", 0x0BE2);
+  g.w.call("glBlendFunc", {{"sfactor", g.w.e("GL_SRC_ALPHA", 0x302)}, {"dfactor", g.w.e("GL_ONE_MINUS_SRC_ALPHA", 0x303)}});
+  g.w.call("glDepthFunc", {{"func", g.w.e("GL_LEQUAL", 0x203)}});
+  g.w.call("glGetError", {}, g.w.u(0));  // harmless
+  g.perspective();
+  g.quad(-5, 128);
+  g.swap();
+  const Scene s = g.import();
+  ASSERT_TRUE(s.captured());
+  ASSERT_EQ(s.frame_objects.size(), 1u);
+  ASSERT_EQ(s.camera.frames.size(), 1u);
+  ASSERT_EQ(s.draws(0).size(), 1u);
+  const Object& o = s.draws(0)[0];
+  EXPECT_EQ(o.view, DrawView::captured);
+  const Mesh& m = s.meshes[size_t(o.mesh)];
+  EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+  ASSERT_EQ(m.vertices.size(), 4u);
+  EXPECT_EQ(m.vertices[2].position.x, 1.0f);
+  EXPECT_EQ(m.vertices[2].position.z, -5.0f);
+  EXPECT_EQ(m.vertices[2].uv.y, 1.0f);
+  ASSERT_EQ(m.colours.size(), 4u);
+  EXPECT_EQ(m.colours[0], 0xFFFFFF80u);
+  const Pass& p = s.pass_of(o);
+  ASSERT_EQ(p.layers.size(), 1u);
+  const Texture& t = s.textures[size_t(p.layers[0].texture)];
+  EXPECT_EQ(t.width(), 2);
+  EXPECT_FALSE(t.mipmapped);
+  EXPECT_FALSE(t.opaque);
+  EXPECT_EQ(t.levels[0].rgba[4 * 1 + 1], 255);  // texel 1 is green
+  EXPECT_EQ(p.src, BlendFactor::src_alpha);
+  EXPECT_EQ(p.dst, BlendFactor::one_minus_src_alpha);
+  EXPECT_EQ(p.depth_func, DepthFunc::lequal);
+  EXPECT_TRUE(s.materials[size_t(o.material)].two_sided);  // GL_CULL_FACE was never enabled
+  EXPECT_FLOAT_EQ(o.clip_from_eye.at(3, 2), -1.0f);
+}
+
+TEST(GlTrace, TheSameDrawInTwoFramesIsOneMeshAndTheWindowPicksFrames) {
+  Game g;
+  g.perspective();
+  for (int f = 0; f < 3; ++f) {
+    g.quad(-5, uint8_t(f == 2 ? 9 : 255));
+    g.swap();
+  }
+  const Scene s = g.import(1, 2);
+  ASSERT_EQ(s.frame_objects.size(), 2u);
+  EXPECT_EQ(s.draws(0)[0].mesh != s.draws(1)[0].mesh, true);  // frame 2's colours differ
+  const Scene t = g.import(0, 2);
+  EXPECT_EQ(t.draws(0)[0].mesh, t.draws(1)[0].mesh);
+  EXPECT_EQ(t.meshes.size(), 1u);
+  EXPECT_THROW(g.import(2, 2), Error);
+  try {
+    g.import(5, 1);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("has 3 frames"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GlTrace, ImmediateModeAndAnOrthographicProjectionMakeA2DDraw) {
+  Game g;
+  g.ortho();
+  g.w.call("glColor4f", {{"red", g.w.f(1)}, {"green", g.w.f(0)}, {"blue", g.w.f(0)}, {"alpha", g.w.f(1)}});
+  g.w.call("glBegin", {{"mode", g.w.e("GL_QUADS", 7)}});
+  for (auto [x, y] : std::vector<std::pair<float, float>>{{0, 0}, {32, 0}, {32, 24}, {0, 24}}) {
+    g.w.call("glTexCoord2f", {{"s", g.w.f(x / 32)}, {"t", g.w.f(y / 24)}});
+    g.w.call("glVertex2f", {{"x", g.w.f(x)}, {"y", g.w.f(y)}});
+  }
+  g.w.call("glEnd", {});
+  g.swap();
+  const Scene s = g.import();
+  ASSERT_EQ(s.draws(0).size(), 1u);
+  const Object& o = s.draws(0)[0];
+  EXPECT_EQ(o.view, DrawView::screen);
+  const Mesh& m = s.meshes[size_t(o.mesh)];
+  EXPECT_EQ(m.triangle_count(), 2u);
+  EXPECT_EQ(m.colours[0], 0xFF0000FFu);
+  EXPECT_TRUE(s.pass_of(o).layers.empty());  // GL_TEXTURE_2D is off
+
+  // Drawn alike in both eyes: the red quad covers the top-left quarter of each.
+  StereoRig rig;
+  rig.eye_width = 64;
+  rig.eye_height = 48;
+  const StereoView view = make_stereo_view(s.camera, 0, rig);
+  const FrameOutput out = render_frame(s, view, PipelineSettings{}, 0);
+  for (int eye = 0; eye < 2; ++eye) {
+    const uint8_t* inside = &out.colour.rgba[(size_t(40) * 128 + size_t(eye * 64 + 10)) * 4];  // row 40 from the bottom
+    const uint8_t* outside = &out.colour.rgba[(size_t(10) * 128 + size_t(eye * 64 + 50)) * 4];
+    EXPECT_EQ(inside[0], 255) << eye;
+    EXPECT_EQ(inside[1], 0) << eye;
+    EXPECT_EQ(outside[0], 0) << eye;
+  }
+}
+
+TEST(GlTrace, A3DDrawIsReprojectedForEachEye) {
+  Game g;
+  g.perspective();
+  g.quad(-2);  // near: a large parallax
+  g.swap();
+  const Scene s = g.import();
+  StereoRig rig;
+  rig.eye_width = 64;
+  rig.eye_height = 48;
+  rig.ipd_m = 0.0254f;  // one game unit (an inch): each eye half a unit off the head
+  const FrameOutput out = render_frame(s, make_stereo_view(s.camera, 0, rig), PipelineSettings{}, 0);
+  // The quad spans x from -1 to 1 at depth 2: half the width of each
+  // eye's view, shifted right in the left eye and left in the right eye.
+  const auto lit = [&](int x) { return out.colour.rgba[(size_t(24) * 128 + size_t(x)) * 4] > 0; };
+  int left_first = -1, right_first = -1;
+  for (int x = 0; x < 64; ++x)
+    if (lit(x) && left_first < 0) left_first = x;
+  for (int x = 64; x < 128; ++x)
+    if (lit(x) && right_first < 0) right_first = x - 64;
+  ASSERT_GE(left_first, 0);
+  ASSERT_GE(right_first, 0);
+  EXPECT_GT(left_first, right_first);
+}
+
+void expect_refused(Game& g, const std::string& words) {
+  g.swap();
+  try {
+    g.import();
+    ADD_FAILURE() << "accepted; expected an error with: " << words;
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(words), std::string::npos) << what;
+    EXPECT_NE(what.find("frame 0"), std::string::npos) << what;
+    EXPECT_NE(what.find("game.trace"), std::string::npos) << what;
+  }
+}
+
+TEST(GlTrace, StateItDoesNotModelIsRefusedAtTheDraw) {
+  {
+    Game g;
+    g.perspective();
+    g.enable("GL_FOG", 0x0B60);
+    g.quad(-5);
+    expect_refused(g, "fog (GL_FOG)");
+  }
+  {
+    Game g;  // fog enabled and disabled again before the draw: harmless
+    g.perspective();
+    g.enable("GL_FOG", 0x0B60);
+    g.enable("GL_FOG", 0x0B60, false);
+    g.quad(-5);
+    g.swap();
+    EXPECT_EQ(g.import().draws(0).size(), 1u);
+  }
+  {
+    Game g;
+    g.perspective();
+    g.w.call("glBegin", {{"mode", g.w.e("GL_LINES", 1)}});
+    g.w.call("glVertex2f", {{"x", g.w.f(0)}, {"y", g.w.f(0)}});
+    g.w.call("glVertex2f", {{"x", g.w.f(1)}, {"y", g.w.f(1)}});
+    g.w.call("glEnd", {});
+    expect_refused(g, "points or lines");
+  }
+  {
+    Game g;
+    g.w.call("glAccum", {{"op", g.w.e("GL_ACCUM", 0x0100)}, {"value", g.w.f(1)}});
+    expect_refused(g, "a call (glAccum), which oovr's OpenGL interpreter does not model");
+  }
+  {
+    Game g;
+    g.perspective();
+    g.quad(-5);
+    // An index past the recorded vertex array.
+    const std::vector<uint32_t> idx = {0, 1, 9};
+    g.w.call("glDrawElements", {{"mode", g.w.e("GL_TRIANGLES", 4)},
+                                {"count", g.w.i(3)},
+                                {"type", g.w.e("GL_UNSIGNED_INT", 0x1405)},
+                                {"indices", g.w.blob(idx)}});
+    expect_refused(g, "outside the vertex array");
+  }
+}
+
+}  // namespace
+}  // namespace oovr
