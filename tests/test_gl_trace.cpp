@@ -212,6 +212,25 @@ TEST(GlTrace, A3DDrawIsReprojectedForEachEye) {
   EXPECT_GT(left_first, right_first);
 }
 
+TEST(GlTrace, AShadersNextStageAndThe2DOverlayKeepTheirOrder) {
+  Game g;
+  g.perspective();
+  g.quad(-5);
+  g.quad(-5);   // the same surface again: its next stage
+  g.quad(-7);   // another surface: free to move
+  g.ortho();
+  g.quad(0.5f);  // 2-D: after the world
+  g.swap();
+  const Scene s = g.import();
+  const auto& d = s.draws(0);
+  ASSERT_EQ(d.size(), 4u);
+  EXPECT_TRUE(d[0].after.empty());
+  EXPECT_EQ(d[1].after, std::vector<uint32_t>{0});
+  EXPECT_TRUE(d[2].after.empty());
+  EXPECT_EQ(d[3].after, std::vector<uint32_t>{2});
+  EXPECT_EQ(d[3].view, DrawView::screen);
+}
+
 void expect_refused(Game& g, const std::string& words) {
   g.swap();
   try {

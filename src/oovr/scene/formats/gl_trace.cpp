@@ -138,7 +138,8 @@ enum : int64_t {
 };
 
 constexpr int kUnits = 2;
-const Mat4 kIdentity = Mat4::identity();  // texture units oovr models (ioquake3's opengl1 uses two)
+const Mat4 kIdentity = Mat4::identity();
+const char* const kClearName = "depth clear";  // texture units oovr models (ioquake3's opengl1 uses two)
 
 // Calls that change nothing oovr draws: queries, context and window-system
 // calls, hints, object names, performance hints, the unused normal, and
@@ -1229,15 +1230,32 @@ class Interpreter {
     k.depth_write = true;
     k.colour_write = false;
     Object o;
-    o.name = "depth clear";
+    o.name = kClearName;
     o.mesh = mesh(q, {0, 1, 2, 0, 2, 3});
     o.material = material(k);
     o.view = DrawView::screen;
     o.clip_from_eye = Mat4::identity();
     o.world_from_object = Mat4::identity();
     o.scissor = m_scissor_test ? rect(m_scissor) : ViewRect{};
-    frame_draws().push_back(std::move(o));
+    push_draw(std::move(o));
     ++m_stats.clears;
+  }
+
+  // Appends a draw to the frame with the order it must keep (Object::after,
+  // which OO-VR's middleware honours by keeping such draws in one batch,
+  // Section 5.1): a draw of the same mesh as the one before is the next
+  // stage of one surface (a Quake 3 shader's passes); a 2-D draw, a depth
+  // clear and the draw after a depth clear follow the draw before them, so
+  // the HUD is drawn over the world and a HUD model over its cleared box.
+  void push_draw(Object o) {
+    std::vector<Object>& list = frame_draws();
+    if (!list.empty()) {
+      const Object& prev = list.back();
+      const bool clear = o.name == kClearName, after_clear = prev.name == kClearName;
+      if (prev.mesh == o.mesh || o.view == DrawView::screen || clear || after_clear)
+        o.after.push_back(uint32_t(list.size() - 1));
+    }
+    list.push_back(std::move(o));
   }
 
   std::vector<Object>& frame_draws() {
@@ -1332,7 +1350,7 @@ class Interpreter {
     }
     o.scissor = r;
     o.name = "frame " + std::to_string(m_frame) + " call " + std::to_string(m_call->no);
-    frame_draws().push_back(std::move(o));
+    push_draw(std::move(o));
   }
 
   void end_frame() {
