@@ -16,8 +16,9 @@
 # Idempotent: installs what is missing (scripts/install-deps.sh --capture),
 # does nothing when the capture exists with the same window. The folder is
 # $OOVR_CAPTURE_DIR, else $XDG_CACHE_HOME/oovr/captures, else
-# ~/.cache/oovr/captures. Takes about 4 minutes on 2 cores; the kept file is
-# about 60 MB.
+# ~/.cache/oovr/captures; beside the capture, glretrace's snapshots of the
+# window's frames (NAME.snapshots/, for `oovr check-capture`). Takes about
+# half a minute on 2 cores; the kept file is about 60 MB.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -36,7 +37,8 @@ if [[ ! "$frames" =~ ^([0-9]{1,7})-([0-9]{1,7})$ ]] || (( BASH_REMATCH[2] < BASH
   echo "capture-frames: --frames must be A-B with A <= B, not '$frames'" >&2
   exit 2
 fi
-last=${BASH_REMATCH[2]}
+last=$((10#${BASH_REMATCH[2]}))
+BASH_REMATCH_FIRST=$((10#${BASH_REMATCH[1]}))
 
 case "$game" in
   openarena)
@@ -69,13 +71,47 @@ trap 'rm -rf "$work"' EXIT
 # The game's settings and logs stay in the scratch folder, not in ~/.openarena.
 export HOME="$work/home"
 mkdir -p "$HOME"
-echo "capture-frames: recording ${command[*]} under apitrace (a few minutes)"
-if ! xvfb-run -a -s "-screen 0 640x480x24" apitrace trace -o "$work/full.trace" "${command[@]}" >"$work/game.log" 2>&1; then
+echo "capture-frames: recording ${command[*]} under apitrace until frame $last"
+# The demo runs for 3,398 frames (1.9 GB of trace); the game is stopped once
+# the trace surely holds the window (about 0.6 MB a frame here, 2 MB allowed),
+# and the capture is cut after the window's last frame at a chunk boundary.
+limit=$(( (last + 1) * 2 * 1024 * 1024 + 32 * 1024 * 1024 ))
+setsid xvfb-run -a -s "-screen 0 640x480x24" apitrace trace -o "$work/full.trace" "${command[@]}" >"$work/game.log" 2>&1 &
+game_pid=$!
+while kill -0 "$game_pid" 2>/dev/null; do
+  size=$(stat -c %s "$work/full.trace" 2>/dev/null || echo 0)
+  if (( size >= limit )); then
+    kill -TERM -- "-$game_pid" 2>/dev/null || true
+    break
+  fi
+  sleep 0.5
+done
+wait "$game_pid" 2>/dev/null || true
+if [[ ! -s "$work/full.trace" ]]; then
   tail -20 "$work/game.log" >&2
-  echo "capture-frames: the game failed under apitrace (its log is above)" >&2
+  echo "capture-frames: the game wrote no trace under apitrace (its log is above)" >&2
   exit 1
 fi
 "$oovr" trace-cut --in "$work/full.trace" --out "$work/cut.trace" --last-frame "$last"
+
+# The real driver's image of every frame of the window: glretrace replays
+# the kept capture on llvmpipe (oovr check-capture compares with them).
+first=${BASH_REMATCH_FIRST}
+mkdir -p "$work/snapshots"
+if ! xvfb-run -a -s "-screen 0 640x480x24" glretrace -s "$work/snapshots/" --call-nos=false "$work/cut.trace" \
+     >"$work/retrace.log" 2>&1; then
+  tail -20 "$work/retrace.log" >&2
+  echo "capture-frames: glretrace could not replay the capture (its log is above)" >&2
+  exit 1
+fi
+for f in "$work/snapshots"/*.png; do
+  n=$(basename "$f" .png)
+  (( 10#$n >= first && 10#$n <= last )) || rm -f "$f"
+done
+
+rm -rf "$dir/$game-$name.snapshots"
+mv "$work/snapshots" "$dir/$game-$name.snapshots"
 mv "$work/cut.trace" "$trace"
 printf '%s\n' "$frames" >"$window"
-echo "capture-frames: kept frames 0 to $last in $trace ($(du -h "$trace" | cut -f1)); scene oa-demo:$name (frames $frames)"
+echo "capture-frames: kept frames 0 to $last in $trace ($(du -h "$trace" | cut -f1)), glretrace's snapshots of" \
+     "frames $frames in $dir/$game-$name.snapshots; scene oa-demo:$name"

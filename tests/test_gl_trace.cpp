@@ -216,8 +216,8 @@ TEST(GlTrace, AShadersNextStageAndThe2DOverlayKeepTheirOrder) {
   Game g;
   g.perspective();
   g.quad(-5);
-  g.quad(-5);   // the same surface again: its next stage
-  g.quad(-7);   // another surface: free to move
+  g.quad(-5);  // the same surface again: its next stage
+  g.quad(-7);  // another surface: free to move
   g.ortho();
   g.quad(0.5f);  // 2-D: after the world
   g.swap();

@@ -143,6 +143,10 @@ struct Scene {
   // captured game keeps its own units (Quake's inch: 0.0254), and the
   // stereo rig's eye offsets are divided by it.
   float metres_per_unit = 1.0f;
+  // A captured game: frame k of the camera path is the game's frame
+  // capture_first_frame + k, drawn into a capture_width x capture_height
+  // window (0 for other scenes).
+  int capture_first_frame = 0, capture_width = 0, capture_height = 0;
   // What a loader left out or replaced (skipped surfaces, missing images),
   // one line each; `oovr scene-info` prints them.
   std::vector<std::string> notes;

@@ -137,9 +137,8 @@ enum : int64_t {
   GL_ELEMENT_ARRAY_BUFFER = 0x8893,
 };
 
-constexpr int kUnits = 2;
+constexpr int kUnits = 2;  // texture units oovr models (ioquake3's opengl1 uses two)
 const Mat4 kIdentity = Mat4::identity();
-const char* const kClearName = "depth clear";  // texture units oovr models (ioquake3's opengl1 uses two)
 
 // Calls that change nothing oovr draws: queries, context and window-system
 // calls, hints, object names, performance hints, the unused normal, and
@@ -333,6 +332,9 @@ class Interpreter {
     }
     m_scene.camera.frames.assign(size_t(m_window.count), CameraPose{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}});
     m_scene.metres_per_unit = m_window.metres_per_unit;
+    m_scene.capture_first_frame = m_window.first;
+    m_scene.capture_width = m_window_w;
+    m_scene.capture_height = m_window_h;
     m_scene.notes.push_back("the game's units taken as " + std::to_string(m_window.metres_per_unit) +
                             " m for the eyes' offsets; each eye sees the game's whole view, scaled to its viewport");
     if (m_clamp_notes)
@@ -1230,7 +1232,7 @@ class Interpreter {
     k.depth_write = true;
     k.colour_write = false;
     Object o;
-    o.name = kClearName;
+    o.name = kDepthClearName;
     o.mesh = mesh(q, {0, 1, 2, 0, 2, 3});
     o.material = material(k);
     o.view = DrawView::screen;
@@ -1251,9 +1253,8 @@ class Interpreter {
     std::vector<Object>& list = frame_draws();
     if (!list.empty()) {
       const Object& prev = list.back();
-      const bool clear = o.name == kClearName, after_clear = prev.name == kClearName;
-      if (prev.mesh == o.mesh || o.view == DrawView::screen || clear || after_clear)
-        o.after.push_back(uint32_t(list.size() - 1));
+      const bool clear = o.name == kDepthClearName, after_clear = prev.name == kDepthClearName;
+      if (prev.mesh == o.mesh || o.view == DrawView::screen || clear || after_clear) o.after.push_back(uint32_t(list.size() - 1));
     }
     list.push_back(std::move(o));
   }

@@ -28,6 +28,10 @@
 
 namespace oovr {
 
+// The name of the depth-only rectangle a depth clear after a frame's first
+// draw becomes (it is not one of the game's draw calls).
+constexpr const char* kDepthClearName = "depth clear";
+
 struct GlTraceWindow {
   int first = 0;   // first frame (0: the trace's first), counted as apitrace counts them
   int count = 64;  // frames imported

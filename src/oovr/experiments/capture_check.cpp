@@ -1,0 +1,62 @@
+#include "oovr/experiments/capture_check.h"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "oovr/core/error.h"
+#include "oovr/pipeline/image.h"
+#include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/formats/gl_trace.h"
+#include "oovr/scene/stereo.h"
+
+namespace oovr {
+
+std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCheckOptions& o) {
+  if (!scene.captured() || scene.capture_width <= 0 || scene.capture_height <= 0)
+    throw Error("scene '" + scene.name + "' is not a captured game (trace: or oa-demo:): there are no snapshots to compare with");
+  // One eye, the game's own view: the capture's window, no eye offset.
+  StereoView view;
+  view.eyes = 1;
+  view.frame_width = scene.capture_width;
+  view.frame_height = scene.capture_height;
+  view.viewport[0] = {0, 0, scene.capture_width, scene.capture_height};
+  PipelineSettings settings;
+  settings.max_anisotropy = o.max_anisotropy;
+  std::vector<CaptureFrameCheck> out;
+  for (int f = 0; f < int(scene.camera.frames.size()); ++f) {
+    CaptureFrameCheck c;
+    c.frame = f;
+    c.game_frame = scene.capture_first_frame + f;
+    for (const Object& d : scene.draws(f)) {
+      const uint64_t t = scene.meshes[size_t(d.mesh)].triangle_count();
+      if (d.name == kDepthClearName) {
+        ++c.clears;
+      } else {
+        ++c.draws;
+        c.triangles += t;
+      }
+    }
+    const FrameOutput img = render_frame(scene, view, settings, f);
+    char name[32];
+    std::snprintf(name, sizeof name, "%010d.png", c.game_frame);
+    const std::string path = (std::filesystem::path(o.snapshots) / name).string();
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec)) {
+      const Image snap = read_png(path);
+      if (snap.width != img.colour.width || snap.height != img.colour.height)
+        throw Error("snapshot '" + path + "' is " + std::to_string(snap.width) + "x" + std::to_string(snap.height) +
+                    ", the capture's window " + std::to_string(img.colour.width) + "x" + std::to_string(img.colour.height));
+      c.snapshot = true;
+      c.psnr = psnr_rgb(img.colour, snap);
+    }
+    if (!o.diff_dir.empty()) {
+      char own[48];
+      std::snprintf(own, sizeof own, "oovr-%010d.png", c.game_frame);
+      write_png(img.colour, (std::filesystem::path(o.diff_dir) / own).string());
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace oovr

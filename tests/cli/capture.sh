@@ -1,0 +1,62 @@
+#!/bin/sh
+# A short real capture (docs/real-frames.md): scripts/capture-frames.sh
+# records OpenArena's demo088 under apitrace up to frame 47 and glretrace
+# (apitrace's replayer, on llvmpipe) snapshots frames 40 to 47; then
+#  - oovr's mono image of each of those frames must reach 40 dB PSNR
+#    against glretrace's (oovr check-capture);
+#  - oovr's draws and triangles of each frame must be what `apitrace dump`
+#    lists for it (draw calls: glDrawElements, glDrawArrays,
+#    glDrawRangeElements, glBegin/glEnd; triangles as OpenGL splits them).
+# Exit 77 (skipped) when apitrace, Xvfb or OpenArena's engine is missing
+# (scripts/install-deps.sh --capture installs them; CI does).
+#
+#   capture.sh OOVR WORKDIR SOURCE_DIR
+set -eu
+oovr=$1
+work=$2
+src=$3
+for tool in apitrace glretrace xvfb-run /usr/games/openarena; do
+  if ! command -v "$tool" >/dev/null 2>&1; then
+    echo "skipped: $tool is not installed (scripts/install-deps.sh --capture)"
+    exit 77
+  fi
+done
+rm -rf "$work"
+mkdir -p "$work"
+export OOVR_CAPTURE_DIR="$work/captures" OOVR_CACHE_DIR="$work/cache"
+OOVR="$oovr" "$src/scripts/capture-frames.sh" openarena --frames 40-47
+# Idempotent: a second run does nothing.
+OOVR="$oovr" "$src/scripts/capture-frames.sh" openarena --frames 40-47 | grep -q "is there"
+"$oovr" scenes | grep -q "^oa-demo:demo088 "
+
+"$oovr" check-capture --scene oa-demo:demo088 --snapshots "$work/captures/openarena-demo088.snapshots" --min-frames 8 \
+  >"$work/check.txt"
+cat "$work/check.txt"
+
+# What apitrace itself lists, frame by frame: "frame draws triangles".
+apitrace dump --color=never "$work/captures/openarena-demo088.trace" 2>/dev/null | awk '
+  function tris(mode, n) {
+    if (mode == "GL_TRIANGLES") return int(n / 3)
+    if (mode == "GL_TRIANGLE_STRIP" || mode == "GL_TRIANGLE_FAN" || mode == "GL_POLYGON") return n >= 3 ? n - 2 : 0
+    if (mode == "GL_QUADS") return 2 * int(n / 4)
+    if (mode == "GL_QUAD_STRIP") return n >= 4 ? 2 * int((n - 2) / 2) : 0
+    return -1000000
+  }
+  function arg(name,   m) { if (match($0, name " = [A-Z_0-9]+")) { m = substr($0, RSTART, RLENGTH); sub(/.* = /, "", m); return m } return "" }
+  / glXSwapBuffers\(/ { if (frame >= 40 && frame <= 47) print frame, draws, triangles; frame++; draws = 0; triangles = 0; next }
+  / gl(DrawElements|DrawRangeElements|DrawArrays)\(/ { draws++; triangles += tris(arg("mode"), arg("count")); next }
+  / glBegin\(/ { mode = arg("mode"); vertices = 0; next }
+  / glVertex[234]/ { vertices++; next }
+  / glEnd\(/ { draws++; triangles += tris(mode, vertices); next }
+' >"$work/dump.txt"
+# oovr's: the rows of check-capture (game frame, draws, triangles).
+awk 'NF == 5 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9]+$/ { print $1, $2, $3 }' "$work/check.txt" >"$work/oovr.txt"
+echo "apitrace dump:"
+cat "$work/dump.txt"
+[ "$(wc -l <"$work/dump.txt")" -eq 8 ] || { echo "apitrace dump listed $(wc -l <"$work/dump.txt") frames of 40 to 47"; exit 1; }
+if ! cmp -s "$work/dump.txt" "$work/oovr.txt"; then
+  echo "draws or triangles differ from apitrace dump's:"
+  diff "$work/dump.txt" "$work/oovr.txt" || true
+  exit 1
+fi
+echo "capture-ok: 8 frames, draws and triangles as apitrace dump lists them"
