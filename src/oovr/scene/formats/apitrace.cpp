@@ -136,6 +136,8 @@ struct Reader::Impl {
   unsigned version = 0, semantic = 0;
   std::vector<std::pair<std::string, std::string>> properties;
   bool copy_blobs = true;
+  std::function<bool(const FunctionSig&)> blobs_of;  // when set, decides per call
+  bool copy_now = true;                              // for the event being read
 
   std::unordered_map<uint64_t, std::shared_ptr<const FunctionSig>> functions;
   std::unordered_map<uint64_t, std::shared_ptr<const EnumSig>> enums;
@@ -373,8 +375,8 @@ struct Reader::Impl {
                " a call may hold");
         v.kind = Value::Kind::blob;
         v.u = n;
-        v.skipped = !copy_blobs;
-        bytes(n, copy_blobs ? &v.bytes : nullptr);
+        v.skipped = !copy_now;
+        bytes(n, copy_now ? &v.bytes : nullptr);
         return;
       }
       case kEnum: {
@@ -533,6 +535,7 @@ struct Reader::Impl {
       Call c;
       c.thread = version >= 4 ? uint32_t(std::min<uint64_t>(uint(), UINT32_MAX)) : 0;
       c.sig = function();
+      copy_now = blobs_of ? blobs_of(*c.sig) : copy_blobs;
       c.flags = c.sig->flags;
       c.args.resize(c.sig->arg_names.size());
       details(c);
@@ -552,6 +555,7 @@ struct Reader::Impl {
         details(dropped);
         return false;
       }
+      copy_now = blobs_of ? blobs_of(*it->second.sig) : copy_blobs;
       details(it->second);
       out = std::move(it->second);
       open.erase(it);
@@ -608,6 +612,7 @@ unsigned Reader::version() const { return m->version; }
 unsigned Reader::semantic_version() const { return m->semantic; }
 const std::vector<std::pair<std::string, std::string>>& Reader::properties() const { return m->properties; }
 void Reader::read_blobs(bool on) { m->copy_blobs = on; }
+void Reader::read_blobs_of(std::function<bool(const FunctionSig&)> wanted) { m->blobs_of = std::move(wanted); }
 bool Reader::next(Call& call) { return m->next(call); }
 bool Reader::truncated() const { return m->truncated; }
 uint64_t Reader::chunk_end() const { return m->file_offset; }

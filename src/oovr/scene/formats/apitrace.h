@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -121,6 +122,11 @@ class Reader {
   // Whether next() copies blob bytes; when false a blob is a Value with
   // skipped = true and u = its size. May be changed between calls.
   void read_blobs(bool on);
+  // Whether next() copies the blobs of each call, decided by its function
+  // (replaces read_blobs until cleared with an empty function): a reader
+  // that needs the texels of texture uploads but not the client arrays of
+  // draws it skips reads faster.
+  void read_blobs_of(std::function<bool(const FunctionSig&)> wanted);
   // The next completed call, or false at the end of the trace (calls still
   // open then are returned first, flagged kIncomplete). Throws Error naming
   // the file and offset on malformed data.

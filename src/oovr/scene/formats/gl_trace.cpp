@@ -310,6 +310,10 @@ class Interpreter {
       throw Error("a window of frames must start at 0 or later and hold at least one frame");
     if (!(m_window.metres_per_unit > 0 && std::isfinite(m_window.metres_per_unit)))
       throw Error("metres per unit must be a positive number");
+    // Before the window only texture uploads need their data: every draw
+    // is preceded by the client arrays it uses (apitrace's fake calls).
+    const auto upload = [](const apitrace::FunctionSig& f) { return f.name == "glTexImage2D" || f.name == "glTexSubImage2D"; };
+    if (m_window.first > 0) m_reader.read_blobs_of(upload);
     Call c;
     while (m_frame < m_window.first + m_window.count && m_reader.next(c)) {
       ++m_stats.calls;
@@ -319,7 +323,10 @@ class Interpreter {
       } catch (const Error& e) {
         throw Error(where() + e.what());
       }
-      if (c.ends_frame()) end_frame();
+      if (c.ends_frame()) {
+        end_frame();
+        if (m_frame == m_window.first) m_reader.read_blobs_of(nullptr);  // every blob from here
+      }
     }
     const int got = m_frame - m_window.first;
     if (got < m_window.count) {
@@ -337,6 +344,10 @@ class Interpreter {
     m_scene.capture_height = m_window_h;
     m_scene.notes.push_back("the game's units taken as " + std::to_string(m_window.metres_per_unit) +
                             " m for the eyes' offsets; each eye sees the game's whole view, scaled to its viewport");
+    if (m_filter_notes)
+      m_scene.notes.push_back(std::to_string(m_filter_notes) +
+                              " textures asked for nearest-texel or nearest-level filtering, drawn with linear filtering "
+                              "(trilinear where mipmapped)");
     if (m_clamp_notes)
       m_scene.notes.push_back("GL_CLAMP drawn as GL_CLAMP_TO_EDGE (no border texels) on " + std::to_string(m_clamp_notes) +
                               " textures");
@@ -430,7 +441,7 @@ class Interpreter {
     a.type = num(c, i++);
     a.stride = int(num(c, i++));
     const Value& p = c.arg(i);
-    if (p.kind == Value::Kind::blob) {
+    if (p.kind == Value::Kind::blob && !p.skipped) {
       a.data = p.bytes;
       a.have_data = true;
     } else {
@@ -843,6 +854,8 @@ class Interpreter {
     tex.source = m_scene.name + "#" + tex.name;
     if (t.wrap_s != t.wrap_t) unsupported("different wrap modes in s and t");
     if (t.wrap_s == GL_CLAMP) ++m_clamp_notes;
+    // oovr samples mipmapped textures trilinearly and others bilinearly.
+    if ((t.min_filter != GL_LINEAR && t.min_filter != GL_LINEAR_MIPMAP_LINEAR) || t.mag_filter != GL_LINEAR) ++m_filter_notes;
     tex.wrap = t.wrap_s == GL_REPEAT ? Wrap::repeat : Wrap::clamp_to_edge;
     tex.mipmapped = mip;
     tex.levels.push_back(base);
@@ -1397,7 +1410,7 @@ class Interpreter {
 
   std::map<MaterialKey, int> m_materials;
   std::unordered_map<uint64_t, int> m_meshes;
-  int m_clamp_notes = 0, m_mip_notes = 0, m_incomplete = 0;
+  int m_clamp_notes = 0, m_mip_notes = 0, m_incomplete = 0, m_filter_notes = 0;
   uint64_t m_texel_bytes = 0;  // of every level uploaded
   bool m_unit1_alone = false;
 };
