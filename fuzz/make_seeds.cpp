@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "apitrace_writer.h"
 #include "collect_job.h"
 #include "game_data.h"
 #include "oovr/experiments/sweep.h"
@@ -31,8 +32,45 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep", "hardware", "collect", "sweep_name"})
+  for (const char* sub :
+       {"config", "trace", "model", "ac3d", "torcs", "pk3", "sweep", "hardware", "collect", "sweep_name", "apitrace"})
     fs::create_directories(dir / sub);
+  // apitrace files (fuzz_apitrace): a frame of a GL 1.x game as its event
+  // stream (first byte 0: put into snappy chunks by the target) and as a
+  // whole file (first byte 1).
+  {
+    oovr::test::TraceWriter w;
+    w.call("glViewport", {{"x", w.i(0)}, {"y", w.i(0)}, {"width", w.i(64)}, {"height", w.i(48)}});
+    w.call("glBindTexture", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", w.u(1)}});
+    const std::vector<uint8_t> texels(16, 200);
+    w.call("glTexImage2D", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
+                            {"level", w.i(0)},
+                            {"internalformat", w.e("GL_RGBA", 0x1908)},
+                            {"width", w.i(2)},
+                            {"height", w.i(2)},
+                            {"border", w.i(0)},
+                            {"format", w.e("GL_RGBA", 0x1908)},
+                            {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)},
+                            {"pixels", w.blob(texels)}});
+    w.call("glEnable", {{"cap", w.e("GL_TEXTURE_2D", 0x0DE1)}});
+    w.call("glEnableClientState", {{"array", w.e("GL_VERTEX_ARRAY", 0x8074)}});
+    const std::vector<float> xyz = {-1, -1, -5, 1, -1, -5, 1, 1, -5};
+    const std::vector<uint32_t> idx = {0, 1, 2};
+    w.call("glVertexPointer", {{"size", w.i(3)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(xyz)}},
+           "", true);
+    w.call("glDrawElements", {{"mode", w.e("GL_TRIANGLES", 4)},
+                              {"count", w.i(3)},
+                              {"type", w.e("GL_UNSIGNED_INT", 0x1405)},
+                              {"indices", w.blob(idx)}});
+    w.call("glBegin", {{"mode", w.e("GL_QUADS", 7)}});
+    for (int k = 0; k < 4; ++k) w.call("glVertex2f", {{"x", w.f(float(k & 1))}, {"y", w.f(float(k >> 1))}});
+    w.call("glEnd", {});
+    w.call("glXSwapBuffers", {{"dpy", w.opaque(1)}, {"drawable", w.u(2)}});
+    std::string stream = std::string(1, '\0') + w.stream();
+    std::string file = std::string(1, '\1') + w.finish();
+    write(dir / "apitrace" / "stream", std::vector<uint8_t>(stream.begin(), stream.end()));
+    write(dir / "apitrace" / "file", std::vector<uint8_t>(file.begin(), file.end()));
+  }
   // Hardware data: the first lines of the shipped H100 file and the tests' one.
   if (argc == 3)
     for (const char* f : {"docs/data/hardware/h100-gl-frames.csv", "tests/data/hardware-one-point.csv"}) {

@@ -292,6 +292,14 @@ uint64_t fnv(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
   return h;
 }
 
+// A value of type T from unaligned bytes (little-endian, as apitrace records them).
+template <class T>
+T load(const char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
 uint32_t pack_colour(float r, float g, float b, float a) {
   const auto c = [](float v) { return uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
   return c(r) | c(g) << 8 | c(b) << 16 | c(a) << 24;
@@ -344,6 +352,10 @@ class Interpreter {
     m_scene.capture_height = m_window_h;
     m_scene.notes.push_back("the game's units taken as " + std::to_string(m_window.metres_per_unit) +
                             " m for the eyes' offsets; each eye sees the game's whole view, scaled to its viewport");
+    if (m_incomplete)
+      m_scene.notes.push_back(std::to_string(m_incomplete) +
+                              " draws had a texture unit enabled with no image bound (OpenGL draws them untextured)");
+    if (m_unit1_alone) m_scene.notes.push_back("some draws textured from the second unit alone: drawn as the first layer");
     if (m_filter_notes)
       m_scene.notes.push_back(std::to_string(m_filter_notes) +
                               " textures asked for nearest-texel or nearest-level filtering, drawn with linear filtering "
@@ -1088,44 +1100,14 @@ class Interpreter {
     for (int k = 0; k < a.size; ++k) {
       const char* q = p + k * bytes;
       switch (a.type) {
-        case GL_FLOAT: {
-          float f;
-          std::memcpy(&f, q, 4);
-          out[k] = f;
-          break;
-        }
-        case GL_DOUBLE: {
-          double d;
-          std::memcpy(&d, q, 8);
-          out[k] = float(d);
-          break;
-        }
-        case GL_UNSIGNED_BYTE: out[k] = float(uint8_t(*q)); break;
-        case GL_BYTE: out[k] = float(int8_t(*q)); break;
-        case GL_SHORT: {
-          int16_t s;
-          std::memcpy(&s, q, 2);
-          out[k] = s;
-          break;
-        }
-        case GL_UNSIGNED_SHORT: {
-          uint16_t s;
-          std::memcpy(&s, q, 2);
-          out[k] = s;
-          break;
-        }
-        case GL_INT: {
-          int32_t s;
-          std::memcpy(&s, q, 4);
-          out[k] = float(s);
-          break;
-        }
-        case GL_UNSIGNED_INT: {
-          uint32_t s;
-          std::memcpy(&s, q, 4);
-          out[k] = float(s);
-          break;
-        }
+        case GL_FLOAT: out[k] = load<float>(q); break;
+        case GL_DOUBLE: out[k] = float(load<double>(q)); break;
+        case GL_UNSIGNED_BYTE: out[k] = float(load<uint8_t>(q)); break;
+        case GL_BYTE: out[k] = float(load<int8_t>(q)); break;
+        case GL_SHORT: out[k] = float(load<int16_t>(q)); break;
+        case GL_UNSIGNED_SHORT: out[k] = float(load<uint16_t>(q)); break;
+        case GL_INT: out[k] = float(load<int32_t>(q)); break;
+        case GL_UNSIGNED_INT: out[k] = float(load<uint32_t>(q)); break;
       }
     }
     return true;
@@ -1142,14 +1124,7 @@ class Interpreter {
     std::vector<uint32_t> element(static_cast<size_t>(count));
     for (int64_t i = 0; i < count; ++i) {
       const char* p = indices.bytes.data() + i * size;
-      uint32_t v = 0;
-      if (size == 4) std::memcpy(&v, p, 4);
-      else if (size == 2) {
-        uint16_t s;
-        std::memcpy(&s, p, 2);
-        v = s;
-      } else v = uint8_t(*p);
-      element[size_t(i)] = v;
+      element[size_t(i)] = size == 4 ? load<uint32_t>(p) : size == 2 ? load<uint16_t>(p) : load<uint8_t>(p);
     }
     array_vertices(mode, element);
   }
