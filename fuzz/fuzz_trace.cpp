@@ -3,17 +3,24 @@
 // deserialize_trace (the payload behind the checksum, fuzzed directly
 // because a fuzzer cannot forge checksums) must accept only traces every
 // consumer can index safely: every tile record inside the frame, its
-// object and its texture-line range in the trace.
+// object and its texture-line range in the trace. The same bytes are also
+// read as a cached import (decode_scene, scene/scene_codec.h): a scene it
+// accepts must validate and encode back to the same bytes.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
 #include "oovr/pipeline/trace_cache.h"
+#include "oovr/scene/scene_codec.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);
   std::string why;
   (void)oovr::decode_entry(bytes, "0123456789abcdef", &why);
+  if (const auto scene = oovr::decode_scene(bytes, &why)) {
+    scene->validate();  // throws, uncaught, if decode_scene let a bad scene through
+    if (oovr::encode_scene(*scene) != bytes) __builtin_trap();
+  }
   const auto t = oovr::deserialize_trace(bytes);
   if (!t) return 0;
   uint64_t lines = 0;

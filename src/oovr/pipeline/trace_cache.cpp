@@ -19,6 +19,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/hash.h"
 #include "oovr/core/host.h"
 #include "oovr/core/text.h"
 #include "oovr/pipeline/tiled_layout.h"
@@ -32,27 +33,7 @@ constexpr char kMagic[8] = {'O', 'O', 'V', 'R', 'T', 'R', 'C', '1'};
 // Bump when the trace's meaning or layout changes (3: key and checksum).
 constexpr uint32_t kFormat = 3;
 
-// A 64-bit checksum of a payload, 8 bytes a step. Each step is a bijection
-// of the state for a fixed word and of the word for a fixed state, so any
-// change confined to one word (every flipped bit or byte) always changes
-// the result; wider damage goes unnoticed with probability 2^-64.
-uint64_t checksum(std::string_view b) {
-  constexpr uint64_t p1 = 0x9E3779B185EBCA87ull, p2 = 0xC2B2AE3D27D4EB4Full;
-  uint64_t h = 0x27D4EB2F165667C5ull ^ uint64_t(b.size());
-  size_t i = 0;
-  for (; i + 8 <= b.size(); i += 8) {
-    uint64_t w;
-    std::memcpy(&w, b.data() + i, 8);
-    h = std::rotl(h ^ (w * p2), 31) * p1;
-  }
-  uint64_t tail = 0;
-  std::memcpy(&tail, b.data() + i, b.size() - i);
-  h = std::rotl(h ^ (tail * p2), 31) * p1;
-  h ^= h >> 33;
-  h *= p2;
-  h ^= h >> 29;
-  return h;
-}
+uint64_t checksum(std::string_view b) { return checksum64(b); }
 
 struct Hasher {
   uint64_t h = 1469598103934665603ull;

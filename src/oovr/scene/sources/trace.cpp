@@ -18,7 +18,9 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
+#include "oovr/core/version.h"
 #include "oovr/scene/formats/gl_trace.h"
+#include "oovr/scene/scene_codec.h"
 #include "oovr/scene/source.h"
 
 namespace oovr {
@@ -57,8 +59,36 @@ GlTraceWindow window_option(const SceneOptions& options, const std::string& spec
   return fallback;
 }
 
+// What decides an import: the capture (its absolute path, size and
+// modification time), the window and the code (oovr's commit). Empty where
+// the code is not a commit (a build of an edited tree), whose imports are
+// not cached: its interpreter may differ from the commit's.
+std::string import_key(const std::string& path, const GlTraceWindow& w) {
+  const std::string commit = git_commit();
+  if (commit == "unknown" || commit.find("-dirty") != std::string::npos) return "";
+  std::error_code ec;
+  const fs::path abs = fs::absolute(path, ec);
+  const auto size = fs::file_size(path, ec);
+  if (ec) return "";
+  const auto mtime = fs::last_write_time(path, ec).time_since_epoch().count();
+  if (ec) return "";
+  return std::string("import\n") + abs.string() + "\n" + std::to_string(size) + "\n" + std::to_string(mtime) + "\n" +
+         std::to_string(w.first) + "-" + std::to_string(w.count) + "\n" + std::to_string(w.metres_per_unit) + "\n" + commit;
+}
+
+// Imports a window of a capture, from the cache of imports when it is there
+// (docs/real-frames.md); a cached scene that does not verify is imported
+// again.
 Scene load_trace(const std::string& spec, const std::string& path, const GlTraceWindow& w) {
+  const std::string key = import_key(path, w);
+  const SceneCache cache;
+  if (!key.empty())
+    if (auto cached = cache.load(key)) {
+      cached->name = spec;
+      return std::move(*cached);
+    }
   Scene s = import_gl_trace(path, w);
+  if (!key.empty()) cache.store(key, s);
   s.name = spec;
   return s;
 }
