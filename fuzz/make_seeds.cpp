@@ -19,6 +19,8 @@
 #include "oovr/experiments/sweep_run.h"
 #include "oovr/pipeline/trace_cache.h"
 #include "oovr/scene/builtin.h"
+#include "oovr/scene/formats/gl_trace.h"
+#include "oovr/scene/scene_codec.h"
 
 namespace fs = std::filesystem;
 
@@ -70,6 +72,12 @@ int main(int argc, char** argv) {
     std::string file = std::string(1, '\1') + w.finish();
     write(dir / "apitrace" / "stream", std::vector<uint8_t>(stream.begin(), stream.end()));
     write(dir / "apitrace" / "file", std::vector<uint8_t>(file.begin(), file.end()));
+    // The same frame imported, as a cached import (fuzz_trace reads its
+    // input as one too).
+    oovr::GlTraceWindow window;
+    window.count = 1;
+    const std::string scene = oovr::encode_scene(oovr::import_gl_trace_bytes(w.finish(), "seed.trace", window));
+    write(dir / "trace" / "scene", std::vector<uint8_t>(scene.begin(), scene.end()));
   }
   // Hardware data: the first lines of the shipped H100 file and the tests' one.
   if (argc == 3)
