@@ -138,6 +138,10 @@ TEST(TraceCache, KeysFollowEverythingThatDecidesATrace) {
   EXPECT_NE(k, cache.key(f, 0, v0, q));
   EXPECT_NE(k, cache.key(f + 1, 0, v0, p));
   EXPECT_NE(k, cache.key(f, 0, v0, p, kPipelineVersion + 1)) << "a renderer change (version.h)";
+  StereoView offset = v0;  // the same matrices, other eye offsets: captured draws re-project by them
+  offset.eye_offset_m[0] = -0.04f;
+  offset.eye_offset_m[1] = 0.04f;
+  EXPECT_NE(k, cache.key(f, 0, offset, p)) << "eye offsets";
   EXPECT_FALSE(cache.load(k, s, 0, v0, p).trace.has_value());
   EXPECT_EQ(cache.load(k, s, 0, v0, p).rejected, "") << "no entry is not a rejected entry";
   const FrameOutput out = render_frame(s, v0, p);

@@ -203,6 +203,7 @@ std::string TraceCache::key(uint64_t fingerprint, int frame, const StereoView& v
   for (int e = 0; e < view.eyes; ++e) {
     h.pod(view.viewport[e]);
     h.pod(view.clip_from_world[e]);
+    h.pod(view.eye_offset_m[e]);  // how captured draws are re-projected (DrawView::captured)
   }
   h.pod(s.max_anisotropy);
   h.pod(s.line_bytes);
