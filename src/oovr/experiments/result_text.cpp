@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "oovr/scene/formats/gl_trace.h"
+
 namespace oovr {
 
 namespace {
@@ -44,12 +46,37 @@ std::string frame_range(int first, int frames) {
   return frames > 1 ? fmt::format("frames {} to {}", first, first + frames - 1) : fmt::format("frame {}", first);
 }
 
+// For a captured game: which of the game's frames were measured and what
+// they drew (the game's draw calls; the depth clears oovr adds are not
+// counted). Empty for other scenes.
+std::string captured_frames_text(const Scene& scene, int first, int frames) {
+  if (!scene.captured()) return "";
+  std::vector<uint64_t> draws;
+  uint64_t screen = 0;
+  for (int k = 0; k < frames; ++k) {
+    uint64_t n = 0;
+    for (const Object& o : scene.draws(first + k)) {
+      if (o.name == kDepthClearName) continue;
+      ++n;
+      screen += o.view == DrawView::screen;
+    }
+    draws.push_back(n);
+  }
+  std::vector<uint64_t> sorted = draws;
+  std::sort(sorted.begin(), sorted.end());
+  const int path = int(scene.camera.frames.size());
+  return fmt::format("  the game's {}: draws per frame median {} ({} to {}), {:.0f} of them 2-D\n",
+                     frame_range(scene.capture_first_frame + first % path, frames), sorted[sorted.size() / 2], sorted.front(),
+                     sorted.back(), double(screen) / double(frames));
+}
+
 std::string comparison_text(const Simulation& s) {
   const FrameWindow& f = *s.window;
   const bool base = baseline_of(s.results) != nullptr;
   std::string out = fmt::format("{}: {}, {}x{} stereo, {} GPMs; {}{}\n", f.scene->name, frame_range(s.frame, s.frames),
                                 f.rig.frame_width(), f.rig.frame_height(), s.results.front().gpms,
                                 s.frames > 1 ? "means per frame" : "one frame", base ? ", ratios against baseline" : "");
+  out += captured_frames_text(*f.scene, s.frame, s.frames);
   size_t w = 13;  // the scheme column fits the longest name
   for (const auto& r : s.results) w = std::max(w, r.scheme.size());
   out += fmt::format("  {:<{}} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8}\n", "scheme", w, "latency ms", "speed-up", "frames/s",
@@ -69,6 +96,7 @@ std::string simulation_text(const Simulation& s, size_t i) {
   std::string out =
       fmt::format("{}: {} on {} GPMs, {}, {}x{} stereo{}\n", f.scene->name, r.scheme, r.gpms, frame_range(s.frame, s.frames),
                   f.rig.frame_width(), f.rig.frame_height(), s.frames > 1 ? "; means per frame" : "");
+  out += captured_frames_text(*f.scene, s.frame, s.frames);
   out += fmt::format("  frame latency   {:.0f} cycles ({:.3f} ms)\n", r.frame_latency_cycles(), r.frame_latency_s * 1e3);
   out += fmt::format("  throughput      {:.1f} frames/s{}\n", r.throughput_fps,
                      r.frames_in_flight > 1 ? fmt::format(" ({} frames in flight)", r.frames_in_flight) : "");
