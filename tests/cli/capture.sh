@@ -64,4 +64,8 @@ if ! cmp -s "$work/dump.txt" "$work/oovr.txt"; then
   diff "$work/dump.txt" "$work/oovr.txt" || true
   exit 1
 fi
+# A simulation names the game's frame it measured and its draws.
+d40=$(awk '$1 == 40 { print $2 }' "$work/dump.txt")
+"$oovr" simulate --scene oa-demo:demo088 --scheme baseline --frames 1 --resolution 640x480 >"$work/simulate.txt"
+grep -q "the game's frame 40: draws per frame median $d40 " "$work/simulate.txt" || { cat "$work/simulate.txt"; exit 1; }
 echo "capture-ok: 8 frames, draws and triangles as apitrace dump lists them"
