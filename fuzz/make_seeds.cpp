@@ -42,18 +42,8 @@ int main(int argc, char** argv) {
   // whole file (first byte 1).
   {
     oovr::test::TraceWriter w;
-    w.call("glViewport", {{"x", w.i(0)}, {"y", w.i(0)}, {"width", w.i(64)}, {"height", w.i(48)}});
-    w.call("glBindTexture", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", w.u(1)}});
-    const std::vector<uint8_t> texels(16, 200);
-    w.call("glTexImage2D", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
-                            {"level", w.i(0)},
-                            {"internalformat", w.e("GL_RGBA", 0x1908)},
-                            {"width", w.i(2)},
-                            {"height", w.i(2)},
-                            {"border", w.i(0)},
-                            {"format", w.e("GL_RGBA", 0x1908)},
-                            {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)},
-                            {"pixels", w.blob(texels)}});
+    w.gl_viewport(64, 48);
+    w.gl_texture_2x2(1, std::vector<uint8_t>(16, 200));
     w.call("glEnable", {{"cap", w.e("GL_TEXTURE_2D", 0x0DE1)}});
     w.call("glEnableClientState", {{"array", w.e("GL_VERTEX_ARRAY", 0x8074)}});
     const std::vector<float> xyz = {-1, -1, -5, 1, -1, -5, 1, 1, -5};

@@ -136,6 +136,24 @@ class TraceWriter {
     }
     m_stream += '\x00';
   }
+  // OpenGL calls a game makes, as apitrace records them: the window's
+  // viewport, and a 2x2 RGBA texture (16 bytes of texels) bound and uploaded.
+  void gl_viewport(int width, int height) {
+    call("glViewport", {{"x", i(0)}, {"y", i(0)}, {"width", i(width)}, {"height", i(height)}});
+  }
+  void gl_texture_2x2(uint64_t name, const std::vector<uint8_t>& rgba) {
+    call("glBindTexture", {{"target", e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", u(name)}});
+    call("glTexImage2D", {{"target", e("GL_TEXTURE_2D", 0x0DE1)},
+                          {"level", i(0)},
+                          {"internalformat", e("GL_RGBA", 0x1908)},
+                          {"width", i(2)},
+                          {"height", i(2)},
+                          {"border", i(0)},
+                          {"format", e("GL_RGBA", 0x1908)},
+                          {"type", e("GL_UNSIGNED_BYTE", 0x1401)},
+                          {"pixels", blob(rgba)}});
+  }
+
   // Raw bytes appended to the stream (malformed events).
   void raw(const std::string& bytes) { m_stream += bytes; }
   const std::string& stream() const { return m_stream; }

@@ -21,19 +21,8 @@ class Game {
   TraceWriter w;
 
   Game() {
-    w.call("glViewport", {{"x", w.i(0)}, {"y", w.i(0)}, {"width", w.i(64)}, {"height", w.i(48)}});
-    // A 2x2 texture, RGBA.
-    w.call("glBindTexture", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", w.u(7)}});
-    const std::vector<uint8_t> texels = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128};
-    w.call("glTexImage2D", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
-                            {"level", w.i(0)},
-                            {"internalformat", w.e("GL_RGBA", 0x1908)},
-                            {"width", w.i(2)},
-                            {"height", w.i(2)},
-                            {"border", w.i(0)},
-                            {"format", w.e("GL_RGBA", 0x1908)},
-                            {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)},
-                            {"pixels", w.blob(texels)}});
+    w.gl_viewport(64, 48);
+    w.gl_texture_2x2(7, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128});
     w.call("glTexParameterf", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
                                {"pname", w.e("GL_TEXTURE_MIN_FILTER", 0x2801)},
                                {"param", w.f(float(0x2601))}});  // GL_LINEAR: no mipmaps needed

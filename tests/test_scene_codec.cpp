@@ -18,18 +18,8 @@ namespace {
 // A captured scene of two frames (a textured, coloured quad; a 2-D one).
 Scene captured() {
   test::TraceWriter w;
-  w.call("glViewport", {{"x", w.i(0)}, {"y", w.i(0)}, {"width", w.i(64)}, {"height", w.i(48)}});
-  w.call("glBindTexture", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", w.u(3)}});
-  const std::vector<uint8_t> texels = {1, 2, 3, 255, 4, 5, 6, 255, 7, 8, 9, 255, 10, 11, 12, 128};
-  w.call("glTexImage2D", {{"target", w.e("GL_TEXTURE_2D", 0x0DE1)},
-                          {"level", w.i(0)},
-                          {"internalformat", w.e("GL_RGBA", 0x1908)},
-                          {"width", w.i(2)},
-                          {"height", w.i(2)},
-                          {"border", w.i(0)},
-                          {"format", w.e("GL_RGBA", 0x1908)},
-                          {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)},
-                          {"pixels", w.blob(texels)}});
+  w.gl_viewport(64, 48);
+  w.gl_texture_2x2(3, {1, 2, 3, 255, 4, 5, 6, 255, 7, 8, 9, 255, 10, 11, 12, 128});
   w.call("glEnable", {{"cap", w.e("GL_TEXTURE_2D", 0x0DE1)}});
   w.call("glEnableClientState", {{"array", w.e("GL_VERTEX_ARRAY", 0x8074)}});
   w.call("glEnableClientState", {{"array", w.e("GL_COLOR_ARRAY", 0x8076)}});

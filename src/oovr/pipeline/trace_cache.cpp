@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "oovr/core/bytes.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/hash.h"
@@ -55,49 +56,6 @@ struct Hasher {
 static_assert(std::has_unique_object_representations_v<TileWork>);
 static_assert(std::has_unique_object_representations_v<ObjectWork>);
 static_assert(std::has_unique_object_representations_v<TexLine>);
-
-template <class T>
-void put(std::string& out, const T& v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-template <class T>
-void put_vector(std::string& out, const std::vector<T>& v) {
-  put(out, uint64_t(v.size()));
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-class Reader {
- public:
-  explicit Reader(std::string_view s) : m_s(s) {}
-  template <class T>
-  bool get(T& v) {
-    if (m_s.size() - m_at < sizeof v) return false;
-    std::memcpy(&v, m_s.data() + m_at, sizeof v);
-    m_at += sizeof v;
-    return true;
-  }
-  template <class T>
-  bool get_vector(std::vector<T>& v) {
-    uint64_t n = 0;
-    if (!get(n) || n > (m_s.size() - m_at) / sizeof(T)) return false;
-    v.resize(n);
-    if (n) std::memcpy(v.data(), m_s.data() + m_at, n * sizeof(T));
-    m_at += n * sizeof(T);
-    return true;
-  }
-  bool get_bytes(uint64_t n, std::string_view& v) {
-    if (n > m_s.size() - m_at) return false;
-    v = m_s.substr(m_at, size_t(n));
-    m_at += size_t(n);
-    return true;
-  }
-  size_t left() const { return m_s.size() - m_at; }
-  bool done() const { return m_at == m_s.size(); }
-
- private:
-  std::string_view m_s;
-  size_t m_at = 0;
-};
 
 }  // namespace
 
@@ -235,7 +193,7 @@ std::string serialize_trace(const FrameTrace& t) {
 }
 
 std::optional<FrameTrace> deserialize_trace(std::string_view bytes) {
-  Reader r(bytes);
+  ByteReader r(bytes);
   FrameTrace t;
   if (!(r.get(t.frame) && r.get(t.frame_width) && r.get(t.frame_height) && r.get(t.tile_size) && r.get(t.tiles_x) &&
         r.get(t.tiles_y) && r.get(t.line_bytes) && r.get(t.block_w) && r.get(t.block_h) && r.get(t.texture_format)))
@@ -284,7 +242,7 @@ std::optional<FrameTrace> decode_entry(std::string_view bytes, const std::string
   };
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     return fail("not a trace-cache entry (bad magic)");
-  Reader r(bytes.substr(sizeof kMagic));
+  ByteReader r(bytes.substr(sizeof kMagic));
   uint32_t format = 0, key_size = 0;
   if (!r.get(format)) return fail("truncated header");
   if (format != kFormat) return fail("format " + std::to_string(format) + ", expected " + std::to_string(kFormat));

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <vector>
 
+#include "oovr/core/bytes.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/hash.h"
@@ -24,76 +25,55 @@ constexpr char kMagic[8] = {'O', 'O', 'V', 'R', 'S', 'C', 'N', '1'};
 constexpr uint32_t kFormat = 1;
 constexpr size_t kKept = 8;
 
+// What encode_scene writes: plain values, counts before vectors and strings.
 class Writer {
  public:
   std::string out;
   template <class T>
   void pod(const T& v) {
-    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+    put(out, v);
   }
-  void u64(uint64_t v) { pod(v); }
-  void str(const std::string& s) {
-    u64(s.size());
-    out += s;
-  }
+  void u64(uint64_t v) { put(out, v); }
+  void str(const std::string& s) { put_string(out, s); }
   template <class T>
   void pods(const std::vector<T>& v) {
-    u64(v.size());
-    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    put_vector(out, v);
   }
 };
 
-// Reads what Writer wrote; every read fails (false) past the end, and a
-// count is checked against the bytes left before anything is allocated.
+// Reads what Writer wrote, with the enumerations and flags checked.
 class Reader {
  public:
-  explicit Reader(std::string_view s) : m_s(s) {}
+  explicit Reader(std::string_view s) : m_r(s) {}
   template <class T>
   bool pod(T& v) {
-    if (m_s.size() - m_at < sizeof v) return false;
-    std::memcpy(&v, m_s.data() + m_at, sizeof v);
-    m_at += sizeof v;
-    return true;
+    return m_r.get(v);
   }
   // A count of things of at least `min_bytes` each.
-  bool count(uint64_t& n, uint64_t min_bytes) {
-    return pod(n) && (min_bytes == 0 ? n <= (uint64_t(1) << 32) : n <= (m_s.size() - m_at) / min_bytes);
-  }
-  bool str(std::string& s) {
-    uint64_t n = 0;
-    if (!count(n, 1)) return false;
-    s.assign(m_s.data() + m_at, size_t(n));
-    m_at += size_t(n);
-    return true;
-  }
+  bool count(uint64_t& n, uint64_t min_bytes) { return m_r.get_count(n, min_bytes); }
+  bool str(std::string& s) { return m_r.get_string(s); }
   template <class T>
   bool pods(std::vector<T>& v) {
-    uint64_t n = 0;
-    if (!count(n, sizeof(T))) return false;
-    v.resize(size_t(n));
-    if (n) std::memcpy(v.data(), m_s.data() + m_at, size_t(n) * sizeof(T));
-    m_at += size_t(n) * sizeof(T);
-    return true;
+    return m_r.get_vector(v);
   }
   // An enumeration whose values run from 0 to `last`.
   template <class E>
   bool enumeration(E& e, E last) {
     uint8_t v = 0;
-    if (!pod(v) || v > uint8_t(last)) return false;
+    if (!m_r.get(v) || v > uint8_t(last)) return false;
     e = E(v);
     return true;
   }
   bool flag(bool& b) {
     uint8_t v = 0;
-    if (!pod(v) || v > 1) return false;
+    if (!m_r.get(v) || v > 1) return false;
     b = v == 1;
     return true;
   }
-  bool done() const { return m_at == m_s.size(); }
+  bool done() const { return m_r.done(); }
 
  private:
-  std::string_view m_s;
-  size_t m_at = 0;
+  ByteReader m_r;
 };
 
 void put_flag(Writer& w, bool b) { w.pod(uint8_t(b ? 1 : 0)); }
