@@ -33,12 +33,18 @@ while [[ $# -gt 0 ]]; do
     *) [[ -z "$game" ]] || { echo "capture-frames: one game at a time" >&2; exit 2; }; game="$1"; shift ;;
   esac
 done
-if [[ ! "$frames" =~ ^([0-9]{1,7})-([0-9]{1,7})$ ]] || (( BASH_REMATCH[2] < BASH_REMATCH[1] )); then
+if [[ ! "$frames" =~ ^([0-9]{1,7})-([0-9]{1,7})$ ]]; then
+  echo "capture-frames: --frames must be A-B, the first and last frame, not '$frames'" >&2
+  exit 2
+fi
+# Base 10 whatever the leading zeros ("08" is not octal here).
+first=$((10#${BASH_REMATCH[1]}))
+last=$((10#${BASH_REMATCH[2]}))
+if (( last < first )); then
   echo "capture-frames: --frames must be A-B with A <= B, not '$frames'" >&2
   exit 2
 fi
-last=$((10#${BASH_REMATCH[2]}))
-BASH_REMATCH_FIRST=$((10#${BASH_REMATCH[1]}))
+frames="$first-$last"
 
 case "$game" in
   openarena)
@@ -53,7 +59,7 @@ esac
 dir=${OOVR_CAPTURE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/oovr/captures}
 trace="$dir/$game-$name.trace"
 window="$dir/$game-$name.frames"
-if [[ $force -eq 0 && -f "$trace" && -f "$window" && "$(cat "$window")" == "$frames" ]]; then
+if [[ $force -eq 0 && -f "$trace" && -f "$window" && -d "$dir/$game-$name.snapshots" && "$(cat "$window")" == "$frames" ]]; then
   echo "capture-frames: $trace is there (frames $frames); --force captures again"
   exit 0
 fi
@@ -96,7 +102,6 @@ fi
 
 # The real driver's image of every frame of the window: glretrace replays
 # the kept capture on llvmpipe (oovr check-capture compares with them).
-first=${BASH_REMATCH_FIRST}
 mkdir -p "$work/snapshots"
 if ! xvfb-run -a -s "-screen 0 640x480x24" glretrace -s "$work/snapshots/" --call-nos=false "$work/cut.trace" \
      >"$work/retrace.log" 2>&1; then
