@@ -434,7 +434,10 @@ int main(int argc, char** argv) {
         std::sort(all.begin(), all.end());
         fmt::print("{} of {} frames compared reach {:.1f} dB (median {:.2f}, lowest {:.2f}); {} needed\n", good, compared,
                    check_min_psnr, all.empty() ? 0.0 : all[all.size() / 2], all.empty() ? 0.0 : all.front(), check_min_frames);
-        return good >= check_min_frames ? 0 : 1;
+        if (good < check_min_frames)
+          throw Error(fmt::format("{} of {} frames reach {:.1f} dB against glretrace's snapshots; {} must", good, compared,
+                                  check_min_psnr, check_min_frames));
+        return 0;
       }
       if (app.got_subcommand(cut_cmd)) {
         const uint64_t kept = apitrace::cut_trace(cut_in, cut_out, cut_last);

@@ -64,6 +64,13 @@ if ! cmp -s "$work/dump.txt" "$work/oovr.txt"; then
   diff "$work/dump.txt" "$work/oovr.txt" || true
   exit 1
 fi
+# The gate bites: no frame reaches 99 dB.
+if "$oovr" check-capture --scene oa-demo:demo088 --snapshots "$work/captures/openarena-demo088.snapshots" --min-psnr 99 \
+  >/dev/null 2>"$work/gate.txt"; then
+  echo "a 99 dB gate passed"
+  exit 1
+fi
+grep -q "oovr: error: 0 of 8 frames reach 99.0 dB" "$work/gate.txt" || { cat "$work/gate.txt"; exit 1; }
 # A simulation names the game's frame it measured and its draws.
 d40=$(awk '$1 == 40 { print $2 }' "$work/dump.txt")
 "$oovr" simulate --scene oa-demo:demo088 --scheme baseline --frames 1 --resolution 640x480 >"$work/simulate.txt"

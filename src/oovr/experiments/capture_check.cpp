@@ -12,6 +12,10 @@
 namespace oovr {
 
 std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCheckOptions& o) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(o.snapshots, ec))
+    throw Error("no folder of snapshots '" + o.snapshots +
+                "' (glretrace -s DIR/ --call-nos=false writes them; scripts/capture-frames.sh keeps them beside the capture)");
   if (!scene.captured() || scene.capture_width <= 0 || scene.capture_height <= 0)
     throw Error("scene '" + scene.name + "' is not a captured game (trace: or oa-demo:): there are no snapshots to compare with");
   // One eye, the game's own view: the capture's window, no eye offset.
@@ -40,7 +44,6 @@ std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCh
     char name[32];
     std::snprintf(name, sizeof name, "%010d.png", c.game_frame);
     const std::string path = (std::filesystem::path(o.snapshots) / name).string();
-    std::error_code ec;
     if (std::filesystem::exists(path, ec)) {
       const Image snap = read_png(path);
       if (snap.width != img.colour.width || snap.height != img.colour.height)
