@@ -356,6 +356,9 @@ class Interpreter {
       m_scene.notes.push_back(std::to_string(m_incomplete) +
                               " draws had a texture unit enabled with no image bound (OpenGL draws them untextured)");
     if (m_unit1_alone) m_scene.notes.push_back("some draws textured from the second unit alone: drawn as the first layer");
+    if (m_low_bit_uploads)
+      m_scene.notes.push_back(std::to_string(m_low_bit_uploads) +
+                              " texture uploads asked for fewer than 8 bits a channel; oovr keeps 8");
     if (m_filter_notes)
       m_scene.notes.push_back(std::to_string(m_filter_notes) +
                               " textures asked for nearest-texel or nearest-level filtering, drawn with linear filtering "
@@ -732,7 +735,13 @@ class Interpreter {
     }
     check_limit(uint64_t(width) * uint64_t(height), lim.image_texels, "image_texels", "a texture upload", "texels");
     GlTextureObject& t = m_textures[m_bound[m_unit]];
-    if (!sub) t.base_format = base_format(num(c, 2));
+    if (!sub) {
+      t.base_format = base_format(num(c, 2));
+      // Sized formats of fewer than 8 bits a channel (RGB4, RGB5, RGBA2,
+      // RGBA4, RGB5_A1, R3_G3_B2): a driver may store fewer bits, oovr keeps 8.
+      const int64_t f = num(c, 2);
+      if (f == 0x804F || f == 0x8050 || f == 0x8055 || f == 0x8056 || f == 0x8057 || f == 0x2A10) ++m_low_bit_uploads;
+    }
     MipLevel& dst = t.levels[level];
     int64_t x0 = 0, y0 = 0;
     if (sub) {
@@ -1387,6 +1396,7 @@ class Interpreter {
   std::unordered_map<uint64_t, int> m_meshes;
   int m_clamp_notes = 0, m_mip_notes = 0, m_incomplete = 0, m_filter_notes = 0;
   uint64_t m_texel_bytes = 0;  // of every level uploaded
+  int m_low_bit_uploads = 0;
   bool m_unit1_alone = false;
 };
 
