@@ -78,6 +78,25 @@ TEST(SceneCodec, DamagedBytesAreRefusedWithAReason) {
   EXPECT_EQ(why, "bytes after the scene");
 }
 
+TEST(SceneCodec, MipChainsMustBeOpenGLsShape) {
+  // A level whose sides multiply to its bytes but are negative (-1 x -4
+  // is 16 bytes once the sizes wrap), or a level larger than the one
+  // before: the sampler would index outside the texels.
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{-1, -4}, {2, 2}, {1, 4}}) {
+    Scene s = captured();
+    Texture& t = s.textures.front();
+    t.mipmapped = true;
+    build_mip_chain(t);
+    ASSERT_EQ(t.levels.size(), 2u);
+    t.levels[1].width = w;
+    t.levels[1].height = h;
+    t.levels[1].rgba.assign(16, 0);
+    std::string why;
+    EXPECT_FALSE(decode_scene(encode_scene(s), &why)) << w << "x" << h;
+    EXPECT_NE(why.find("mip level of the wrong size"), std::string::npos) << why;
+  }
+}
+
 TEST(SceneCodec, TheCacheHitsOnItsKeyAndMissesOnDamage) {
   const test::TempDir dir;
   const SceneCache cache(dir.path().string());

@@ -77,9 +77,18 @@ void Scene::validate() const {
   for (size_t i = 0; i < textures.size(); ++i) {
     const Texture& t = textures[i];
     if (t.levels.empty() || t.width() <= 0 || t.height() <= 0) throw Error(where("texture '" + t.name + "' has no image"));
-    for (const auto& l : t.levels)
-      if (l.rgba.size() != size_t(l.width) * l.height * 4)
+    if (t.width() > InputLimits::get().image_side || t.height() > InputLimits::get().image_side)
+      throw Error(where("texture '" + t.name + "' is larger than the image_side limit"));
+    // Level k is max(1, base >> k) on each side, as OpenGL's chains (and
+    // every loader's) are: the sampler relies on it.
+    for (size_t k = 0; k < t.levels.size(); ++k) {
+      const MipLevel& l = t.levels[k];
+      const int w = k < 31 ? std::max(1, t.width() >> k) : 1, h = k < 31 ? std::max(1, t.height() >> k) : 1;
+      if (l.width != w || l.height != h || (k > 0 && t.levels[k - 1].width == 1 && t.levels[k - 1].height == 1))
+        throw Error(where("texture '" + t.name + "' has a mip level of the wrong size"));
+      if (l.rgba.size() != size_t(l.width) * size_t(l.height) * 4)
         throw Error(where("texture '" + t.name + "' has a level of the wrong size"));
+    }
   }
   for (const auto& m : materials) {
     if (m.passes.empty()) throw Error(where("material '" + m.name + "' has no pass"));
