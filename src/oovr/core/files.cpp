@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -185,6 +186,12 @@ void check_stdout() {
     const int e = errno;
     throw Error(std::string("cannot write to standard output: ") + (e ? std::strerror(e) : "write error"));
   }
+}
+
+std::string user_cache_folder(const std::string& name) {
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/oovr/" + name;
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/oovr/" + name;
+  return (std::filesystem::temp_directory_path() / ("oovr-" + name)).string();
 }
 
 }  // namespace oovr

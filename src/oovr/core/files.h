@@ -29,6 +29,11 @@ struct FileRead {
 };
 FileRead read_regular_file(const std::string& path, uint64_t max_bytes, bool follow_links = true);
 
+// oovr's folder `name` among the user's caches: $XDG_CACHE_HOME/oovr/NAME,
+// else ~/.cache/oovr/NAME, else oovr-NAME in the temporary folder (the
+// trace cache's traces, imported captures, captured games).
+std::string user_cache_folder(const std::string& name);
+
 // Reads `path` whole. `what` names the input in messages ("configuration",
 // "image"); an Error says what is wrong with the path otherwise.
 std::string read_input_file(const std::string& path, const std::string& what, uint64_t max_bytes);

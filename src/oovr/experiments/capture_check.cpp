@@ -31,15 +31,10 @@ std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCh
     CaptureFrameCheck c;
     c.frame = f;
     c.game_frame = scene.capture_first_frame + f;
-    for (const Object& d : scene.draws(f)) {
-      const uint64_t t = scene.meshes[size_t(d.mesh)].triangle_count();
-      if (d.name == kDepthClearName) {
-        ++c.clears;
-      } else {
-        ++c.draws;
-        c.triangles += t;
-      }
-    }
+    const GameDraws g = game_draws(scene, f);
+    c.draws = g.draws;
+    c.triangles = g.triangles;
+    c.clears = g.clears;
     const FrameOutput img = render_frame(scene, view, settings, f);
     char name[32];
     std::snprintf(name, sizeof name, "%010d.png", c.game_frame);

@@ -496,16 +496,12 @@ class Doc {
     out += fmt::format("| X1: baseline remote texture bytes per frame | {} | {} |\n", mb(t_lv), mb(t_cap));
     out += fmt::format("| X9: baseline front-end time over the frame | {:.0f}% | {:.0f}% |\n", f_lv * 100, f_cap * 100);
     out += fmt::format("| X8: OO-VR batches per frame | {:.1f} | {:.1f} |\n", b_lv, b_cap);
-    out += fmt::format("| X6: the baseline over one GPM | {} | {} |\n", times(paper::geomean([&] {
-                         std::vector<double> v;
-                         for (const auto& s : levels) v.push_back(1 / sp(s, "single-gpm"));
-                         return v;
-                       }())),
-                       times(paper::geomean([&] {
-                         std::vector<double> v;
-                         for (const auto& s : captured) v.push_back(1 / sp(s, "single-gpm"));
-                         return v;
-                       }())));
+    const auto x6 = [&](const std::vector<std::string>& sc) {
+      std::vector<double> v;
+      for (const auto& s : sc) v.push_back(1 / sp(s, "single-gpm"));
+      return times(paper::geomean(v));
+    };
+    out += fmt::format("| X6: the baseline over one GPM | {} | {} |\n", x6(levels), x6(captured));
     const ModelStep& now = kSteps.back();
     const auto lv = step_claims(now, &levels, false), cap = step_claims(now, &captured, false);
     out += "\nThe claims' means over each kind (forms as in the before-and-after table):\n\n";

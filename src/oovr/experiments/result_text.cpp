@@ -54,13 +54,9 @@ std::string captured_frames_text(const Scene& scene, int first, int frames) {
   std::vector<uint64_t> draws;
   uint64_t screen = 0;
   for (int k = 0; k < frames; ++k) {
-    uint64_t n = 0;
-    for (const Object& o : scene.draws(first + k)) {
-      if (o.name == kDepthClearName) continue;
-      ++n;
-      screen += o.view == DrawView::screen;
-    }
-    draws.push_back(n);
+    const GameDraws g = game_draws(scene, first + k);
+    draws.push_back(g.draws);
+    screen += g.screen;
   }
   std::vector<uint64_t> sorted = draws;
   std::sort(sorted.begin(), sorted.end());

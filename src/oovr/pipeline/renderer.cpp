@@ -159,9 +159,13 @@ class GeometryStage {
     work.triangles = uint32_t(mesh.triangle_count());
     work.vertex_bytes = mesh.vertex_bytes();
     work.index_bytes = mesh.indices.size() * sizeof(uint32_t);
-    m_world.resize(mesh.vertices.size());
-    for (size_t i = 0; i < mesh.vertices.size(); ++i)
-      m_world[i] = transform_point3(obj.world_from_object, mesh.vertices[i].position);
+    // World positions (shared by both eyes) only for world draws: a captured
+    // draw is transformed per eye by one composed matrix below.
+    if (obj.view == DrawView::world) {
+      m_world.resize(mesh.vertices.size());
+      for (size_t i = 0; i < mesh.vertices.size(); ++i)
+        m_world[i] = transform_point3(obj.world_from_object, mesh.vertices[i].position);
+    }
     if (lit) {
       m_frames.resize(mesh.vertices.size());
       for (size_t i = 0; i < mesh.vertices.size(); ++i) {

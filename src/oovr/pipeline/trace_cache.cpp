@@ -143,9 +143,7 @@ TraceCache::TraceCache(std::string directory) : m_dir(std::move(directory)) {
   }
   if (!m_dir.empty()) return;
   if (const char* d = std::getenv("OOVR_CACHE_DIR"); d && *d) m_dir = d;
-  else if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) m_dir = std::string(x) + "/oovr/traces";
-  else if (const char* home = std::getenv("HOME"); home && *home) m_dir = std::string(home) + "/.cache/oovr/traces";
-  else m_dir = (fs::temp_directory_path() / "oovr-traces").string();
+  else m_dir = user_cache_folder("traces");
 }
 
 std::string TraceCache::key(uint64_t fingerprint, int frame, const StereoView& view, const PipelineSettings& s,

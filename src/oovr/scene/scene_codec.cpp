@@ -289,9 +289,7 @@ std::optional<Scene> decode_scene(std::string_view bytes, std::string* why) {
 SceneCache::SceneCache(std::string directory) : m_dir(std::move(directory)) {
   if (!m_dir.empty()) return;
   if (const char* d = std::getenv("OOVR_CACHE_DIR"); d && *d) m_dir = std::string(d) + "/imports";
-  else if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) m_dir = std::string(x) + "/oovr/imports";
-  else if (const char* home = std::getenv("HOME"); home && *home) m_dir = std::string(home) + "/.cache/oovr/imports";
-  else m_dir = (fs::temp_directory_path() / "oovr-imports").string();
+  else m_dir = user_cache_folder("imports");
 }
 
 std::string SceneCache::path(const std::string& key) const {

@@ -1250,7 +1250,7 @@ class Interpreter {
     std::vector<Object>& list = frame_draws();
     if (!list.empty()) {
       const Object& prev = list.back();
-      const bool clear = o.name == kDepthClearName, after_clear = prev.name == kDepthClearName;
+      const bool clear = is_depth_clear(o), after_clear = is_depth_clear(prev);
       if (prev.mesh == o.mesh || o.view == DrawView::screen || clear || after_clear) o.after.push_back(uint32_t(list.size() - 1));
     }
     list.push_back(std::move(o));
@@ -1401,6 +1401,20 @@ class Interpreter {
 };
 
 }  // namespace
+
+GameDraws game_draws(const Scene& scene, int frame) {
+  GameDraws g;
+  for (const Object& o : scene.draws(frame)) {
+    if (is_depth_clear(o)) {
+      ++g.clears;
+      continue;
+    }
+    ++g.draws;
+    g.triangles += scene.meshes[size_t(o.mesh)].triangle_count();
+    g.screen += o.view == DrawView::screen;
+  }
+  return g;
+}
 
 Scene import_gl_trace(const std::string& path, const GlTraceWindow& window, GlTraceStats* stats) {
   apitrace::Reader reader(path);

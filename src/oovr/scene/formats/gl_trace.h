@@ -31,6 +31,15 @@ namespace oovr {
 // The name of the depth-only rectangle a depth clear after a frame's first
 // draw becomes (it is not one of the game's draw calls).
 constexpr const char* kDepthClearName = "depth clear";
+inline bool is_depth_clear(const Object& o) { return o.name == kDepthClearName; }
+
+// A captured frame as the game drew it: its draw calls, their triangles
+// (as OpenGL splits them) and how many of them are 2-D, and the depth
+// clears oovr draws besides.
+struct GameDraws {
+  uint64_t draws = 0, triangles = 0, screen = 0, clears = 0;
+};
+GameDraws game_draws(const Scene& scene, int frame);
 
 struct GlTraceWindow {
   int first = 0;   // first frame (0: the trace's first), counted as apitrace counts them

@@ -96,9 +96,7 @@ Scene load_trace(const std::string& spec, const std::string& path, const GlTrace
 // Where scripts/capture-frames.sh keeps its captures.
 std::string capture_directory() {
   if (const char* d = std::getenv("OOVR_CAPTURE_DIR"); d && *d) return d;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/oovr/captures";
-  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/oovr/captures";
-  return (fs::temp_directory_path() / "oovr-captures").string();
+  return user_cache_folder("captures");
 }
 
 // A capture's files: NAME.trace and NAME.frames ("A-B", the window the
