@@ -3,6 +3,8 @@
 // calls and state it refuses.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include "apitrace_writer.h"
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
@@ -275,6 +277,121 @@ TEST(GlTrace, StateItDoesNotModelIsRefusedAtTheDraw) {
                                 {"type", g.w.e("GL_UNSIGNED_INT", 0x1405)},
                                 {"indices", g.w.blob(idx)}});
     expect_refused(g, "outside the vertex array");
+  }
+}
+
+// Texture environments of two units: unit 0 modulates texture 7 (not
+// opaque); unit 1 holds opaque texture 8 and gets `setup`'s GL_COMBINE
+// state (or none); then a quad is drawn.
+Game two_units(const std::function<void(Game&)>& setup) {
+  Game g;
+  g.enable("GL_TEXTURE_2D", 0x0DE1);
+  g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE1", 0x84C1)}});
+  g.w.gl_texture_2x2(8, {10, 20, 30, 255, 40, 50, 60, 255, 70, 80, 90, 255, 100, 110, 120, 255});
+  g.w.call("glTexParameterf", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)},
+                               {"pname", g.w.e("GL_TEXTURE_MIN_FILTER", 0x2801)},
+                               {"param", g.w.f(float(0x2601))}});
+  g.enable("GL_TEXTURE_2D", 0x0DE1);
+  setup(g);
+  g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE0", 0x84C0)}});
+  g.perspective();
+  g.quad(-5);
+  return g;
+}
+
+void env(Game& g, const char* pname, int64_t pvalue, const char* name, int64_t value) {
+  g.w.call("glTexEnvi",
+           {{"target", g.w.e("GL_TEXTURE_ENV", 0x2300)}, {"pname", g.w.e(pname, pvalue)}, {"param", g.w.e(name, value)}});
+}
+
+void rgb_scale(Game& g, float scale) {
+  g.w.call("glTexEnvf",
+           {{"target", g.w.e("GL_TEXTURE_ENV", 0x2300)}, {"pname", g.w.e("GL_RGB_SCALE", 0x8573)}, {"param", g.w.f(scale)}});
+}
+
+TEST(GlTrace, ACombineThatModulatesOrAddsBecomesALayerAndItsScale) {
+  // Quake 3's and DarkPlaces' overbright lightmap: previous x texel x 2.
+  Game g = two_units([](Game& u) {
+    env(u, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
+    env(u, "GL_SRC0_RGB", 0x8580, "GL_PREVIOUS", 0x8578);  // the operands swapped: the same product
+    env(u, "GL_SRC1_RGB", 0x8581, "GL_TEXTURE", 0x1702);
+    rgb_scale(u, 2);
+  });
+  g.swap();
+  const Scene s = g.import();
+  const Pass& p = s.pass_of(s.draws(0)[0]);
+  ASSERT_EQ(p.layers.size(), 2u);
+  EXPECT_EQ(p.layers[0].scale, 1.0f);
+  EXPECT_EQ(p.layers[1].combine, Combine::modulate);
+  EXPECT_EQ(p.layers[1].scale, 2.0f);
+  // GL_ADD through the combiner, keeping the previous alpha: the same as
+  // GL_ADD where the texel's alpha is 1 (texture 8 is opaque).
+  Game a = two_units([](Game& u) {
+    env(u, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
+    env(u, "GL_COMBINE_RGB", 0x8571, "GL_ADD", 0x0104);
+    env(u, "GL_COMBINE_ALPHA", 0x8572, "GL_REPLACE", 0x1E01);
+    env(u, "GL_SRC0_ALPHA", 0x8588, "GL_PREVIOUS", 0x8578);
+  });
+  a.swap();
+  const Scene sa = a.import();
+  const Pass& pa = sa.pass_of(sa.draws(0)[0]);
+  ASSERT_EQ(pa.layers.size(), 2u);
+  EXPECT_EQ(pa.layers[1].combine, Combine::add);
+  EXPECT_EQ(pa.layers[1].scale, 1.0f);
+}
+
+TEST(GlTrace, ACombineOovrsLayersCannotComputeIsRefusedAtTheDraw) {
+  {
+    // A scaled sum: OpenGL scales texel + previous, oovr the texel alone.
+    Game g = two_units([](Game& u) {
+      env(u, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
+      env(u, "GL_COMBINE_RGB", 0x8571, "GL_ADD", 0x0104);
+      rgb_scale(u, 2);
+    });
+    expect_refused(g, "an RGB scale on a sum or a replacement");
+  }
+  {
+    // A scale on unit 0 with unit 1 after it: OpenGL clamps between units.
+    Game g;
+    g.enable("GL_TEXTURE_2D", 0x0DE1);
+    env(g, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
+    rgb_scale(g, 2);
+    g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE1", 0x84C1)}});
+    g.w.gl_texture_2x2(8, {10, 20, 30, 255, 40, 50, 60, 255, 70, 80, 90, 255, 100, 110, 120, 255});
+    g.w.call("glTexParameterf", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)},
+                                 {"pname", g.w.e("GL_TEXTURE_MIN_FILTER", 0x2801)},
+                                 {"param", g.w.f(float(0x2601))}});
+    g.enable("GL_TEXTURE_2D", 0x0DE1);
+    g.perspective();
+    g.quad(-5);
+    expect_refused(g, "an RGB scale on a unit before another");
+  }
+  {
+    // Interpolation with a constant colour.
+    Game g = two_units([](Game& u) {
+      env(u, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
+      env(u, "GL_COMBINE_RGB", 0x8571, "GL_INTERPOLATE", 0x8575);
+    });
+    expect_refused(g, "functions or sources other than the texel and the previous colour");
+  }
+  {
+    // The previous alpha kept over a texel whose alpha is not 1 (texture 7 on unit 0 alone).
+    Game g;
+    g.enable("GL_TEXTURE_2D", 0x0DE1);
+    env(g, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
+    env(g, "GL_COMBINE_ALPHA", 0x8572, "GL_REPLACE", 0x1E01);
+    env(g, "GL_SRC0_ALPHA", 0x8588, "GL_PRIMARY_COLOR", 0x8577);
+    g.perspective();
+    g.quad(-5);
+    expect_refused(g, "an alpha function unlike its colour function's");
+  }
+  {
+    Game g;
+    g.w.call("glTexEnvf",
+             {{"target", g.w.e("GL_TEXTURE_ENV", 0x2300)}, {"pname", g.w.e("GL_TEXTURE_LOD_BIAS", 0x8501)}, {"param", g.w.f(1)}});
+    g.perspective();
+    g.quad(-5);
+    expect_refused(g, "texture environment parameter 34049");
   }
 }
 

@@ -1,4 +1,5 @@
-// The CLI's commands that replay traces through schemes (simulate.cpp).
+// The CLI's commands that replay traces through schemes (simulate.cpp),
+// sweep, paper, correlate and check captures (capture.cpp).
 #pragma once
 
 #include <string>
@@ -68,6 +69,16 @@ struct SweepArgs {
   std::string command;
 };
 
+struct CheckCaptureArgs {
+  std::string scene;      // a captured game
+  std::string snapshots;  // glretrace's snapshots of it, or
+  std::string against;    // the scene that was captured (the round trip)
+  std::string images;     // write oovr's image of each frame here
+  double min_psnr = 40;
+  int min_frames = 20;              // with --snapshots
+  double max_fragment_diff = 0.01;  // with --against: percent, per frame
+};
+
 // A preset (or the built-in defaults) with --set overrides.
 Config machine_config(const std::string& file, const std::vector<std::string>& settings);
 int simulate(const SimulateArgs& a);
@@ -75,5 +86,6 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes);
 int paper(const PaperArgs& a);
 int correlate(const CorrelateArgs& a);
 int sweep(const SweepArgs& a);
+int check_capture(const CheckCaptureArgs& a);  // capture.cpp
 
 }  // namespace oovr::cli

@@ -349,18 +349,26 @@ int main(int argc, char** argv) {
   cut_cmd->add_option("--out", cut_out, "The file to write")->required();
   cut_cmd->add_option("--last-frame", cut_last, "The last frame kept (from 0)")->required()->check(CLI::NonNegativeNumber);
 
-  std::string check_scene, check_snapshots, check_out;
-  double check_min_psnr = 40;
-  int check_min_frames = 20;
-  auto* check_cmd =
-      app.add_subcommand("check-capture", "Compare a captured game's frames, drawn by oovr, with glretrace's snapshots of them");
-  check_cmd->add_option("--scene", check_scene, "A captured game (oa-demo:NAME, trace:PATH)")->required();
-  check_cmd->add_option("--snapshots", check_snapshots, "glretrace's snapshots (glretrace -s DIR/ --call-nos=false)")->required();
-  check_cmd->add_option("--min-psnr", check_min_psnr, "PSNR (dB) a frame must reach")->capture_default_str()->check(kFinite);
-  check_cmd->add_option("--min-frames", check_min_frames, "Frames that must reach it")
+  cli::CheckCaptureArgs check;
+  auto* check_cmd = app.add_subcommand("check-capture",
+                                       "Compare a captured game's frames, drawn by oovr, with glretrace's snapshots of them, "
+                                       "or a capture of a built-in scene with the scene (the round trip)");
+  check_cmd->add_option("--scene", check.scene, "A captured game (oa-demo:NAME, trace:PATH)")->required();
+  auto* snapshots_opt =
+      check_cmd->add_option("--snapshots", check.snapshots, "glretrace's snapshots (glretrace -s DIR/ --call-nos=false)");
+  auto* against_opt = check_cmd->add_option(
+      "--against", check.against, "The scene that was captured (oovr-reference --fixed-function): compare with it instead");
+  snapshots_opt->excludes(against_opt);
+  check_cmd->add_option("--min-psnr", check.min_psnr, "PSNR (dB) a frame must reach")->capture_default_str()->check(kFinite);
+  check_cmd->add_option("--min-frames", check.min_frames, "With --snapshots: frames that must reach it")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  check_cmd->add_option("--images", check_out, "Write oovr's image of each frame into this folder");
+  check_cmd
+      ->add_option("--max-fragment-diff", check.max_fragment_diff,
+                   "With --against: most a frame's covered or passed fragments may differ (%)")
+      ->capture_default_str()
+      ->check(kFinite & CLI::Range(0.0, 100.0));
+  check_cmd->add_option("--images", check.images, "With --snapshots: write oovr's image of each frame into this folder");
 
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
@@ -411,34 +419,7 @@ int main(int argc, char** argv) {
         return cli::compare(cmp, list);
       }
       if (app.got_subcommand(render_cmd)) return cmd_render(render);
-      if (app.got_subcommand(check_cmd)) {
-        CaptureCheckOptions o;
-        o.snapshots = check_snapshots;
-        o.diff_dir = check_out;
-        const Scene scene = load_scene(check_scene);
-        const std::vector<CaptureFrameCheck> frames = check_capture(scene, o);
-        fmt::print("{}: {} frames at {}x{}, mono, against glretrace's snapshots in {}\n", printable(scene.name), frames.size(),
-                   scene.capture_width, scene.capture_height, printable(check_snapshots));
-        fmt::print("  {:>10} {:>6} {:>9} {:>6} {:>9}\n", "game frame", "draws", "triangles", "clears", "PSNR dB");
-        int good = 0, compared = 0;
-        std::vector<double> all;
-        for (const auto& f : frames) {
-          if (f.snapshot) {
-            ++compared;
-            good += f.psnr >= check_min_psnr;
-            all.push_back(f.psnr);
-          }
-          fmt::print("  {:>10} {:>6} {:>9} {:>6} {:>9}\n", f.game_frame, f.draws, f.triangles, f.clears,
-                     f.snapshot ? fmt::format("{:.2f}", f.psnr) : std::string("no snapshot"));
-        }
-        std::sort(all.begin(), all.end());
-        fmt::print("{} of {} frames compared reach {:.1f} dB (median {:.2f}, lowest {:.2f}); {} needed\n", good, compared,
-                   check_min_psnr, all.empty() ? 0.0 : all[all.size() / 2], all.empty() ? 0.0 : all.front(), check_min_frames);
-        if (good < check_min_frames)
-          throw Error(fmt::format("{} of {} frames reach {:.1f} dB against glretrace's snapshots; {} must", good, compared,
-                                  check_min_psnr, check_min_frames));
-        return 0;
-      }
+      if (app.got_subcommand(check_cmd)) return cli::check_capture(check);
       if (app.got_subcommand(cut_cmd)) {
         const uint64_t kept = apitrace::cut_trace(cut_in, cut_out, cut_last);
         fmt::print("trace-cut: frames 0 to {} of {} kept in {} ({} bytes)\n", cut_last, printable(cut_in), printable(cut_out),

@@ -4,6 +4,9 @@
 // OpenGL the machine has (a GPU through EGL's device platform, else
 // llvmpipe) and writes them in the format `oovr correlate` reads.
 //
+// With --fixed-function it draws the scene's frames as an OpenGL 1.x game
+// does, for apitrace to capture (the round trip, tests/cli/roundtrip.sh).
+//
 // Exit status: 0 when the comparison passes (or nothing was compared), 1 when
 // it fails its thresholds or something goes wrong, 2 for a bad argument, and
 // 77 (reported by CTest as "skipped") when no OpenGL context can be made.
@@ -17,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fixed_function.h"
 #include "gl_renderer.h"
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
@@ -49,6 +53,7 @@ struct Args {
   int aniso = 16;
   std::string csv;
   std::string platform = "gpu";
+  bool fixed_function = false;
 };
 
 struct CountStats {
@@ -181,7 +186,34 @@ int time_frames(const Args& a) {
 
 int compare(const Args& a, const StereoRig& rig);
 
+// --fixed-function: frames --frame .. --frame + --frames - 1, mono, in a
+// window of --resolution.
+int fixed_function(const Args& a) {
+  if (a.scenes.size() != 1) throw Error("--scene: give exactly one scene with --fixed-function");
+  if (data_missing(a.scenes.front())) return 77;
+  const Scene scene = load_reference_scene(a.scenes.front());
+  const StereoRig window = parse_eye_resolution(a.resolution);
+  reference::FixedFunctionRun run;
+  run.first_frame = a.frame;
+  run.frames = a.frames;
+  run.width = window.eye_width;
+  run.height = window.eye_height;
+  Image last;
+  try {
+    last = reference::draw_fixed_function(scene, run);
+  } catch (const reference::Unavailable& e) {
+    fmt::print("SKIPPED: no OpenGL compatibility context: {}\n", e.what());
+    return 77;
+  }
+  if (!a.out.empty()) write_png(last, a.out);
+  fmt::print("drew frames {} to {} of {} through OpenGL 1.x at {}x{}\n", a.frame, a.frame + a.frames - 1, scene.name, run.width,
+             run.height);
+  return 0;
+}
+
 int run(const Args& a) {
+  if (a.fixed_function && a.time) throw Error("--fixed-function and --time: choose one");
+  if (a.fixed_function) return fixed_function(a);
   if (a.time) return time_frames(a);
   if (a.scenes.size() != 1) throw Error("--scene: give exactly one scene (several only with --time)");
   Args one = a;
@@ -287,8 +319,9 @@ int main(int argc, char** argv) {
   Args a;
   app.add_option("--scene", a.scenes, "Scene name or model file (with --time: repeatable)")->required();
   app.add_option("--frame", a.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
-  app.add_option("--resolution", a.resolution, "Whole stereo frame WxH")->capture_default_str();
-  app.add_option("--out", a.out, "Write llvmpipe's image here");
+  app.add_option("--resolution", a.resolution, "Whole stereo frame WxH (with --fixed-function: the window)")
+      ->capture_default_str();
+  app.add_option("--out", a.out, "Write llvmpipe's image here (with --fixed-function: the last frame's)");
   app.add_option("--oovr-out", a.oovr_out, "With --compare: write oovr's image here");
   app.add_option("--diff", a.diff_out, "With --compare: write a difference image (x8) here");
   app.add_flag("--compare", a.compare, "Render with oovr too and compare");
@@ -297,7 +330,12 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--min-psnr", a.min_psnr, "Fail below this PSNR (dB)")->capture_default_str();
   app.add_flag("--time", a.time, "Measure GPU frame times (GL_TIME_ELAPSED) instead of comparing");
-  app.add_option("--frames", a.frames, "With --time: frames from --frame on")->capture_default_str()->check(CLI::Range(1, 10000));
+  app.add_flag("--fixed-function", a.fixed_function,
+               "Draw the scene as an OpenGL 1.x game does (client arrays, texture environments), mono in a window of "
+               "--resolution, frames --frame to --frame + --frames - 1: what the round-trip test captures with apitrace");
+  app.add_option("--frames", a.frames, "With --time or --fixed-function: frames from --frame on")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000));
   app.add_option("--resolutions", a.resolutions, "With --time: comma-separated stereo frame sizes (default: --resolution)");
   app.add_option("--repeat", a.repeat, "With --time: timed repetitions per frame (median)")
       ->capture_default_str()

@@ -57,4 +57,50 @@ std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCh
   return out;
 }
 
+std::vector<RoundTripFrame> check_round_trip(const Scene& captured, const Scene& original, int max_anisotropy) {
+  if (!captured.captured() || captured.capture_width <= 0 || captured.capture_height <= 0)
+    throw Error("scene '" + captured.name + "' is not a captured game (trace: or oa-demo:): there is no round trip to check");
+  if (original.captured()) throw Error("scene '" + original.name + "' is itself a capture: give the scene that was captured");
+  const int frames = int(captured.camera.frames.size());
+  const int path = int(original.camera.frames.size());
+  if (captured.capture_first_frame + frames > path)
+    throw Error("the capture's frames " + std::to_string(captured.capture_first_frame) + " to " +
+                std::to_string(captured.capture_first_frame + frames - 1) + " run past the " + std::to_string(path) +
+                " frames of scene '" + original.name + "'");
+  PipelineSettings settings;
+  settings.max_anisotropy = max_anisotropy;
+  StereoRig rig;
+  rig.ipd_m = 0;
+  rig.eye_width = captured.capture_width;
+  rig.eye_height = captured.capture_height;
+  const auto mono = [&](StereoView v) {
+    v.eyes = 1;
+    v.frame_width = rig.eye_width;
+    v.frame_height = rig.eye_height;
+    v.viewport[0] = {0, 0, rig.eye_width, rig.eye_height};
+    return v;
+  };
+  const StereoView captured_view = mono(StereoView{});
+  std::vector<RoundTripFrame> out;
+  for (int k = 0; k < frames; ++k) {
+    RoundTripFrame r;
+    r.frame = captured.capture_first_frame + k;
+    const FrameOutput img[2] = {render_frame(captured, captured_view, settings, k),
+                                render_frame(original, mono(make_stereo_view(original.camera, r.frame, rig)), settings, r.frame)};
+    const Scene* scenes[2] = {&captured, &original};
+    const int frame_of[2] = {k, r.frame};
+    for (int i = 0; i < 2; ++i) {
+      const GameDraws g = game_draws(*scenes[i], frame_of[i]);
+      r.draws[i] = g.draws;
+      r.triangles[i] = g.triangles;
+      r.covered[i] = img[i].trace.total_covered();
+      r.passed[i] = img[i].trace.total_passed();
+      r.fetches[i] = img[i].trace.layer_fetches();
+    }
+    r.psnr = psnr_rgb(img[0].colour, img[1].colour);
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace oovr

@@ -6,24 +6,31 @@
 
 namespace oovr {
 
-StereoView make_stereo_view(const CameraPath& path, int frame, const StereoRig& rig) {
+EyeCamera eye_camera(const CameraPath& path, int frame, const StereoRig& rig, int eye) {
   if (frame < 0 || frame >= int(path.frames.size()))
     throw Error("frame " + std::to_string(frame) + " is out of range: the camera path has " + std::to_string(path.frames.size()) +
                 " frames (0 to " + std::to_string(int(path.frames.size()) - 1) + ")");
   const CameraPose& pose = path.frames[size_t(frame)];
   const Vec3 forward = normalize(pose.target - pose.position);
   const Vec3 right = normalize(cross(forward, pose.up));
-  const Mat4 clip_from_eye =
+  EyeCamera c;
+  c.clip_from_eye =
       perspective(radians(path.fov_y_degrees), float(rig.eye_width) / float(rig.eye_height), path.z_near, path.z_far);
+  c.offset_m = (eye == kLeft ? -0.5f : 0.5f) * rig.ipd_m;
+  c.position = pose.position + right * c.offset_m;
+  c.eye_from_world = look_at(c.position, c.position + forward, pose.up);
+  return c;
+}
+
+StereoView make_stereo_view(const CameraPath& path, int frame, const StereoRig& rig) {
   StereoView v;
   v.frame_width = rig.frame_width();
   v.frame_height = rig.frame_height();
   for (int e = 0; e < kEyes; ++e) {
-    const float offset = (e == kLeft ? -0.5f : 0.5f) * rig.ipd_m;
-    const Vec3 eye = pose.position + right * offset;
-    v.eye_position[e] = eye;
-    v.eye_offset_m[e] = offset;
-    v.clip_from_world[e] = clip_from_eye * look_at(eye, eye + forward, pose.up);
+    const EyeCamera c = eye_camera(path, frame, rig, e);
+    v.eye_position[e] = c.position;
+    v.eye_offset_m[e] = c.offset_m;
+    v.clip_from_world[e] = c.clip_from_eye * c.eye_from_world;
     v.viewport[e] = {e * rig.eye_width, 0, rig.eye_width, rig.eye_height};
   }
   return v;

@@ -45,6 +45,16 @@ struct StereoView {
 // the head's forward direction (parallel axes, symmetric frusta).
 StereoView make_stereo_view(const CameraPath& path, int frame, const StereoRig& rig);
 
+// One eye's camera of frame `frame`, the two matrices make_stereo_view
+// composes: what a game loads as its projection and (times each object's
+// placement) its modelview. Throws Error when the frame is out of range.
+struct EyeCamera {
+  Mat4 clip_from_eye, eye_from_world;
+  Vec3 position;
+  float offset_m = 0;  // along the head's right axis
+};
+EyeCamera eye_camera(const CameraPath& path, int frame, const StereoRig& rig, int eye);
+
 // Parses "WxH" (the whole side-by-side stereo frame; W must be even) into a
 // rig. Throws Error naming the bad value.
 StereoRig parse_frame_resolution(const std::string& text);

@@ -123,6 +123,19 @@ enum : int64_t {
   GL_DECAL = 0x2101,
   GL_REPLACE = 0x1E01,
   GL_ADD = 0x0104,
+  // GL_ARB_texture_env_combine (core in OpenGL 1.3).
+  GL_COMBINE = 0x8570,
+  GL_COMBINE_RGB = 0x8571,
+  GL_COMBINE_ALPHA = 0x8572,
+  GL_RGB_SCALE = 0x8573,
+  GL_CONSTANT = 0x8576,
+  GL_PRIMARY_COLOR = 0x8577,
+  GL_PREVIOUS = 0x8578,
+  GL_SRC0_RGB = 0x8580,
+  GL_SRC0_ALPHA = 0x8588,
+  GL_OPERAND0_RGB = 0x8590,
+  GL_OPERAND0_ALPHA = 0x8598,
+  GL_ALPHA_SCALE = 0x0D1C,
   GL_UNPACK_ROW_LENGTH = 0x0CF2,
   GL_UNPACK_SKIP_ROWS,
   GL_UNPACK_SKIP_PIXELS,
@@ -238,6 +251,24 @@ const std::set<std::string>& harmless_calls() {
                                               "eglGetConfigAttrib",
                                               "eglDestroyContext",
                                               "eglDestroySurface",
+                                              "eglGetPlatformDisplay",
+                                              "eglGetPlatformDisplayEXT",
+                                              "eglCreatePbufferSurface",
+                                              "eglCreatePlatformWindowSurface",
+                                              "eglCreatePlatformWindowSurfaceEXT",
+                                              "eglGetConfigs",
+                                              "eglQuerySurface",
+                                              "eglQueryContext",
+                                              "eglGetCurrentContext",
+                                              "eglGetCurrentDisplay",
+                                              "eglGetCurrentSurface",
+                                              "eglQueryDevicesEXT",
+                                              "eglQueryDeviceStringEXT",
+                                              "eglQueryDisplayAttribEXT",
+                                              "eglReleaseThread",
+                                              "eglWaitClient",
+                                              "eglWaitGL",
+                                              "eglWaitNative",
                                               "eglTerminate",
                                               "eglSwapInterval",
                                               "eglGetError"};
@@ -268,10 +299,22 @@ struct ImmediateVertex {
   uint32_t colour;
 };
 
+// A texture unit's environment: its mode and, for GL_COMBINE, the
+// combiner's functions, sources, operands and scales (OpenGL 1.3's
+// defaults).
+struct TexEnv {
+  int64_t mode = GL_MODULATE;
+  int64_t combine[2] = {GL_MODULATE, GL_MODULATE};  // RGB, alpha
+  int64_t source[2][3] = {{GL_TEXTURE, GL_PREVIOUS, GL_CONSTANT}, {GL_TEXTURE, GL_PREVIOUS, GL_CONSTANT}};
+  int64_t operand[2][3] = {{GL_SRC_COLOR, GL_SRC_COLOR, GL_SRC_ALPHA}, {GL_SRC_ALPHA, GL_SRC_ALPHA, GL_SRC_ALPHA}};
+  float scale[2] = {1, 1};
+};
+
 // What decides a draw's material (Material and Pass), compared whole.
 struct MaterialKey {
   int texture[kUnits] = {-1, -1};
-  int64_t env[kUnits] = {GL_MODULATE, GL_MODULATE};
+  int64_t env[kUnits] = {GL_MODULATE, GL_MODULATE};  // resolved: GL_MODULATE, GL_ADD or GL_REPLACE
+  float scale[kUnits] = {1, 1};                      // GL_RGB_SCALE of a combine
   int64_t src = GL_ONE, dst = GL_ZERO;
   int64_t alpha_func = GL_ALWAYS;
   float alpha_ref = 0;
@@ -280,8 +323,8 @@ struct MaterialKey {
   int cull = 0;  // 0 none, 1 back, 2 front
   float offset_factor = 0, offset_units = 0;
   auto tie() const {
-    return std::tie(texture[0], texture[1], env[0], env[1], src, dst, alpha_func, alpha_ref, depth_func, depth_write,
-                    colour_write, cull, offset_factor, offset_units);
+    return std::tie(texture[0], texture[1], env[0], env[1], scale[0], scale[1], src, dst, alpha_func, alpha_ref, depth_func,
+                    depth_write, colour_write, cull, offset_factor, offset_units);
   }
   bool operator<(const MaterialKey& o) const { return tie() < o.tie(); }
 };
@@ -641,8 +684,7 @@ class Interpreter {
       if (v.kind != Value::Kind::array || v.items.empty()) throw Error("a texture parameter without a value");
       tex_parameter(num(c, 1), v.items[0].number());
     } else if (n == "glTexEnvf" || n == "glTexEnvi") {
-      if (num(c, 0) == GL_TEXTURE_ENV && num(c, 1) == GL_TEXTURE_ENV_MODE) m_env[m_unit] = int64_t(c.arg(2).number());
-      else m_refused[0x70000 + m_unit] = "a texture environment parameter other than GL_TEXTURE_ENV_MODE";
+      tex_env(num(c, 0), num(c, 1), c.arg(2).number());
     } else if (n == "glPixelStorei" || n == "glPixelStoref") {
       const int64_t p = num(c, 0);
       const int64_t v = int64_t(c.arg(1).number());
@@ -666,6 +708,85 @@ class Interpreter {
     } else {
       unsupported("a call (" + n + ")");
     }
+  }
+
+  // glTexEnv: the mode, and the combiner's state for GL_COMBINE (resolved
+  // at the draw, resolve_env). Anything else (GL_TEXTURE_ENV_COLOR, LOD
+  // bias, point sprites) is refused at the draw.
+  void tex_env(int64_t target, int64_t pname, double value) {
+    TexEnv& e = m_env[m_unit];
+    const auto v = int64_t(value);
+    if (target == GL_TEXTURE_ENV && pname == GL_TEXTURE_ENV_MODE) {
+      e.mode = v;
+    } else if (target == GL_TEXTURE_ENV && (pname == GL_COMBINE_RGB || pname == GL_COMBINE_ALPHA)) {
+      e.combine[pname - GL_COMBINE_RGB] = v;
+    } else if (target == GL_TEXTURE_ENV && pname >= GL_SRC0_RGB && pname < GL_SRC0_ALPHA + 3 &&
+               (pname < GL_SRC0_RGB + 3 || pname >= GL_SRC0_ALPHA)) {
+      const bool a = pname >= GL_SRC0_ALPHA;
+      e.source[a][pname - (a ? GL_SRC0_ALPHA : GL_SRC0_RGB)] = v;
+    } else if (target == GL_TEXTURE_ENV && pname >= GL_OPERAND0_RGB && pname < GL_OPERAND0_ALPHA + 3 &&
+               (pname < GL_OPERAND0_RGB + 3 || pname >= GL_OPERAND0_ALPHA)) {
+      const bool a = pname >= GL_OPERAND0_ALPHA;
+      e.operand[a][pname - (a ? GL_OPERAND0_ALPHA : GL_OPERAND0_RGB)] = v;
+    } else if (target == GL_TEXTURE_ENV && pname == GL_RGB_SCALE) {
+      e.scale[0] = float(value);
+    } else if (target == GL_TEXTURE_ENV && pname == GL_ALPHA_SCALE) {
+      e.scale[1] = float(value);
+    } else {
+      m_refused[0x70000 + m_unit] =
+          "texture environment parameter " + std::to_string(pname) + " of target " + std::to_string(target);
+    }
+  }
+
+  // Unit `u`'s environment as oovr's layer combines (scene/material.h):
+  // its mode, or a GL_COMBINE that computes one of them. `first`: the
+  // first enabled unit (its GL_PREVIOUS is the primary colour); `last`:
+  // no enabled unit follows (OpenGL clamps each unit's result to [0, 1],
+  // oovr's layers only the end, so a scale > 1 is taken only last);
+  // `opaque`: the texture's alpha is 1 everywhere.
+  std::pair<int64_t, float> resolve_env(int u, bool first, bool last, bool opaque) const {
+    const TexEnv& e = m_env[u];
+    if (e.mode != GL_COMBINE) return {e.mode, 1.0f};
+    const auto describe = [&](const std::string& what) {
+      unsupported("a GL_COMBINE texture environment on unit " + std::to_string(u) + " with " + what);
+    };
+    const auto previous = [&](int64_t src) { return src == GL_PREVIOUS || (first && src == GL_PRIMARY_COLOR); };
+    // Which of the texel (T) and the previous colour (P) argument k is, or 0.
+    const auto arg = [&](int ch, int k) -> char {
+      const int64_t want = ch == 0 ? GL_SRC_COLOR : GL_SRC_ALPHA;
+      if (e.operand[ch][k] != want) return 0;
+      if (e.source[ch][k] == GL_TEXTURE || e.source[ch][k] == GL_TEXTURE0 + u) return 'T';
+      return previous(e.source[ch][k]) ? 'P' : 0;
+    };
+    // The function each channel computes: modulate (T x P), add (T + P),
+    // replace (T) or keep (P).
+    const auto function = [&](int ch) -> char {
+      const char a0 = arg(ch, 0), a1 = arg(ch, 1);
+      switch (e.combine[ch]) {
+        case GL_MODULATE: return (a0 == 'T' && a1 == 'P') || (a0 == 'P' && a1 == 'T') ? 'm' : 0;
+        case GL_ADD: return (a0 == 'T' && a1 == 'P') || (a0 == 'P' && a1 == 'T') ? 'a' : 0;
+        case GL_REPLACE: return a0 == 'T' ? 'r' : a0 == 'P' ? 'k' : 0;
+        default: return 0;
+      }
+    };
+    const char rgb = function(0), alpha = function(1);
+    if (!rgb || !alpha) describe("functions or sources other than the texel and the previous colour");
+    if (e.scale[1] != 1.0f) describe("an alpha scale");
+    if (e.scale[0] != 1.0f && e.scale[0] != 2.0f && e.scale[0] != 4.0f) describe("an RGB scale other than 1, 2 or 4");
+    if (e.scale[0] != 1.0f && (rgb != 'm' || !last))
+      describe("an RGB scale on " + std::string(rgb != 'm' ? "a sum or a replacement" : "a unit before another"));
+    // oovr's alpha: modulated by a later layer's texel, replaced by a
+    // replacing first layer; keeping the previous alpha is the same when
+    // the texel's alpha is 1.
+    const char want_alpha = rgb == 'r' ? 'r' : 'm';
+    if (alpha != want_alpha && !(alpha == 'k' && opaque)) describe("an alpha function unlike its colour function's");
+    switch (rgb) {
+      case 'm': return {GL_MODULATE, e.scale[0]};
+      case 'a': return {GL_ADD, 1.0f};
+      case 'r': return {GL_REPLACE, 1.0f};
+      default: describe("the previous colour passed through");
+    }
+    return {};
   }
 
   int select_unit(int64_t e, bool client) {
@@ -964,6 +1085,7 @@ class Interpreter {
       l.kind = u == 0 ? LayerKind::diffuse : LayerKind::lightmap;
       l.texture = k.texture[u];
       l.coords = u == 0 ? TexCoords::surface : TexCoords::lightmap;
+      l.scale = k.scale[u];
       switch (k.env[u]) {
         case GL_MODULATE: l.combine = Combine::modulate; break;
         case GL_ADD:
@@ -1017,12 +1139,18 @@ class Interpreter {
         continue;
       }
       k.texture[u] = t;
-      k.env[u] = m_env[u];
+    }
+    for (int u = 0; u < kUnits; ++u) {
+      if (k.texture[u] < 0) continue;
+      const bool first = u == 0 || k.texture[0] < 0, last = u == kUnits - 1 || k.texture[u + 1] < 0;
+      std::tie(k.env[u], k.scale[u]) = resolve_env(u, first, last, m_scene.textures[size_t(k.texture[u])].opaque);
     }
     if (k.texture[0] < 0 && k.texture[1] >= 0) {  // unit 1 alone: move it to the first layer's place
       k.texture[0] = k.texture[1];
       k.env[0] = k.env[1];
+      k.scale[0] = k.scale[1];
       k.texture[1] = -1;
+      k.scale[1] = 1;
       m_unit1_alone = true;
     }
     if (m_blend) {
@@ -1381,7 +1509,7 @@ class Interpreter {
   int m_unit = 0, m_client_unit = 0;
   bool m_texture_2d[kUnits] = {false, false};
   uint32_t m_bound[kUnits] = {0, 0};
-  int64_t m_env[kUnits] = {GL_MODULATE, GL_MODULATE};
+  TexEnv m_env[kUnits];
   std::unordered_map<uint32_t, GlTextureObject> m_textures;
   int m_unpack_alignment = 4, m_unpack_row_length = 0, m_unpack_skip_rows = 0, m_unpack_skip_pixels = 0;
 
