@@ -9,8 +9,11 @@
 #   GAME      openarena: OpenArena 0.8.8's demo088-test1 (map oa_shouse,
 #             bots), drawn by ioquake3's fixed-function `opengl1` renderer;
 #             scene oa-demo:demo088
-#   --frames  the window oovr imports by default (default 40-103: the
-#             first 40 frames are the loading screens)
+#             nexuiz: Nexuiz 2.5.2's benchmark demo bench1, drawn by
+#             DarkPlaces' GLSL renderer with the settings oovr models
+#             (docs/real-frames.md); scene nexuiz-demo:bench1
+#   --frames  the window oovr imports by default (default 40-103 for
+#             openarena, 100-163 for nexuiz: the loading screens first)
 #   --force   capture again even when the capture is there
 #
 # Idempotent: installs what is missing (scripts/install-deps.sh --capture),
@@ -22,8 +25,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,22p' "$0"; }
-game="" frames="40-103" force=0
+usage() { sed -n '2,25p' "$0"; }
+game="" frames="" force=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --frames) [[ $# -ge 2 ]] || { echo "capture-frames: --frames needs A-B" >&2; exit 2; }; frames="$2"; shift 2 ;;
@@ -33,6 +36,10 @@ while [[ $# -gt 0 ]]; do
     *) [[ -z "$game" ]] || { echo "capture-frames: one game at a time" >&2; exit 2; }; game="$1"; shift ;;
   esac
 done
+case "$game" in
+  openarena) : "${frames:=40-103}" ;;
+  nexuiz) : "${frames:=100-163}" ;;
+esac
 if [[ ! "$frames" =~ ^([0-9]{1,7})-([0-9]{1,7})$ ]]; then
   echo "capture-frames: --frames must be A-B, the first and last frame, not '$frames'" >&2
   exit 2
@@ -52,8 +59,19 @@ case "$game" in
     command=(/usr/games/openarena +set cl_renderer opengl1 +set s_initsound 0 +set timedemo 1
              +set nextdemo quit +demo demo088-test1)
     ;;
+  nexuiz)
+    name=bench1
+    # DarkPlaces' OpenGL 3.2 renderer as oovr's interpreter reads it
+    # (docs/real-frames.md): no post-processing, water, skeletal animation
+    # on the GPU, real-time dynamic lights, deluxe or offset mapping, model
+    # shadows; gamma 1 (the view composited unchanged); uncompressed textures.
+    command=(/usr/games/nexuiz -benchmark demos/bench1 -nosound +vid_fullscreen 0 +vid_width 640 +vid_height 480
+             +r_glsl_skeletal 0 +r_bloom 0 +r_hdr 0 +r_water 0 +r_glsl_postprocess 0 +r_motionblur 0 +r_damageblur 0
+             +r_coronas 0 +r_shadow_realtime_dlight 0 +r_shadows 0 +r_glsl_deluxemapping 0 +r_glsl_offsetmapping 0
+             +gl_texturecompression 0 +v_gamma 1 +v_contrast 1 +v_brightness 0 +vid_sRGB 0)
+    ;;
   "") usage >&2; exit 2 ;;
-  *) echo "capture-frames: unknown game '$game' (games: openarena)" >&2; exit 2 ;;
+  *) echo "capture-frames: unknown game '$game' (games: openarena, nexuiz)" >&2; exit 2 ;;
 esac
 
 dir=${OOVR_CAPTURE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/oovr/captures}
@@ -74,7 +92,8 @@ fi
 mkdir -p "$dir"
 work=$(mktemp -d "$dir/.capture-XXXXXX")
 trap 'rm -rf "$work"' EXIT
-# The game's settings and logs stay in the scratch folder, not in ~/.openarena.
+# The game's settings and logs stay in the scratch folder, not in ~/.openarena
+# or ~/.nexuiz.
 export HOME="$work/home"
 mkdir -p "$HOME"
 echo "capture-frames: recording ${command[*]} under apitrace until frame $last"
@@ -119,4 +138,4 @@ mv "$work/snapshots" "$dir/$game-$name.snapshots"
 mv "$work/cut.trace" "$trace"
 printf '%s\n' "$frames" >"$window"
 echo "capture-frames: kept frames 0 to $last in $trace ($(du -h "$trace" | cut -f1)), glretrace's snapshots of" \
-     "frames $frames in $dir/$game-$name.snapshots; scene oa-demo:$name"
+     "frames $frames in $dir/$game-$name.snapshots; scene $([[ $game == openarena ]] && echo oa-demo || echo nexuiz-demo):$name"

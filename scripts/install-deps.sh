@@ -15,7 +15,8 @@
 #                report "skipped"; CI installs them.
 #   --capture    also install what captures a real game's frames
 #                (scripts/capture-frames.sh, the round-trip test):
-#                apitrace, Xvfb and OpenArena's engine. CI installs them.
+#                apitrace, Xvfb, OpenArena's engine and Nexuiz's
+#                (DarkPlaces; its data is --game-data's). CI installs them.
 set -euo pipefail
 
 packages=(
@@ -59,7 +60,7 @@ services=(
 
 capture=(
   apitrace apitrace-tracers xvfb xauth
-  openarena
+  openarena nexuiz
 )
 
 for arg in "$@"; do

@@ -395,5 +395,204 @@ TEST(GlTrace, ACombineOovrsLayersCannotComputeIsRefusedAtTheDraw) {
   }
 }
 
+// A DarkPlaces-like OpenGL 3 frame: a program of one permutation (its
+// defines in their own source strings, the shader body last), attributes
+// bound by name, a stream vertex buffer and an element buffer, the
+// projection as one matrix uniform; drawn into a framebuffer object whose
+// texture a generic program then copies into the window.
+class Gl3Game {
+ public:
+  TraceWriter w;
+  Gl3Game() { w.gl_viewport(64, 48); }
+
+  uint64_t program(uint64_t id, const std::vector<std::string>& defines) {
+    const uint64_t shader = id + 100;
+    w.call("glCreateShader", {{"type", w.e("GL_FRAGMENT_SHADER", 0x8B30)}}, w.u(shader));
+    std::vector<std::string> strings = {w.str("#version 140\n")};
+    for (const auto& d : defines) strings.push_back(w.str("#define " + d + "\n"));
+    strings.push_back(w.str("#define NOT_A_PERMUTATION\nvoid main() {}\n"));  // the body: its #defines are not permutations
+    w.call(
+        "glShaderSource",
+        {{"shader", w.u(shader)}, {"count", w.i(int64_t(strings.size()))}, {"string", w.array(strings)}, {"length", w.null()}});
+    w.call("glCreateProgram", {}, w.u(id));
+    w.call("glAttachShader", {{"program", w.u(id)}, {"shader", w.u(shader)}});
+    const char* names[] = {"Attrib_Position", "Attrib_Color", "Attrib_TexCoord0"};
+    for (int i = 0; i < 3; ++i)
+      w.call("glBindAttribLocation", {{"program", w.u(id)}, {"index", w.u(uint64_t(i))}, {"name", w.str(names[i])}});
+    w.call("glLinkProgram", {{"program", w.u(id)}});
+    w.call("glUseProgram", {{"program", w.u(id)}});
+    const char* uniforms[] = {"ModelViewProjectionMatrix", "Texture_First", "Texture_Color", "Color_Diffuse", "Alpha"};
+    for (int i = 0; i < 5; ++i) w.call("glGetUniformLocation", {{"program", w.u(id)}, {"name", w.str(uniforms[i])}}, w.i(i));
+    return id;
+  }
+  void uniform_matrix(const std::vector<float>& m) {
+    std::vector<std::string> items;
+    for (float f : m) items.push_back(w.f(f));
+    w.call("glUniformMatrix4fv",
+           {{"location", w.i(0)}, {"count", w.i(1)}, {"transpose", w.e("GL_FALSE", 0)}, {"value", w.array(items)}});
+  }
+  // A quad at depth z (in a vertex buffer), drawn through the program in use.
+  void quad(float z) {
+    const std::vector<float> xyz = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    const std::vector<float> st = {0, 0, 1, 0, 1, 1, 0, 1};
+    const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
+    w.call("glBindBuffer", {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)}, {"buffer", w.u(1)}});
+    w.call("glBufferData", {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)},
+                            {"size", w.i(4096)},
+                            {"data", w.null()},
+                            {"usage", w.e("GL_STREAM_DRAW", 0x88E0)}});
+    w.call("glBufferSubData",
+           {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)}, {"offset", w.i(64)}, {"size", w.i(48)}, {"data", w.blob(xyz)}});
+    w.call("glBufferSubData",
+           {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)}, {"offset", w.i(112)}, {"size", w.i(32)}, {"data", w.blob(st)}});
+    w.call("glEnableVertexAttribArray", {{"index", w.u(0)}});
+    w.call("glVertexAttribPointer", {{"index", w.u(0)},
+                                     {"size", w.i(3)},
+                                     {"type", w.e("GL_FLOAT", 0x1406)},
+                                     {"normalized", w.e("GL_FALSE", 0)},
+                                     {"stride", w.i(12)},
+                                     {"pointer", w.u(64)}});
+    w.call("glEnableVertexAttribArray", {{"index", w.u(2)}});
+    w.call("glVertexAttribPointer", {{"index", w.u(2)},
+                                     {"size", w.i(2)},
+                                     {"type", w.e("GL_FLOAT", 0x1406)},
+                                     {"normalized", w.e("GL_FALSE", 0)},
+                                     {"stride", w.i(8)},
+                                     {"pointer", w.u(112)}});
+    w.call("glVertexAttrib4f", {{"index", w.u(1)}, {"x", w.f(1)}, {"y", w.f(0.5f)}, {"z", w.f(1)}, {"w", w.f(1)}});
+    w.call("glBindBuffer", {{"target", w.e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)}, {"buffer", w.u(2)}});
+    w.call("glBufferData", {{"target", w.e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)},
+                            {"size", w.i(1024)},
+                            {"data", w.null()},
+                            {"usage", w.e("GL_STREAM_DRAW", 0x88E0)}});
+    w.call("glBufferSubData",
+           {{"target", w.e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)}, {"offset", w.i(32)}, {"size", w.i(12)}, {"data", w.blob(idx)}});
+    w.call(
+        "glDrawElements",
+        {{"mode", w.e("GL_TRIANGLES", 4)}, {"count", w.i(6)}, {"type", w.e("GL_UNSIGNED_SHORT", 0x1403)}, {"indices", w.u(32)}});
+  }
+  void swap() { w.call("glXSwapBuffers", {{"dpy", w.opaque(1)}, {"drawable", w.u(2)}}); }
+  Scene import() const {
+    GlTraceWindow win;
+    win.count = 1;
+    return import_gl_trace_bytes(w.finish(), "game.trace", win);
+  }
+};
+
+// A perspective projection (90 degrees, near 1, far 100) times a rotation
+// about y by 90 degrees and a translation: what a game's camera makes.
+std::vector<float> camera_mvp(Mat4& p, Mat4& mv) {
+  p = Mat4{};
+  p.at(2, 2) = -101.0f / 99;
+  p.at(2, 3) = -200.0f / 99;
+  p.at(3, 2) = -1;
+  p.at(3, 3) = 0;
+  mv = rotate({0, 1, 0}, radians(90.0f)) * translate({0, 0, -3});
+  const Mat4 mvp = p * mv;
+  std::vector<float> out;
+  for (int k = 0; k < 16; ++k) out.push_back(mvp.m[k / 4][k % 4]);
+  return out;
+}
+
+TEST(GlTrace, AProgramsDrawTakesItsPositionsFromItsMatrixUniformAndItsPassFromItsPermutation) {
+  Gl3Game g;
+  g.w.gl_texture_2x2(7, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255});
+  g.program(5, {"MODE_GENERIC", "USEDIFFUSE", "USEVIEWTINT"});          // USEVIEWTINT: the vertex colour, in a generic program
+  g.w.call("glUniform1i", {{"location", g.w.i(1)}, {"v0", g.w.i(0)}});  // Texture_First on unit 0
+  Mat4 p, mv;
+  g.uniform_matrix(camera_mvp(p, mv));
+  g.quad(-5);
+  g.swap();
+  const Scene s = g.import();
+  ASSERT_EQ(s.draws(0).size(), 1u);
+  const Object& o = s.draws(0)[0];
+  EXPECT_EQ(o.view, DrawView::captured);
+  // The matrix uniform factors back into the camera's projection and placement.
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_NEAR(o.clip_from_eye.at(r, c), p.at(r, c), 1e-5) << r << "," << c;
+      EXPECT_NEAR(o.world_from_object.at(r, c), mv.at(r, c), 1e-5) << r << "," << c;
+    }
+  const Mesh& m = s.meshes[size_t(o.mesh)];
+  ASSERT_EQ(m.vertices.size(), 4u);
+  EXPECT_EQ(m.vertices[2].position.x, 1.0f);
+  EXPECT_EQ(m.vertices[2].position.z, -5.0f);
+  EXPECT_EQ(m.vertices[2].uv.y, 1.0f);
+  ASSERT_EQ(m.colours.size(), 4u);  // the disabled colour attribute's constant
+  EXPECT_EQ(m.colours[0], 0xFFFF80FFu);
+  const Pass& pass = s.pass_of(o);
+  ASSERT_EQ(pass.layers.size(), 1u);
+  EXPECT_EQ(s.textures[size_t(pass.layers[0].texture)].width(), 2);
+}
+
+TEST(GlTrace, TheViewRenderedIntoATextureAndCopiedIntoTheWindowIsTheViewsDraws) {
+  Gl3Game g;
+  g.w.gl_texture_2x2(7, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255});
+  // The view's target: texture 9 on framebuffer 3.
+  g.w.call("glBindTexture", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", g.w.u(9)}});
+  g.w.call("glBindFramebuffer", {{"target", g.w.e("GL_FRAMEBUFFER", 0x8D40)}, {"framebuffer", g.w.u(3)}});
+  g.w.call("glFramebufferTexture2D", {{"target", g.w.e("GL_FRAMEBUFFER", 0x8D40)},
+                                      {"attachment", g.w.e("GL_COLOR_ATTACHMENT0", 0x8CE0)},
+                                      {"textarget", g.w.e("GL_TEXTURE_2D", 0x0DE1)},
+                                      {"texture", g.w.u(9)},
+                                      {"level", g.w.i(0)}});
+  g.w.call("glBindTexture", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", g.w.u(7)}});
+  g.program(5, {"MODE_LIGHTMAP", "USEALPHAKILL"});
+  Mat4 p, mv;
+  g.uniform_matrix(camera_mvp(p, mv));
+  g.w.call("glUniform1i", {{"location", g.w.i(2)}, {"v0", g.w.i(0)}});  // Texture_Color
+  g.w.call("glUniform3f", {{"location", g.w.i(3)}, {"v0", g.w.f(0.5f)}, {"v1", g.w.f(0.25f)}, {"v2", g.w.f(1)}});
+  g.w.call("glUniform1f", {{"location", g.w.i(4)}, {"v0", g.w.f(0.75f)}});
+  g.quad(-5);
+  // The copy into the window: a generic program sampling texture 9.
+  g.w.call("glBindFramebuffer", {{"target", g.w.e("GL_FRAMEBUFFER", 0x8D40)}, {"framebuffer", g.w.u(0)}});
+  g.program(6, {"MODE_GENERIC", "USEDIFFUSE"});
+  g.uniform_matrix({2.0f / 64, 0, 0, 0, 0, -2.0f / 48, 0, 0, 0, 0, -1, 0, -1, 1, 0, 1});
+  g.w.call("glUniform1i", {{"location", g.w.i(1)}, {"v0", g.w.i(0)}});
+  g.w.call("glBindTexture", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", g.w.u(9)}});
+  g.quad(0);
+  g.swap();
+  const Scene s = g.import();
+  ASSERT_EQ(s.draws(0).size(), 1u);  // the copy is not a draw of its own
+  const Pass& pass = s.pass_of(s.draws(0)[0]);
+  // MODE_LIGHTMAP without a lightmap bound: Texture_Color x Color_Diffuse, alpha x Alpha.
+  EXPECT_FLOAT_EQ(pass.colour.x, 0.5f);
+  EXPECT_FLOAT_EQ(pass.colour.y, 0.25f);
+  EXPECT_FLOAT_EQ(pass.colour.w, 0.75f);
+  EXPECT_EQ(pass.alpha_func, AlphaFunc::gequal);
+  bool noted = false;
+  for (const auto& n : s.notes) noted = noted || n.find("copied the view") != std::string::npos;
+  EXPECT_TRUE(noted);
+}
+
+TEST(GlTrace, AProgramsPermutationOovrDoesNotDrawIsRefusedAtItsDraw) {
+  for (const std::vector<std::string>& defines : {std::vector<std::string>{"MODE_WATER"},
+                                                  {"MODE_LIGHTMAP", "USEFOGOUTSIDE"},
+                                                  {"MODE_GENERIC", "USEDIFFUSE", "USEGAMMARAMPS"}}) {
+    Gl3Game g;
+    g.program(5, defines);
+    Mat4 p, mv;
+    g.uniform_matrix(camera_mvp(p, mv));
+    g.quad(-5);
+    g.swap();
+    try {
+      g.import();
+      ADD_FAILURE() << defines.front() << " accepted";
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("a draw through DarkPlaces' " + defines.front() + " programs"), std::string::npos) << what;
+      EXPECT_NE(what.find(defines.back()), std::string::npos) << what;
+      EXPECT_NE(what.find("frame 0"), std::string::npos) << what;
+    }
+  }
+  // A skewed matrix is no camera: refused, not mis-projected.
+  Gl3Game g;
+  g.program(5, {"MODE_GENERIC"});
+  g.uniform_matrix({1, 0, 0, 0, 0.5f, 1, 0, 0, 0, 0, -1, -1, 0, 0, -2, 0});
+  g.quad(-5);
+  g.swap();
+  EXPECT_THROW(g.import(), Error);
+}
+
 }  // namespace
 }  // namespace oovr

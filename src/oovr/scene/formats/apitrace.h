@@ -93,7 +93,7 @@ struct Call {
 // writes for a game: the GLenum signature lists about 4,000 names, a game's
 // largest blob is a texture upload or a client array of a few megabytes.
 struct ReaderLimits {
-  uint64_t string_bytes = 1 << 16;            // names and string values
+  uint64_t string_bytes = 1 << 20;            // names and string values (a GLSL program's source: 75 KB in DarkPlaces)
   uint64_t blob_bytes = uint64_t(256) << 20;  // blobs of one call (client arrays, indices, texels)
   uint64_t count = 1 << 16;                   // arguments, members, enum entries, array elements, backtrace frames
   uint64_t signature_id = 1 << 20;            // ids of functions, enums, structs, bitmasks, frames

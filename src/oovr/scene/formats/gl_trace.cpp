@@ -11,6 +11,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/limits.h"
 #include "oovr/scene/formats/apitrace.h"
+#include "oovr/scene/formats/gl_programs.h"
 
 namespace oovr {
 
@@ -148,6 +149,16 @@ enum : int64_t {
   GL_SMOOTH = 0x1D01,
   GL_ARRAY_BUFFER = 0x8892,
   GL_ELEMENT_ARRAY_BUFFER = 0x8893,
+  GL_TEXTURE_CUBE_MAP_POSITIVE_X = 0x8515,
+  GL_DEPTH_COMPONENT = 0x1902,
+  GL_DEPTH_STENCIL = 0x84F9,
+  // OpenGL 3: framebuffer objects, shaders.
+  GL_FRAMEBUFFER = 0x8D40,
+  GL_DRAW_FRAMEBUFFER = 0x8CA9,
+  GL_READ_FRAMEBUFFER = 0x8CA8,
+  GL_COLOR_ATTACHMENT0 = 0x8CE0,
+  GL_FRAGMENT_SHADER = 0x8B30,
+  GL_VERTEX_SHADER = 0x8B31,
 };
 
 constexpr int kUnits = 2;  // texture units oovr models (ioquake3's opengl1 uses two)
@@ -291,6 +302,7 @@ struct GlTextureObject {
   int64_t wrap_s = GL_REPEAT, wrap_t = GL_REPEAT;
   int scene_index = -1;  // the Scene texture of its current contents; -1: changed since
   int version = 0;
+  bool depth = false;  // a depth texture (a shadow map's target)
 };
 
 struct ImmediateVertex {
@@ -310,11 +322,21 @@ struct TexEnv {
   float scale[2] = {1, 1};
 };
 
+// One layer of a draw's pass: the scene texture, its coordinates and how
+// it combines (scene/material.h).
+struct LayerKey {
+  int texture = -1;
+  TexCoords coords = TexCoords::surface;
+  Combine combine = Combine::modulate;
+  float scale = 1;
+  auto tie() const { return std::tie(texture, coords, combine, scale); }
+  bool operator<(const LayerKey& o) const { return tie() < o.tie(); }
+};
+
 // What decides a draw's material (Material and Pass), compared whole.
 struct MaterialKey {
-  int texture[kUnits] = {-1, -1};
-  int64_t env[kUnits] = {GL_MODULATE, GL_MODULATE};  // resolved: GL_MODULATE, GL_ADD or GL_REPLACE
-  float scale[kUnits] = {1, 1};                      // GL_RGB_SCALE of a combine
+  std::vector<LayerKey> layers;
+  std::array<float, 4> colour{1, 1, 1, 1};  // the pass colour
   int64_t src = GL_ONE, dst = GL_ZERO;
   int64_t alpha_func = GL_ALWAYS;
   float alpha_ref = 0;
@@ -323,8 +345,8 @@ struct MaterialKey {
   int cull = 0;  // 0 none, 1 back, 2 front
   float offset_factor = 0, offset_units = 0;
   auto tie() const {
-    return std::tie(texture[0], texture[1], env[0], env[1], scale[0], scale[1], src, dst, alpha_func, alpha_ref, depth_func,
-                    depth_write, colour_write, cull, offset_factor, offset_units);
+    return std::tie(layers, colour, src, dst, alpha_func, alpha_ref, depth_func, depth_write, colour_write, cull, offset_factor,
+                    offset_units);
   }
   bool operator<(const MaterialKey& o) const { return tie() < o.tie(); }
 };
@@ -363,7 +385,10 @@ class Interpreter {
       throw Error("metres per unit must be a positive number");
     // Before the window only texture uploads need their data: every draw
     // is preceded by the client arrays it uses (apitrace's fake calls).
-    const auto upload = [](const apitrace::FunctionSig& f) { return f.name == "glTexImage2D" || f.name == "glTexSubImage2D"; };
+    const auto upload = [](const apitrace::FunctionSig& f) {
+      return f.name == "glTexImage2D" || f.name == "glTexSubImage2D" || f.name == "glBufferData" || f.name == "glBufferSubData" ||
+             f.name == "glBufferDataARB" || f.name == "glBufferSubDataARB";
+    };
     if (m_window.first > 0) m_reader.read_blobs_of(upload);
     Call c;
     while (m_frame < m_window.first + m_window.count && m_reader.next(c)) {
@@ -398,10 +423,22 @@ class Interpreter {
     if (m_incomplete)
       m_scene.notes.push_back(std::to_string(m_incomplete) +
                               " draws had a texture unit enabled with no image bound (OpenGL draws them untextured)");
+    if (m_composites)
+      m_scene.notes.push_back(
+          std::to_string(m_composites) +
+          " draws copied the view, rendered into a texture, into the window: the view's own draws stand for them");
+    if (m_uneven_models)
+      m_scene.notes.push_back(std::to_string(m_uneven_models) +
+                              " draws of unevenly scaled models split with the view's projection (stereo re-projection)");
+    for (const auto& [what, n] : m_approximated)
+      m_scene.notes.push_back(std::to_string(n) + " draws through programs approximated (" + what + ")");
     if (m_unit1_alone) m_scene.notes.push_back("some draws textured from the second unit alone: drawn as the first layer");
     if (m_low_bit_uploads)
       m_scene.notes.push_back(std::to_string(m_low_bit_uploads) +
                               " texture uploads asked for fewer than 8 bits a channel; oovr keeps 8");
+    if (m_compressed_uploads)
+      m_scene.notes.push_back(std::to_string(m_compressed_uploads) +
+                              " texture uploads asked the driver to compress them (S3TC); oovr keeps 8 bits a channel");
     if (m_filter_notes)
       m_scene.notes.push_back(std::to_string(m_filter_notes) +
                               " textures asked for nearest-texel or nearest-level filtering, drawn with linear filtering "
@@ -527,6 +564,7 @@ class Interpreter {
       set_pointer(m_normal, c, false);
     } else if (n == "glActiveTexture" || n == "glActiveTextureARB") {
       m_unit = select_unit(num(c, 0), false);
+      m_active_unit = int(num(c, 0) - GL_TEXTURE0);
     } else if (n == "glClientActiveTexture" || n == "glClientActiveTextureARB") {
       m_client_unit = select_unit(num(c, 0), true);
     } else if (n == "glMatrixMode") {
@@ -583,9 +621,13 @@ class Interpreter {
       if (m_viewport[2] <= 0 || m_viewport[3] <= 0 || m_viewport[2] > 16384 || m_viewport[3] > 16384)
         throw Error("a viewport of " + std::to_string(m_viewport[2]) + "x" + std::to_string(m_viewport[3]));
       // The window is the largest viewport the game sets (it sets the
-      // whole window for its 2-D pass every frame).
-      m_window_w = std::max(m_window_w, m_viewport[0] + m_viewport[2]);
-      m_window_h = std::max(m_window_h, m_viewport[1] + m_viewport[3]);
+      // whole window for its 2-D pass every frame), into the window or a
+      // framebuffer object with a colour texture (the view rendered into a
+      // texture), not into a shadow map's.
+      if (draws_colour()) {
+        m_window_w = std::max(m_window_w, m_viewport[0] + m_viewport[2]);
+        m_window_h = std::max(m_window_h, m_viewport[1] + m_viewport[3]);
+      }
     } else if (n == "glScissor") {
       m_scissor = {int(num(c, 0)), int(num(c, 1)), int(num(c, 2)), int(num(c, 3))};
     } else if (n == "glDepthRange" || n == "glDepthRangef") {
@@ -665,24 +707,39 @@ class Interpreter {
       vertex({float(v.items[0].number()), float(v.items[1].number()), k == 3 ? float(v.items[2].number()) : 0.0f, 1});
     } else if (n == "glDrawElements" || n == "glDrawRangeElements") {
       const bool range = n == "glDrawRangeElements";
-      indexed_draw(num(c, 0), num(c, range ? 3 : 1), num(c, range ? 4 : 2), c.arg(range ? 5 : 3));
+      const int64_t count = num(c, range ? 3 : 1);
+      if (count < 0 || count > (int64_t(1) << 26)) throw Error("a draw of " + std::to_string(count) + " indices");
+      if (m_program == 0) indexed_draw(num(c, 0), count, num(c, range ? 4 : 2), c.arg(range ? 5 : 3));
+      else if (in_window() && count > 0)
+        program_draw(num(c, 0), program_indices(count, num(c, range ? 4 : 2), c.arg(range ? 5 : 3)));
     } else if (n == "glDrawArrays") {
-      array_draw(num(c, 0), num(c, 1), num(c, 2));
+      const int64_t first = num(c, 1), count = num(c, 2);
+      if (first < 0 || count < 0 || count > (int64_t(1) << 24))
+        throw Error("a draw of " + std::to_string(count) + " vertices from " + std::to_string(first));
+      if (m_program == 0) {
+        array_draw(num(c, 0), first, count);
+      } else if (in_window() && count > 0) {
+        std::vector<uint32_t> element(static_cast<size_t>(count));
+        for (int64_t i = 0; i < count; ++i) element[size_t(i)] = uint32_t(first + i);
+        program_draw(num(c, 0), element);
+      }
     } else if (n == "glClear") {
       clear(uint64_t(num(c, 0)));
     } else if (n == "glBindTexture") {
-      if (num(c, 0) != GL_TEXTURE_2D) unsupported("a texture target other than GL_TEXTURE_2D");
-      m_bound[m_unit] = uint32_t(num(c, 1));
+      // Other targets (cube maps, 3-D textures) are bound and uploaded
+      // without effect: no draw oovr takes samples them (a program that
+      // does is refused, and GL_TEXTURE_CUBE_MAP enabled is refused).
+      if (num(c, 0) == GL_TEXTURE_2D) m_unit_texture[m_active_unit] = uint32_t(num(c, 1));
     } else if (n == "glTexImage2D") {
       tex_image(c, false);
     } else if (n == "glTexSubImage2D") {
       tex_image(c, true);
     } else if (n == "glTexParameterf" || n == "glTexParameteri") {
-      tex_parameter(num(c, 1), c.arg(2).number());
+      if (num(c, 0) == GL_TEXTURE_2D) tex_parameter(num(c, 1), c.arg(2).number());
     } else if (n == "glTexParameterfv" || n == "glTexParameteriv") {
       const Value& v = c.arg(2);
       if (v.kind != Value::Kind::array || v.items.empty()) throw Error("a texture parameter without a value");
-      tex_parameter(num(c, 1), v.items[0].number());
+      if (num(c, 0) == GL_TEXTURE_2D) tex_parameter(num(c, 1), v.items[0].number());
     } else if (n == "glTexEnvf" || n == "glTexEnvi") {
       tex_env(num(c, 0), num(c, 1), c.arg(2).number());
     } else if (n == "glPixelStorei" || n == "glPixelStoref") {
@@ -698,9 +755,11 @@ class Interpreter {
         throw Error("a negative unpack parameter");
     } else if (n == "glBindBuffer" || n == "glBindBufferARB") {
       const int64_t target = num(c, 0);
-      const bool bound = num(c, 1) != 0;
-      if (target == GL_ARRAY_BUFFER) m_array_buffer = bound;
-      else if (target == GL_ELEMENT_ARRAY_BUFFER) m_element_buffer = bound;
+      const auto id = uint32_t(num(c, 1));
+      if (target == GL_ARRAY_BUFFER) m_array_buffer = id;
+      else if (target == GL_ELEMENT_ARRAY_BUFFER) m_element_buffer = id;
+    } else if (glsl_call(c)) {
+      // OpenGL 3 buffers, vertex attributes, programs and framebuffers.
     } else if (n == "memcpy") {
       // Data written to a mapped buffer (fake): buffers are refused at draw time.
     } else if (harmless_calls().count(n)) {
@@ -789,6 +848,606 @@ class Interpreter {
     return {};
   }
 
+  // ---- OpenGL 3 and GLSL (docs/real-frames.md, "GLSL games") ----
+
+  // The OpenGL 3 calls: buffer objects, vertex attributes, shaders,
+  // programs and their uniforms, framebuffer objects. False: not one.
+  bool glsl_call(const Call& c) {
+    static const std::set<std::string> harmless = {"glGenBuffers",
+                                                   "glGenVertexArrays",
+                                                   "glGenFramebuffers",
+                                                   "glGenRenderbuffers",
+                                                   "glBindRenderbuffer",
+                                                   "glRenderbufferStorage",
+                                                   "glFramebufferRenderbuffer",
+                                                   "glCheckFramebufferStatus",
+                                                   "glDeleteFramebuffers",
+                                                   "glDeleteRenderbuffers",
+                                                   "glDeleteVertexArrays",
+                                                   "glCompileShader",
+                                                   "glGetShaderiv",
+                                                   "glGetShaderInfoLog",
+                                                   "glDeleteShader",
+                                                   "glGetProgramiv",
+                                                   "glGetProgramInfoLog",
+                                                   "glBindFragDataLocation",
+                                                   "glGetUniformBlockIndex",
+                                                   "glUniformBlockBinding",
+                                                   "glValidateProgram",
+                                                   "glDetachShader",
+                                                   "glGetAttribLocation",
+                                                   "glDrawBuffers",
+                                                   "glDebugMessageControl",
+                                                   "glDebugMessageControlARB",
+                                                   "glDebugMessageCallback",
+                                                   "glDebugMessageCallbackARB"};
+    const std::string& n = c.name();
+    if (harmless.count(n)) return true;
+    if (n == "glDeleteBuffers") {
+      const Value& v = c.arg(1);
+      if (v.kind == Value::Kind::array)
+        for (const Value& id : v.items) {
+          const auto it = m_buffers.find(uint32_t(id.integer()));
+          if (it == m_buffers.end()) continue;
+          m_buffer_bytes -= it->second.size();
+          m_buffers.erase(it);
+        }
+    } else if (n == "glBufferData" || n == "glBufferDataARB") {
+      std::string& b = buffer(num(c, 0));
+      const int64_t size = num(c, 1);
+      const InputLimits& lim = InputLimits::get();
+      if (size < 0) throw Error("a buffer of " + std::to_string(size) + " bytes");
+      m_buffer_bytes -= b.size();
+      m_buffer_bytes += uint64_t(size);
+      check_limit(m_buffer_bytes, lim.scene_bytes, "scene_bytes", "the capture's buffer objects", "bytes");
+      const Value& data = c.arg(2);
+      if (data.kind == Value::Kind::blob && data.bytes.size() >= uint64_t(size)) b.assign(data.bytes, 0, size_t(size));
+      else if (data.kind == Value::Kind::blob && !data.skipped) throw Error("buffer data shorter than its size");
+      else b.assign(size_t(size), '\0');
+    } else if (n == "glBufferSubData" || n == "glBufferSubDataARB") {
+      std::string& b = buffer(num(c, 0));
+      const int64_t offset = num(c, 1), size = num(c, 2);
+      const Value& data = c.arg(3);
+      if (offset < 0 || size < 0 || uint64_t(offset) + uint64_t(size) > b.size())
+        throw Error("buffer data at " + std::to_string(offset) + " of " + std::to_string(size) + " bytes, outside a buffer of " +
+                    std::to_string(b.size()));
+      if (data.kind == Value::Kind::blob && !data.skipped) {
+        if (data.bytes.size() < uint64_t(size)) throw Error("buffer data shorter than its size");
+        b.replace(size_t(offset), size_t(size), data.bytes, 0, size_t(size));
+      }
+    } else if (n == "glBindVertexArray") {
+      const auto id = uint32_t(num(c, 0));
+      if (id != 0 && m_vao != 0 && id != m_vao) unsupported("a second vertex array object");
+      if (id != 0) m_vao = id;
+    } else if (n == "glVertexAttribPointer" || n == "glVertexAttribPointerARB") {
+      VertexAttrib& a = attrib(num(c, 0));
+      a.array.size = int(num(c, 1));
+      a.array.type = num(c, 2);
+      a.normalized = num(c, 3) != 0;
+      a.array.stride = int(num(c, 4));
+      if (a.array.size < 1 || a.array.size > 4 || a.array.stride < 0)
+        throw Error("a vertex attribute of size " + std::to_string(a.array.size));
+      const Value& p = c.arg(5);
+      a.buffer = m_array_buffer;
+      if (a.buffer != 0) {
+        a.offset = uint64_t(p.integer());
+        a.array.data.clear();
+        a.array.have_data = false;
+      } else if (p.kind == Value::Kind::blob && !p.skipped) {
+        a.array.data = p.bytes;
+        a.array.have_data = true;
+      } else {
+        a.array.data.clear();
+        a.array.have_data = false;
+      }
+    } else if (n == "glEnableVertexAttribArray" || n == "glDisableVertexAttribArray") {
+      attrib(num(c, 0)).enabled = n == "glEnableVertexAttribArray";
+    } else if (n.rfind("glVertexAttrib", 0) == 0 && (n.size() == 16 || n.size() == 17) && n[14] >= '1' && n[14] <= '4' &&
+               n[15] == 'f') {
+      // glVertexAttrib{1,2,3,4}f[v]: the value of a disabled attribute.
+      VertexAttrib& a = attrib(num(c, 0));
+      const int k = n[14] - '0';
+      float v[4] = {0, 0, 0, 1};
+      if (n.size() == 17) {
+        const Value& arr = c.arg(1);
+        if (arr.kind != Value::Kind::array || arr.items.size() < size_t(k)) throw Error("a vertex attribute of too few numbers");
+        for (int i = 0; i < k; ++i) v[i] = float(arr.items[size_t(i)].number());
+      } else {
+        for (int i = 0; i < k; ++i) v[i] = real(c, size_t(1 + i));
+      }
+      std::copy(v, v + 4, a.constant);
+    } else if (n == "glCreateShader") {
+      m_shader_sources[uint32_t(c.ret.integer())].clear();
+    } else if (n == "glShaderSource") {
+      auto& src = m_shader_sources[uint32_t(num(c, 0))];
+      src.clear();
+      const Value& strings = c.arg(2);
+      const Value& lengths = c.arg(3);
+      if (strings.kind != Value::Kind::array) throw Error("shader source that is not an array of strings");
+      for (size_t i = 0; i < strings.items.size(); ++i) {
+        std::string text = strings.items[i].bytes;
+        if (lengths.kind == Value::Kind::array && i < lengths.items.size() && lengths.items[i].integer() >= 0)
+          text.resize(std::min(text.size(), size_t(lengths.items[i].integer())));
+        src.push_back(std::move(text));
+      }
+    } else if (n == "glCreateProgram") {
+      m_programs[uint32_t(c.ret.integer())] = GlslProgram{};
+    } else if (n == "glAttachShader") {
+      program(num(c, 0)).shaders.push_back(uint32_t(num(c, 1)));
+    } else if (n == "glBindAttribLocation") {
+      program(num(c, 0)).attributes[c.arg(2).bytes] = int(num(c, 1));
+    } else if (n == "glLinkProgram") {
+      GlslProgram& p = program(num(c, 0));
+      std::set<std::string> defines;
+      for (uint32_t sh : p.shaders) {
+        const auto it = m_shader_sources.find(sh);
+        if (it == m_shader_sources.end()) continue;
+        const std::set<std::string> d = permutation_defines(it->second);
+        defines.insert(d.begin(), d.end());
+      }
+      p.linked = true;
+      try {
+        p.recipe = darkplaces_recipe(defines);
+        p.refusal.clear();
+      } catch (const Error& e) {
+        p.refusal = e.what();  // refused at its first draw
+      }
+    } else if (n == "glDeleteProgram") {
+      m_programs.erase(uint32_t(num(c, 0)));
+    } else if (n == "glUseProgram" || n == "glUseProgramObjectARB") {
+      m_program = uint32_t(num(c, 0));
+      if (m_program != 0) (void)program(m_program);
+    } else if (n == "glGetUniformLocation") {
+      const int64_t loc = c.ret.integer();
+      if (loc >= 0) program(num(c, 0)).uniform_names[loc] = c.arg(1).bytes;
+    } else if (n.rfind("glUniform", 0) == 0) {
+      uniform(c);
+    } else if (n == "glBindFramebuffer") {
+      const int64_t target = num(c, 0);
+      if (target == GL_FRAMEBUFFER || target == GL_DRAW_FRAMEBUFFER) m_fbo = uint32_t(num(c, 1));
+    } else if (n == "glFramebufferTexture2D") {
+      if (num(c, 1) == GL_COLOR_ATTACHMENT0) m_fbo_colour[m_fbo] = uint32_t(num(c, 3));
+    } else if (n == "glCopyTexSubImage2D" || n == "glCopyTexImage2D") {
+      // The framebuffer copied into the bound texture: what it samples
+      // then is the view (refused where it is drawn, as render-to-texture).
+      if (num(c, 0) == GL_TEXTURE_2D) m_view_targets.insert(m_unit_texture[size_t(m_active_unit)]);
+    } else if (n == "glBlendFuncSeparate") {
+      m_src = num(c, 0);
+      m_dst = num(c, 1);
+      m_separate_alpha = num(c, 2) != m_src || num(c, 3) != m_dst;
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  std::string& buffer(int64_t target) {
+    const uint32_t id = target == GL_ARRAY_BUFFER ? m_array_buffer : target == GL_ELEMENT_ARRAY_BUFFER ? m_element_buffer : 0;
+    if (target != GL_ARRAY_BUFFER && target != GL_ELEMENT_ARRAY_BUFFER) unsupported("buffer target " + std::to_string(target));
+    if (id == 0) throw Error("buffer data with no buffer object bound");
+    return m_buffers[id];
+  }
+
+  struct VertexAttrib {
+    bool enabled = false;
+    ClientArray array;  // size, type, stride; the data when it is client memory
+    bool normalized = false;
+    uint32_t buffer = 0;               // the buffer object it reads (0: client memory)
+    uint64_t offset = 0;               // into it
+    float constant[4] = {0, 0, 0, 1};  // its value while disabled
+  };
+  VertexAttrib& attrib(int64_t index) {
+    if (index < 0 || index >= int64_t(m_attribs.size())) throw Error("vertex attribute " + std::to_string(index));
+    return m_attribs[size_t(index)];
+  }
+
+  struct GlslProgram {
+    std::vector<uint32_t> shaders;
+    std::map<std::string, int> attributes;               // glBindAttribLocation
+    std::map<int64_t, std::string> uniform_names;        // glGetUniformLocation's answers
+    std::map<std::string, std::vector<float>> uniforms;  // their values, by name
+    bool linked = false;
+    ProgramRecipe recipe;
+    std::string refusal;  // why its draws are refused ("" none)
+  };
+  GlslProgram& program(int64_t id) {
+    const auto it = m_programs.find(uint32_t(id));
+    if (it == m_programs.end()) throw Error("program " + std::to_string(id) + ", which was not created");
+    return it->second;
+  }
+
+  // glUniform{1,2,3,4}{f,i}[v] and glUniformMatrix4fv on the program in use.
+  void uniform(const Call& c) {
+    const std::string& n = c.name();
+    if (m_program == 0) throw Error("a uniform set with no program in use");
+    GlslProgram& p = program(m_program);
+    const int64_t loc = num(c, 0);
+    std::vector<float> v;
+    if (n == "glUniformMatrix4fv") {
+      if (num(c, 2) != 0) unsupported("a transposed matrix uniform");
+      const Value& arr = c.arg(3);
+      if (arr.kind != Value::Kind::array) throw Error("a matrix uniform without values");
+      for (const Value& x : arr.items) v.push_back(float(x.number()));
+    } else if (n.size() == 11 && n[9] >= '1' && n[9] <= '4' && (n[10] == 'f' || n[10] == 'i')) {
+      for (int i = 0; i < n[9] - '0'; ++i) v.push_back(float(c.arg(size_t(1 + i)).number()));
+    } else if (n.size() == 12 && n[9] >= '1' && n[9] <= '4' && (n[10] == 'f' || n[10] == 'i') && n[11] == 'v') {
+      const Value& arr = c.arg(2);
+      if (arr.kind != Value::Kind::array) throw Error("a uniform without values");
+      for (const Value& x : arr.items) v.push_back(float(x.number()));
+    } else if (n.rfind("glUniformMatrix", 0) == 0) {
+      const auto it = p.uniform_names.find(loc);
+      if (it != p.uniform_names.end()) p.uniforms.erase(it->second);  // not read by any recipe
+      return;
+    } else {
+      unsupported("a call (" + n + ")");
+    }
+    if (loc < 0) return;  // a uniform the program does not use
+    const auto it = p.uniform_names.find(loc);
+    if (it == p.uniform_names.end()) throw Error("uniform location " + std::to_string(loc) + ", which was never asked for");
+    p.uniforms[it->second] = std::move(v);
+  }
+
+  // Whether the texture on the unit of sampler `sampler` is a 256x1 ramp
+  // mapping every level to itself (its red, green and blue texel i is i).
+  bool identity_ramp(const GlslProgram& p, const std::string& sampler) {
+    const std::vector<float>* unit = uniform_value(p, sampler);
+    const int u = unit && !unit->empty() ? int(unit->front()) : 0;
+    if (u < 0 || u >= int(m_unit_texture.size())) return false;
+    const auto it = m_textures.find(m_unit_texture[size_t(u)]);
+    if (it == m_textures.end() || !it->second.levels.count(0)) return false;
+    const MipLevel& l = it->second.levels.at(0);
+    if (l.width != 256 || l.height != 1) return false;
+    for (int i = 0; i < 256; ++i)
+      for (int ch = 0; ch < 3; ++ch)
+        if (l.rgba[size_t(4 * i + ch)] != i) return false;
+    return true;
+  }
+
+  // Whether the program has the uniform (glGetUniformLocation gave a
+  // location: the compiler kept it).
+  static bool located(const GlslProgram& p, const std::string& name) {
+    for (const auto& [loc, uname] : p.uniform_names)
+      if (uname == name) return true;
+    return false;
+  }
+
+  const std::vector<float>* uniform_value(const GlslProgram& p, const std::string& name) const {
+    const auto it = p.uniforms.find(name);
+    return it == p.uniforms.end() ? nullptr : &it->second;
+  }
+
+  // Element `i` of an enabled attribute, from its buffer object or client
+  // memory; false when it lies outside.
+  bool fetch_attrib(const VertexAttrib& a, uint64_t i, float out[4]) const {
+    if (a.buffer == 0) return a.array.have_data && fetch(a.array, i, out);
+    const auto it = m_buffers.find(a.buffer);
+    if (it == m_buffers.end() || a.offset > it->second.size()) return false;
+    if (!fetch(a.array, i, out, it->second.data() + a.offset, it->second.size() - a.offset)) return false;
+    if (a.normalized && a.array.type == GL_UNSIGNED_BYTE)
+      for (int k = 0; k < a.array.size; ++k) out[k] /= 255.0f;
+    return true;
+  }
+
+  // The value of the attribute a recipe names, for vertex `i` (its
+  // constant when disabled); false when none is bound to that name.
+  bool attribute(const GlslProgram& p, const std::string& name, uint64_t i, float out[4]) const {
+    const auto it = p.attributes.find(name);
+    if (name.empty() || it == p.attributes.end()) return false;
+    const VertexAttrib& a = m_attribs.at(size_t(it->second));
+    if (!a.enabled) {
+      std::copy(a.constant, a.constant + 4, out);
+      return true;
+    }
+    if (!fetch_attrib(a, i, out)) throw Error("vertex " + std::to_string(i) + " lies outside the buffer of attribute " + name);
+    return true;
+  }
+
+  // The indices of a draw through a program: from the element buffer
+  // object (at the offset `indices` gives) or client memory.
+  std::vector<uint32_t> program_indices(int64_t count, int64_t type, const Value& indices) const {
+    const int size = type == GL_UNSIGNED_INT ? 4 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_BYTE ? 1 : 0;
+    if (!size) throw Error("index type " + std::to_string(type));
+    const char* base = nullptr;
+    uint64_t bytes = 0;
+    if (m_element_buffer != 0) {
+      const auto it = m_buffers.find(m_element_buffer);
+      const uint64_t offset = uint64_t(indices.integer());
+      if (it == m_buffers.end() || offset > it->second.size()) throw Error("indices outside their buffer object");
+      base = it->second.data() + offset;
+      bytes = it->second.size() - offset;
+    } else if (indices.kind == Value::Kind::blob) {
+      base = indices.bytes.data();
+      bytes = indices.bytes.size();
+    } else {
+      throw Error("indices neither in a buffer object nor recorded");
+    }
+    if (uint64_t(count) * uint64_t(size) > bytes)
+      throw Error(std::to_string(count) + " indices where " + std::to_string(bytes) + " bytes are left");
+    std::vector<uint32_t> element(static_cast<size_t>(count));
+    for (int64_t i = 0; i < count; ++i) {
+      const char* q = base + i * size;
+      element[size_t(i)] = size == 4 ? load<uint32_t>(q) : size == 2 ? load<uint16_t>(q) : load<uint8_t>(q);
+    }
+    return element;
+  }
+
+  // The projection and modelview of a draw from its one matrix uniform
+  // (clip from object). An orthographic one (last row 0 0 0 1) is a 2-D
+  // draw's projection. A perspective one is taken as P x MV, P a centred
+  // perspective (a game's camera: x and y scales a and b, depth terms c and
+  // d) and MV affine: then MV's third row is minus MVP's fourth, c and d
+  // follow from MVP's third row. Where MV is a rotation and uniform scale
+  // (the world, most models), a and b follow from the lengths of MVP's first
+  // two rows against its fourth, and are kept as the view's; a model scaled
+  // unevenly takes the view's a and b. MV = P^-1 x MVP.
+  void split_mvp(const Mat4& mvp, Mat4& p, Mat4& mv) {
+    if (mvp.at(3, 0) == 0 && mvp.at(3, 1) == 0 && mvp.at(3, 2) == 0 && mvp.at(3, 3) == 1) {
+      p = mvp;
+      mv = Mat4::identity();
+      return;
+    }
+    const auto len3 = [&](int row) {
+      return std::sqrt(double(mvp.at(row, 0)) * mvp.at(row, 0) + double(mvp.at(row, 1)) * mvp.at(row, 1) +
+                       double(mvp.at(row, 2)) * mvp.at(row, 2));
+    };
+    const double w = len3(3);
+    int k = 0;
+    for (int i = 1; i < 3; ++i)
+      if (std::abs(mvp.at(3, i)) > std::abs(mvp.at(3, k))) k = i;
+    if (!(w > 0) || mvp.at(3, k) == 0) unsupported("a projection matrix uniform that is neither orthographic nor a perspective");
+    const double c = -double(mvp.at(2, k)) / mvp.at(3, k);
+    const double d = double(mvp.at(2, 3)) + c * mvp.at(3, 3);
+    if (!(d != 0)) unsupported("a degenerate perspective matrix uniform");
+    const auto factor = [&](double a, double b) {
+      p = Mat4{};
+      p.at(0, 0) = float(a);
+      p.at(1, 1) = float(b);
+      p.at(2, 2) = float(c);
+      p.at(2, 3) = float(d);
+      p.at(3, 2) = -1;
+      p.at(3, 3) = 0;
+      Mat4 inv{};
+      inv.at(0, 0) = float(1 / a);
+      inv.at(1, 1) = float(1 / b);
+      inv.at(2, 2) = 0;
+      inv.at(2, 3) = -1;
+      inv.at(3, 2) = float(1 / d);
+      inv.at(3, 3) = float(c / d);
+      mv = inv * mvp;
+    };
+    // Whether MV's rows are orthogonal and of one length, within 1%
+    // (DarkPlaces' matrices carry rounding of a few thousandths).
+    const auto rigid = [&] {
+      const auto dot3 = [&](int r1, int r2) {
+        double sum = 0;
+        for (int col = 0; col < 3; ++col) sum += double(mv.at(r1, col)) * mv.at(r2, col);
+        return sum;
+      };
+      const double l0 = dot3(0, 0), l1 = dot3(1, 1), l2 = dot3(2, 2);
+      const auto skew = [&](int r1, int r2, double a2, double b2) { return std::abs(dot3(r1, r2)) / std::sqrt(a2 * b2); };
+      return l0 > 0 && l1 > 0 && l2 > 0 && std::abs(l0 / l2 - 1) < 0.02 && std::abs(l1 / l2 - 1) < 0.02 &&
+             skew(0, 1, l0, l1) < 0.01 && skew(0, 2, l0, l2) < 0.01 && skew(1, 2, l1, l2) < 0.01;
+    };
+    const double a = len3(0) / w, b = len3(1) / w;
+    if (a > 0 && b > 0) {
+      factor(a, b);
+      if (rigid()) {
+        m_view_ab = {a, b};
+        return;
+      }
+    }
+    if (m_view_ab[0] > 0) {
+      factor(m_view_ab[0], m_view_ab[1]);
+      ++m_uneven_models;
+      return;
+    }
+    unsupported("a perspective matrix uniform of an unevenly scaled model before any of the view's projection");
+  }
+
+  // A directionally lit model's light per vertex: ambient + diffuse x
+  // max(0, N.L) (DarkPlaces' MODE_LIGHTDIRECTION with a flat normal map),
+  // as the vertex colour scaled to at most 1 and that scale in the pass
+  // colour (which keeps the program's alpha).
+  // Returns the mean light over the vertices and channels.
+  float light_vertices(const GlslProgram& pr, const ProgramRecipe& r, uint32_t lo, std::vector<ImmediateVertex>& v,
+                       std::array<float, 4>& colour) const {
+    const auto uniform3 = [&](const std::string& name) {
+      std::array<float, 3> out{0, 0, 0};
+      if (name.empty()) return out;
+      if (const std::vector<float>* u = uniform_value(pr, name))
+        for (size_t i = 0; i < 3 && i < u->size(); ++i) out[i] = (*u)[i];
+      return out;
+    };
+    const std::array<float, 3> ambient = uniform3(r.light_ambient), diffuse = uniform3(r.light_diffuse);
+    const std::array<float, 3> dir = uniform3(r.light_dir);
+    const Vec3 l = normalize(Vec3{dir[0], dir[1], dir[2]});
+    std::vector<std::array<float, 3>> lit(v.size());
+    float top = 1e-6f;
+    double sum = 0;
+    for (size_t i = 0; i < v.size(); ++i) {
+      float k = 0;
+      float n[4] = {0, 0, 0, 1};
+      if (!r.light_dir.empty() && attribute(pr, r.normal, lo + i, n))
+        k = std::max(0.0f, dot(normalize(Vec3{n[0], n[1], n[2]}), l));
+      for (int ch = 0; ch < 3; ++ch) {
+        lit[i][size_t(ch)] = std::max(0.0f, ambient[size_t(ch)] + diffuse[size_t(ch)] * k);
+        top = std::max(top, lit[i][size_t(ch)]);
+        sum += lit[i][size_t(ch)];
+      }
+    }
+    for (size_t i = 0; i < v.size(); ++i) v[i].colour = pack_colour(lit[i][0] / top, lit[i][1] / top, lit[i][2] / top, 1.0f);
+    colour[0] = colour[1] = colour[2] = top;
+    return v.empty() ? 0.0f : float(sum / double(3 * v.size()));
+  }
+
+  // A draw through a GLSL program (its recipe: gl_programs.h).
+  void program_draw(int64_t mode, const std::vector<uint32_t>& element) {
+    const GlslProgram& pr = program(m_program);
+    if (!pr.linked) throw Error("a draw with a program that was never linked");
+    if (!pr.refusal.empty())
+      unsupported("a draw through " + pr.refusal + " (docs/real-frames.md lists the game settings that leave them out)");
+    refuse_common_state();
+    const ProgramRecipe& r = pr.recipe;
+    if (r.composite && m_fbo != 0) unsupported("a post-process into a framebuffer object");
+    // Where it draws: the window, or a framebuffer object rendering the
+    // view into a texture (composited into the window at the frame's end).
+    if (m_fbo != 0) {
+      const auto it = m_fbo_colour.find(m_fbo);
+      if (it == m_fbo_colour.end() || it->second == 0)
+        unsupported("a draw into a framebuffer object without a colour texture (a shadow map)");
+      m_view_targets.insert(it->second);
+    }
+    MaterialKey key = state_key();
+    std::vector<const ProgramRecipe::Layer*> tints;  // the recipe's layer of each key layer
+    for (const auto& l : r.layers) {
+      // A sampler the compiler left out is not sampled; one never set
+      // samples unit 0 (GLSL's initial value).
+      if (!located(pr, l.sampler)) continue;
+      const std::vector<float>* unit = uniform_value(pr, l.sampler);
+      const int u = unit && !unit->empty() ? int(unit->front()) : 0;
+      if (u < 0 || u >= int(m_unit_texture.size())) throw Error("sampler " + l.sampler + " on unit " + std::to_string(u));
+      const uint32_t name = m_unit_texture[size_t(u)];
+      if (m_view_targets.count(name)) {
+        // The view, rendered into a texture, drawn into the window whole:
+        // the frame's draws already are that image.
+        const bool copy = r.composite || (r.mode == "MODE_GENERIC" && r.layers.size() == 1);
+        if (m_fbo == 0 && copy && !m_blend) {
+          for (const auto& id : r.identity_when) {
+            const std::vector<float>* v = uniform_value(pr, id.uniform);
+            const float x = v && size_t(id.component) < v->size() ? (*v)[size_t(id.component)] : 0.0f;
+            if (x != id.value) unsupported("a post-process that changes the view (" + id.uniform + " " + std::to_string(x) + ")");
+          }
+          if (!r.gamma_ramps.empty() && !identity_ramp(pr, r.gamma_ramps))
+            unsupported("a post-process whose gamma ramps change the view");
+          ++m_composites;
+          return;
+        }
+        unsupported("a draw sampling the view it renders (post-processing)");
+      }
+      const int t = scene_texture(name);
+      if (t == -3) unsupported("a draw sampling a depth texture (a shadow map)");
+      if (t == -2) {
+        ++m_incomplete;
+        continue;
+      }
+      key.layers.push_back({t, l.coords, l.combine, 1.0f});
+      tints.push_back(&l);
+    }
+    // A uniform's value: as set; 0 where the program has it and it was
+    // never set (GLSL's initial value); `fallback` where the compiler left
+    // it out (the permutation does not read it).
+    const auto vec = [&](const std::string& name, size_t n, float fallback) {
+      std::vector<float> v(n, fallback);
+      if (name.empty()) return v;
+      const std::vector<float>* u = uniform_value(pr, name);
+      if (!u && located(pr, name)) std::fill(v.begin(), v.end(), 0.0f);
+      if (u)
+        for (size_t i = 0; i < n && i < u->size(); ++i) v[i] = (*u)[i];
+      return v;
+    };
+    const std::vector<float> rgb = vec(r.colour_rgb, 3, 1), alpha = vec(r.alpha, 1, 1);
+    key.colour = {rgb[0], rgb[1], rgb[2], alpha[0]};
+    std::string approximation = r.approximation;
+    const auto approximate = [&](const std::string& what) { approximation += (approximation.empty() ? "" : "; ") + what; };
+    if (!r.ambient.empty() && !key.layers.empty()) {
+      // diffuse x (ambient + light): the diffuse texture added again, times
+      // the ambient (exact for a grey ambient on an opaque texture).
+      // On a translucent texture the added layer would square its alpha
+      // (oovr's added layers modulate alpha): the ambient is left out there.
+      const std::vector<float> a = vec(r.ambient, 3, 0);
+      if (a[0] != 0 || a[1] != 0 || a[2] != 0) {
+        LayerKey again = key.layers.front();
+        again.combine = Combine::add;
+        again.scale = (a[0] + a[1] + a[2]) / 3;
+        if (!m_scene.textures[size_t(again.texture)].opaque) {
+          approximate("the ambient light left out on a translucent texture");
+        } else {
+          key.layers.push_back(again);
+          if (a[0] != a[1] || a[1] != a[2]) approximate("a coloured ambient light added grey");
+        }
+      }
+    }
+    if (r.alpha_kill) {
+      key.alpha_func = GL_GEQUAL;
+      key.alpha_ref = 0.5f;
+    }
+    if (r.depth_only) {
+      key.layers.clear();
+      key.colour_write = false;
+    }
+    const std::vector<float>* mvp_value = uniform_value(pr, r.mvp);
+    if (!mvp_value || mvp_value->size() != 16) throw Error("the program's " + r.mvp + " was never set");
+    Mat4 mvp, tex = Mat4::identity();
+    for (int k = 0; k < 16; ++k) mvp.m[k / 4][k % 4] = (*mvp_value)[size_t(k)];
+    if (!r.tex_matrix.empty())
+      if (const std::vector<float>* t = uniform_value(pr, r.tex_matrix); t && t->size() == 16)
+        for (int k = 0; k < 16; ++k) tex.m[k / 4][k % 4] = (*t)[size_t(k)];
+    const bool tex_identity = std::memcmp(&tex, &kIdentity, sizeof(Mat4)) == 0;
+    // The vertices the draw uses.
+    const uint32_t lo = *std::min_element(element.begin(), element.end());
+    const uint32_t hi = *std::max_element(element.begin(), element.end());
+    const uint64_t used = uint64_t(hi) - lo + 1;
+    check_limit(used, InputLimits::get().elements, "elements", "a draw", "vertices");
+    {
+      const auto it = pr.attributes.find(r.position);
+      if (it == pr.attributes.end() || !m_attribs.at(size_t(it->second)).enabled)
+        unsupported("a draw whose positions (" + r.position + ") are not a vertex array");
+      float f[4];
+      if (!attribute(pr, r.position, hi, f)) unsupported("a draw without positions");
+    }
+    std::vector<ImmediateVertex> v(static_cast<size_t>(used));
+    for (uint64_t i = 0; i < used; ++i) {
+      float f[4] = {0, 0, 0, 1};
+      attribute(pr, r.position, lo + i, f);
+      v[i].position = {f[0], f[1], f[2], f[3]};
+      float t[4] = {0, 0, 0, 1};
+      if (attribute(pr, r.uv, lo + i, t)) {
+        if (!tex_identity) {
+          const Vec4 q = transform_point(tex, Vec3{t[0], t[1], 0});
+          t[0] = q.x;
+          t[1] = q.y;
+        }
+        v[i].uv[0] = {t[0], t[1]};
+      }
+      float l[4] = {0, 0, 0, 1};
+      if (attribute(pr, r.lightmap_uv, lo + i, l)) v[i].uv[1] = {l[0], l[1]};
+      float col[4] = {1, 1, 1, 1};
+      attribute(pr, r.colour, lo + i, col);
+      v[i].colour = pack_colour(col[0], col[1], col[2], col[3]);
+    }
+    float light = 1;  // the mean light of a lit draw, for the layers added before it
+    if (!r.light_ambient.empty()) light = light_vertices(pr, r, lo, v, key.colour);
+    for (size_t i = 0; i < tints.size(); ++i) {
+      if (tints[i]->tint.empty()) continue;
+      const std::vector<float> t = vec(tints[i]->tint, 3, 0);
+      key.layers[i].scale = (t[0] + t[1] + t[2]) / 3 * (tints[i]->lit ? light : 1.0f);
+      if (t[0] != t[1] || t[1] != t[2]) approximate(tints[i]->tint + " taken grey");
+    }
+    std::vector<uint32_t> local;
+    triangles(mode, element.size(), local);
+    for (uint32_t& x : local) x = element[x] - lo;
+    if (!approximation.empty()) ++m_approximated[r.mode + ": " + approximation];
+    Mat4 p, mv;
+    split_mvp(mvp, p, mv);
+    add_draw(v, local, key, p, mv);
+  }
+
+  std::unordered_map<uint32_t, std::string> m_buffers;  // buffer objects' bytes
+  uint64_t m_buffer_bytes = 0;
+  std::array<VertexAttrib, 16> m_attribs;
+  uint32_t m_vao = 0;
+  std::unordered_map<uint32_t, std::vector<std::string>> m_shader_sources;
+  std::unordered_map<uint32_t, GlslProgram> m_programs;
+  uint32_t m_program = 0;
+  uint32_t m_fbo = 0;                                   // the framebuffer object drawn into (0: the window)
+  std::unordered_map<uint32_t, uint32_t> m_fbo_colour;  // each one's colour texture
+  std::set<uint32_t> m_view_targets;                    // textures the view was rendered into
+  bool m_separate_alpha = false;                        // glBlendFuncSeparate with other alpha factors
+  uint64_t m_composites = 0;
+  std::map<std::string, uint64_t> m_approximated;
+  std::array<double, 2> m_view_ab{0, 0};  // the view's projection's x and y scales (split_mvp)
+  uint64_t m_uneven_models = 0;           // draws whose colour a recipe approximates, by mode
+
   int select_unit(int64_t e, bool client) {
     const int64_t u = e - GL_TEXTURE0;
     if (u < 0 || u >= 32) throw Error("texture unit " + std::to_string(e));
@@ -814,7 +1473,7 @@ class Interpreter {
   }
 
   void tex_parameter(int64_t pname, double value) {
-    GlTextureObject& t = m_textures[m_bound[m_unit]];
+    GlTextureObject& t = m_textures[m_unit_texture[m_active_unit]];
     const int64_t v = int64_t(value);
     switch (pname) {
       case GL_TEXTURE_MIN_FILTER: t.min_filter = v; break;
@@ -830,7 +1489,9 @@ class Interpreter {
   // format, type, pixels) and glTexSubImage2D(target, level, xoffset,
   // yoffset, width, height, format, type, pixels).
   void tex_image(const Call& c, bool sub) {
-    if (num(c, 0) != GL_TEXTURE_2D) unsupported("a texture target other than GL_TEXTURE_2D");
+    const int64_t target = num(c, 0);
+    if (target >= GL_TEXTURE_CUBE_MAP_POSITIVE_X && target <= GL_TEXTURE_CUBE_MAP_POSITIVE_X + 5) return;  // see glBindTexture
+    if (target != GL_TEXTURE_2D) unsupported("a texture target other than GL_TEXTURE_2D");
     ++m_stats.texture_uploads;
     const int level = int(num(c, 1));
     const int64_t width = num(c, sub ? 4 : 3), height = num(c, sub ? 5 : 4);
@@ -841,6 +1502,15 @@ class Interpreter {
     if (width < 0 || height < 0 || width > lim.image_side || height > lim.image_side)
       throw Error("a texture of " + std::to_string(width) + "x" + std::to_string(height) + " texels");
     if (!sub && num(c, 5) != 0) unsupported("a texture border");
+    if (!sub && (format == GL_DEPTH_COMPONENT || format == GL_DEPTH_STENCIL) && c.arg(8).kind == Value::Kind::null) {
+      // A depth texture a framebuffer object renders into (a shadow map):
+      // no colour to sample; a draw that samples it is refused.
+      GlTextureObject& t = m_textures[m_unit_texture[m_active_unit]];
+      t.levels.clear();
+      t.depth = true;
+      t.scene_index = -1;
+      return;
+    }
     if (type != GL_UNSIGNED_BYTE) unsupported("texel type " + std::to_string(type) + " (only GL_UNSIGNED_BYTE)");
     int channels = 0;
     switch (format) {
@@ -855,13 +1525,17 @@ class Interpreter {
       default: unsupported("texel format " + std::to_string(format));
     }
     check_limit(uint64_t(width) * uint64_t(height), lim.image_texels, "image_texels", "a texture upload", "texels");
-    GlTextureObject& t = m_textures[m_bound[m_unit]];
+    GlTextureObject& t = m_textures[m_unit_texture[m_active_unit]];
+    t.depth = false;
     if (!sub) {
       t.base_format = base_format(num(c, 2));
       // Sized formats of fewer than 8 bits a channel (RGB4, RGB5, RGBA2,
       // RGBA4, RGB5_A1, R3_G3_B2): a driver may store fewer bits, oovr keeps 8.
       const int64_t f = num(c, 2);
       if (f == 0x804F || f == 0x8050 || f == 0x8055 || f == 0x8056 || f == 0x8057 || f == 0x2A10) ++m_low_bit_uploads;
+      // Uncompressed texels with an S3TC internal format: the driver
+      // compresses them (lossy, 4 or 8 bits a texel); oovr keeps them.
+      if (f >= 0x83F0 && f <= 0x83F3) ++m_compressed_uploads;
     }
     MipLevel& dst = t.levels[level];
     int64_t x0 = 0, y0 = 0;
@@ -869,7 +1543,8 @@ class Interpreter {
       x0 = num(c, 2);
       y0 = num(c, 3);
       if (x0 < 0 || y0 < 0 || x0 + width > dst.width || y0 + height > dst.height)
-        throw Error("a sub-image outside level " + std::to_string(level) + " of texture " + std::to_string(m_bound[m_unit]));
+        throw Error("a sub-image outside level " + std::to_string(level) + " of texture " +
+                    std::to_string(m_unit_texture[m_active_unit]));
     } else {
       // Every level of every texture counts against the scene's bytes.
       m_texel_bytes -= dst.rgba.size();
@@ -949,7 +1624,8 @@ class Interpreter {
       case 0x8052:
       case 0x8053:
       case 0x8054:
-      case 0x2A10: return GL_RGB;
+      case 0x2A10:
+      case 0x83F0: return GL_RGB;  // COMPRESSED_RGB_S3TC_DXT1
       case 4:
       case GL_RGBA:
       case 0x8055:
@@ -957,7 +1633,10 @@ class Interpreter {
       case 0x8057:
       case 0x8058:
       case 0x8059:
-      case 0x805A: return GL_RGBA;
+      case 0x805A:
+      case 0x83F1:  // COMPRESSED_RGBA_S3TC_DXT1, DXT3, DXT5
+      case 0x83F2:
+      case 0x83F3: return GL_RGBA;
       case 1:
       case GL_LUMINANCE:
       case 0x803F:
@@ -984,6 +1663,7 @@ class Interpreter {
   // The Scene texture of GL texture `name` now, made when it changed.
   int scene_texture(uint32_t name) {
     auto it = m_textures.find(name);
+    if (it != m_textures.end() && it->second.depth) return -3;                 // a shadow map
     if (it == m_textures.end() || it->second.levels.count(0) == 0) return -2;  // incomplete: GL samples nothing
     GlTextureObject& t = it->second;
     if (t.scene_index >= 0) return t.scene_index;
@@ -1042,15 +1722,25 @@ class Interpreter {
     return t.scene_index;
   }
 
+  // State refused at a fixed-function draw.
   void refuse_state() const {
+    refuse_common_state();
+    if (m_shade_model == GL_FLAT) unsupported("a draw with flat shading");
+    if (m_draw_buffer != GL_BACK && m_draw_buffer != GL_BACK_LEFT) unsupported("a draw into a buffer other than the back buffer");
+    if (m_array_buffer || m_element_buffer) unsupported("a fixed-function draw from buffer objects");
+    if (m_unit_high || m_client_unit_high) unsupported("a draw with a texture unit beyond the second selected");
+    if (std::memcmp(&m_texture_matrix.back(), &kIdentity, sizeof(Mat4)) != 0) unsupported("a draw with a texture matrix");
+    if (m_fbo != 0) unsupported("a fixed-function draw into a framebuffer object");
+  }
+
+  // State refused at any draw, through a program or not.
+  void refuse_common_state() const {
     for (const auto& [cap, what] : m_refused)
       if (!what.empty()) unsupported("a draw with " + what);
     if (m_polygon_mode != GL_FILL) unsupported("a draw with polygons drawn as lines or points (glPolygonMode)");
-    if (m_shade_model == GL_FLAT) unsupported("a draw with flat shading");
-    if (m_draw_buffer != GL_BACK && m_draw_buffer != GL_BACK_LEFT) unsupported("a draw into a buffer other than the back buffer");
-    if (m_array_buffer || m_element_buffer) unsupported("a draw from buffer objects");
-    if (m_unit_high || m_client_unit_high) unsupported("a draw with a texture unit beyond the second selected");
-    if (std::memcmp(&m_texture_matrix.back(), &kIdentity, sizeof(Mat4)) != 0) unsupported("a draw with a texture matrix");
+    if (m_blend && m_separate_alpha &&
+        (m_src == GL_DST_ALPHA || m_src == GL_ONE_MINUS_DST_ALPHA || m_dst == GL_DST_ALPHA || m_dst == GL_ONE_MINUS_DST_ALPHA))
+      unsupported("a blend by the destination's alpha, which another alpha blend function wrote");
     const auto& cm = m_colour_mask;
     if (!(cm[0] == cm[1] && cm[1] == cm[2] && cm[2] == cm[3])) unsupported("a draw with some colour channels masked");
     if (m_cull && m_cull_face == GL_FRONT_AND_BACK) unsupported("a draw with both faces culled");
@@ -1079,27 +1769,18 @@ class Interpreter {
     Material m;
     m.name = "gl state " + std::to_string(m_materials.size());
     Pass p;
-    for (int u = 0; u < kUnits; ++u) {
-      if (k.texture[u] < 0) continue;
+    for (const LayerKey& lk : k.layers) {
       TextureLayer l;
-      l.kind = u == 0 ? LayerKind::diffuse : LayerKind::lightmap;
-      l.texture = k.texture[u];
-      l.coords = u == 0 ? TexCoords::surface : TexCoords::lightmap;
-      l.scale = k.scale[u];
-      switch (k.env[u]) {
-        case GL_MODULATE: l.combine = Combine::modulate; break;
-        case GL_ADD:
-          if (p.layers.empty()) unsupported("GL_ADD on the first enabled texture unit");
-          l.combine = Combine::add;
-          break;
-        case GL_REPLACE:
-          if (!p.layers.empty()) unsupported("GL_REPLACE on the second texture unit");
-          l.combine = Combine::replace;
-          break;
-        default: unsupported("texture environment mode " + std::to_string(k.env[u]));
-      }
+      l.kind = p.layers.empty() ? LayerKind::diffuse : LayerKind::lightmap;
+      l.texture = lk.texture;
+      l.coords = lk.coords;
+      l.scale = lk.scale;
+      l.combine = lk.combine;
+      if (lk.combine == Combine::add && p.layers.empty()) unsupported("GL_ADD on the first enabled texture unit");
+      if (lk.combine == Combine::replace && !p.layers.empty()) unsupported("GL_REPLACE on the second texture unit");
       p.layers.push_back(l);
     }
+    p.colour = {k.colour[0], k.colour[1], k.colour[2], k.colour[3]};
     p.src = blend_factor(k.src);
     p.dst = blend_factor(k.dst);
     switch (k.alpha_func) {
@@ -1128,31 +1809,45 @@ class Interpreter {
     return m_materials[k] = int(m_scene.materials.size()) - 1;
   }
 
-  MaterialKey state_key() {
-    MaterialKey k;
+  // The fixed-function units' layers (at most two: kUnits).
+  std::vector<LayerKey> unit_layers() {
+    int texture[kUnits] = {-1, -1};
     for (int u = 0; u < kUnits; ++u) {
       if (!m_texture_2d[u]) continue;
-      const int t = scene_texture(m_bound[u]);
+      const int t = scene_texture(m_unit_texture[u]);
+      if (t == -3) unsupported("a draw sampling a depth texture (a shadow map)");
       if (t == -2) {
         // An incomplete texture: OpenGL disables the unit's texturing.
         ++m_incomplete;
         continue;
       }
-      k.texture[u] = t;
+      texture[u] = t;
     }
+    std::vector<LayerKey> layers;
     for (int u = 0; u < kUnits; ++u) {
-      if (k.texture[u] < 0) continue;
-      const bool first = u == 0 || k.texture[0] < 0, last = u == kUnits - 1 || k.texture[u + 1] < 0;
-      std::tie(k.env[u], k.scale[u]) = resolve_env(u, first, last, m_scene.textures[size_t(k.texture[u])].opaque);
+      if (texture[u] < 0) continue;
+      const bool first = layers.empty(), last = u == kUnits - 1 || texture[u + 1] < 0;
+      const auto [env, scale] = resolve_env(u, first, last, m_scene.textures[size_t(texture[u])].opaque);
+      LayerKey l;
+      l.texture = texture[u];
+      // Unit 1 alone is drawn as the first layer, from its own coordinates.
+      l.coords = u == 0 ? TexCoords::surface : TexCoords::lightmap;
+      l.scale = scale;
+      switch (env) {
+        case GL_MODULATE: l.combine = Combine::modulate; break;
+        case GL_ADD: l.combine = Combine::add; break;
+        case GL_REPLACE: l.combine = Combine::replace; break;
+        default: unsupported("texture environment mode " + std::to_string(env));
+      }
+      layers.push_back(l);
     }
-    if (k.texture[0] < 0 && k.texture[1] >= 0) {  // unit 1 alone: move it to the first layer's place
-      k.texture[0] = k.texture[1];
-      k.env[0] = k.env[1];
-      k.scale[0] = k.scale[1];
-      k.texture[1] = -1;
-      k.scale[1] = 1;
-      m_unit1_alone = true;
-    }
+    if (texture[0] < 0 && texture[1] >= 0) m_unit1_alone = true;
+    return layers;
+  }
+
+  // The fragment state of a draw (blending, tests, masks, culling, offset).
+  MaterialKey state_key() {
+    MaterialKey k;
     if (m_blend) {
       k.src = m_src;
       k.dst = m_dst;
@@ -1215,7 +1910,13 @@ class Interpreter {
 
   // Reads element `i` of a client array as `n` floats (missing ones as in
   // OpenGL: 0, 0, 0, 1); colours of unsigned bytes are normalised.
-  static bool fetch(const ClientArray& a, uint64_t i, float out[4]) {
+  // `base` and `size`: the bytes to read instead of the array's own (a
+  // buffer object's, from the attribute's offset).
+  static bool fetch(const ClientArray& a, uint64_t i, float out[4], const char* base = nullptr, size_t size = 0) {
+    if (!base) {
+      base = a.data.data();
+      size = a.data.size();
+    }
     int bytes = 0;
     switch (a.type) {
       case GL_FLOAT: bytes = 4; break;
@@ -1230,10 +1931,10 @@ class Interpreter {
     }
     const uint64_t stride = a.stride ? uint64_t(a.stride) : uint64_t(bytes) * uint64_t(a.size);
     const uint64_t at = i * stride;
-    if (at + uint64_t(bytes) * uint64_t(a.size) > a.data.size()) return false;
+    if (i > (uint64_t(1) << 40) || at + uint64_t(bytes) * uint64_t(a.size) > size) return false;
     out[0] = out[1] = out[2] = 0;
     out[3] = 1;
-    const char* p = a.data.data() + at;
+    const char* p = base + at;
     for (int k = 0; k < a.size; ++k) {
       const char* q = p + k * bytes;
       switch (a.type) {
@@ -1333,7 +2034,16 @@ class Interpreter {
     add_draw(m_immediate, local);
   }
 
+  // Whether draws now go to the window or a framebuffer object with a
+  // colour texture (not a shadow map's).
+  bool draws_colour() const {
+    if (m_fbo == 0) return true;
+    const auto it = m_fbo_colour.find(m_fbo);
+    return it != m_fbo_colour.end() && it->second != 0;
+  }
+
   void clear(uint64_t mask) {
+    if (!draws_colour()) return;  // a shadow map's clear: no draw of the view lands there
     if (mask & GL_STENCIL_BUFFER_BIT) {
       // The stencil buffer is not drawn with (the stencil test is refused).
     }
@@ -1439,15 +2149,23 @@ class Interpreter {
     return int(m_scene.meshes.size()) - 1;
   }
 
+  // A fixed-function draw: the units' layers and the fragment state, the
+  // modelview and projection matrices.
   void add_draw(const std::vector<ImmediateVertex>& v, const std::vector<uint32_t>& indices) {
+    MaterialKey key = state_key();
+    key.layers = unit_layers();
+    add_draw(v, indices, key, m_projection.back(), m_modelview.back());
+  }
+
+  // A draw: projected by p x modelview (vertices in object space).
+  void add_draw(const std::vector<ImmediateVertex>& v, const std::vector<uint32_t>& indices, const MaterialKey& key,
+                const Mat4& p, const Mat4& modelview) {
     ++m_stats.draws;
     if (m_window_w <= 0 || m_window_h <= 0) throw Error("a draw before any glViewport");
-    const MaterialKey key = state_key();
     Object o;
     o.mesh = mesh(v, indices);
     o.material = material(key);
     m_stats.triangles += indices.size() / 3;
-    const Mat4& p = m_projection.back();
     // Orthographic (a last row of 0 0 0 1): a 2-D draw, alike in both eyes.
     const bool ortho = p.at(3, 0) == 0 && p.at(3, 1) == 0 && p.at(3, 2) == 0 && p.at(3, 3) == 1;
     o.view = ortho ? DrawView::screen : DrawView::captured;
@@ -1466,7 +2184,7 @@ class Interpreter {
     // Identity folds (the whole window, depth range 0 to 1) leave the
     // game's matrices exact.
     o.clip_from_eye = std::memcmp(&fold, &kIdentity, sizeof(Mat4)) == 0 ? p : fold * p;
-    o.world_from_object = m_modelview.back();
+    o.world_from_object = modelview;
     ViewRect r = rect(m_viewport);
     if (m_scissor_test) {
       const ViewRect s = rect(m_scissor);
@@ -1502,13 +2220,14 @@ class Interpreter {
   float m_alpha_ref = 0, m_offset_factor = 0, m_offset_units = 0;
   bool m_depth_mask = true;
   std::array<bool, 4> m_colour_mask{true, true, true, true};
-  std::map<int64_t, std::string> m_refused;  // state a draw is refused with, by capability
-  bool m_array_buffer = false, m_element_buffer = false;
+  std::map<int64_t, std::string> m_refused;           // state a draw is refused with, by capability
+  uint32_t m_array_buffer = 0, m_element_buffer = 0;  // bound buffer objects
   bool m_unit_high = false, m_client_unit_high = false;
 
   int m_unit = 0, m_client_unit = 0;
   bool m_texture_2d[kUnits] = {false, false};
-  uint32_t m_bound[kUnits] = {0, 0};
+  int m_active_unit = 0;                      // glActiveTexture's unit (m_unit: the same, at most kUnits - 1)
+  std::array<uint32_t, 32> m_unit_texture{};  // the 2-D texture bound on each unit
   TexEnv m_env[kUnits];
   std::unordered_map<uint32_t, GlTextureObject> m_textures;
   int m_unpack_alignment = 4, m_unpack_row_length = 0, m_unpack_skip_rows = 0, m_unpack_skip_pixels = 0;
@@ -1524,7 +2243,7 @@ class Interpreter {
   std::unordered_map<uint64_t, int> m_meshes;
   int m_clamp_notes = 0, m_mip_notes = 0, m_incomplete = 0, m_filter_notes = 0;
   uint64_t m_texel_bytes = 0;  // of every level uploaded
-  int m_low_bit_uploads = 0;
+  int m_low_bit_uploads = 0, m_compressed_uploads = 0;
   bool m_unit1_alone = false;
 };
 

@@ -1,11 +1,14 @@
 // Captured game frames as scene sources (scene/formats/gl_trace.h):
 //
-//   trace:PATH[?frames=A-B]   any apitrace capture of a fixed-function
-//                              OpenGL game; frames A to B (default 0-63)
+//   trace:PATH[?frames=A-B]   any apitrace capture of an OpenGL game
+//                              oovr's interpreter reads (fixed-function
+//                              OpenGL 1.x, or DarkPlaces' GLSL renderer);
+//                              frames A to B (default 0-63)
 //   oa-demo:NAME[?frames=A-B] a demo OpenArena ships, captured by
 //                              scripts/capture-frames.sh into oovr's
 //                              capture folder; frames as the script chose
 //                              them unless given
+//   nexuiz-demo:NAME[?frames=A-B] the same for a demo Nexuiz ships
 //
 // The camera path is the capture's frames: frame k of the scene is frame
 // A + k of the game.
@@ -155,6 +158,14 @@ const SceneSources::Add oa_reg("oa-demo", {"openarena demo", "oa-demo:NAME[?fram
                                              return load_capture("openarena", spec, name, options);
                                            },
                                            capture_directory});
+
+const SceneSources::Add nexuiz_reg("nexuiz-demo",
+                                   {"nexuiz demo", "nexuiz-demo:NAME[?frames=A-B]", true, 0,
+                                    [] { return list_captures("nexuiz", "nexuiz-demo", "nexuiz demo"); }, nullptr,
+                                    [](const std::string& spec, const std::string& name, const SceneOptions& options) {
+                                      return load_capture("nexuiz", spec, name, options);
+                                    },
+                                    capture_directory});
 
 }  // namespace
 }  // namespace oovr

@@ -1,0 +1,67 @@
+#!/bin/sh
+# A short capture of a GLSL game (docs/real-frames.md, "GLSL games"):
+# scripts/capture-frames.sh records Nexuiz's benchmark demo bench1, drawn
+# by DarkPlaces' OpenGL 3.2 renderer, under apitrace up to frame 107, and
+# glretrace snapshots frames 100 to 107; then
+#  - oovr's mono image of each frame must reach 30 dB PSNR against
+#    glretrace's (the programs' colours are approximated where oovr's
+#    passes cannot compute them; 30 to 36 dB measured over frames 100 to
+#    163, docs/validation.md);
+#  - oovr's draws and triangles of each frame must be what `apitrace dump`
+#    lists, less the one draw a frame that copies the view into the window.
+# Exit 77 (skipped) when apitrace, Xvfb, Nexuiz's engine or its data is
+# missing (scripts/install-deps.sh --capture --game-data installs them).
+#
+#   capture_nexuiz.sh OOVR WORKDIR SOURCE_DIR
+set -eu
+oovr=$1
+work=$2
+src=$3
+for tool in apitrace glretrace xvfb-run /usr/games/nexuiz; do
+  if ! command -v "$tool" >/dev/null 2>&1; then
+    echo "skipped: $tool is not installed (scripts/install-deps.sh --capture)"
+    exit 77
+  fi
+done
+if [ ! -f /usr/share/games/nexuiz/data/data.pk3 ]; then
+  echo "skipped: Nexuiz's data is not installed (scripts/install-deps.sh --game-data)"
+  exit 77
+fi
+rm -rf "$work"
+mkdir -p "$work"
+export OOVR_CAPTURE_DIR="$work/captures" OOVR_CACHE_DIR="$work/cache"
+OOVR="$oovr" "$src/scripts/capture-frames.sh" nexuiz --frames 100-107
+"$oovr" scenes | grep -q "^nexuiz-demo:bench1 "
+status=0
+"$oovr" check-capture --scene nexuiz-demo:bench1 --snapshots "$work/captures/nexuiz-bench1.snapshots" --min-psnr 30 \
+  --min-frames 8 >"$work/check.txt" 2>&1 || status=$?
+cat "$work/check.txt"
+[ "$status" -eq 0 ] || exit 1
+
+# What apitrace lists, frame by frame: "frame draws triangles".
+apitrace dump --color=never "$work/captures/nexuiz-bench1.trace" 2>/dev/null | awk '
+  function tris(mode, n) {
+    if (mode == "GL_TRIANGLES") return int(n / 3)
+    if (mode == "GL_TRIANGLE_STRIP" || mode == "GL_TRIANGLE_FAN") return n >= 3 ? n - 2 : 0
+    return -1000000
+  }
+  function arg(name,   m) { if (match($0, name " = [A-Z_0-9]+")) { m = substr($0, RSTART, RLENGTH); sub(/.* = /, "", m); return m } return "" }
+  / glXSwapBuffers\(/ { if (frame >= 100 && frame <= 107) print frame, draws, triangles; frame++; draws = 0; triangles = 0; next }
+  / gl(DrawElements|DrawRangeElements|DrawArrays)\(/ { draws++; triangles += tris(arg("mode"), arg("count")); next }
+' >"$work/dump.txt"
+# oovr's rows (game frame, draws, triangles), with the copy of the view
+# into the window (the last draw of each frame, 2 triangles) added back.
+awk 'NF == 5 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9]+$/ { print $1, $2 + 1, $3 + 2 }' "$work/check.txt" >"$work/oovr.txt"
+echo "apitrace dump:"
+cat "$work/dump.txt"
+[ "$(wc -l <"$work/dump.txt")" -eq 8 ] || { echo "apitrace dump listed $(wc -l <"$work/dump.txt") frames of 100 to 107"; exit 1; }
+if ! cmp -s "$work/dump.txt" "$work/oovr.txt"; then
+  echo "draws or triangles differ from apitrace dump's:"
+  diff "$work/dump.txt" "$work/oovr.txt" || true
+  exit 1
+fi
+# The import says what it stood in for: one copy of the view a frame.
+"$oovr" scene-info --scene nexuiz-demo:bench1 >"$work/info.txt"
+grep -q "8 draws copied the view, rendered into a texture, into the window" "$work/info.txt" ||
+  { cat "$work/info.txt"; echo "the copies of the view are not counted"; exit 1; }
+echo "capture-nexuiz-ok: 8 frames, draws and triangles as apitrace dump lists them"
