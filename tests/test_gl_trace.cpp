@@ -480,14 +480,14 @@ class Gl3Game {
 };
 
 // A perspective projection (90 degrees, near 1, far 100) times a rotation
-// about y by 90 degrees and a translation: what a game's camera makes.
+// about the view axis by 90 degrees and a translation: what a game's camera makes.
 std::vector<float> camera_mvp(Mat4& p, Mat4& mv) {
   p = Mat4{};
   p.at(2, 2) = -101.0f / 99;
   p.at(2, 3) = -200.0f / 99;
   p.at(3, 2) = -1;
   p.at(3, 3) = 0;
-  mv = rotate({0, 1, 0}, radians(90.0f)) * translate({0, 0, -3});
+  mv = rotate({0, 0, 1}, radians(90.0f)) * translate({0, 0, -3});
   const Mat4 mvp = p * mv;
   std::vector<float> out;
   for (int k = 0; k < 16; ++k) out.push_back(mvp.m[k / 4][k % 4]);
@@ -521,8 +521,25 @@ TEST(GlTrace, AProgramsDrawTakesItsPositionsFromItsMatrixUniformAndItsPassFromIt
   ASSERT_EQ(m.colours.size(), 4u);  // the disabled colour attribute's constant
   EXPECT_EQ(m.colours[0], 0xFFFF80FFu);
   const Pass& pass = s.pass_of(o);
-  ASSERT_EQ(pass.layers.size(), 1u);
+  // Texture_First combined; Texture_Color, which this program kept (it has
+  // a location) though a generic permutation does not combine it, fetched.
+  ASSERT_EQ(pass.layers.size(), 2u);
+  EXPECT_EQ(pass.layers[0].combine, Combine::modulate);
   EXPECT_EQ(s.textures[size_t(pass.layers[0].texture)].width(), 2);
+  EXPECT_EQ(pass.layers[1].combine, Combine::fetch);
+
+  // A fetch layer is sampled (counted) and changes no pixel.
+  StereoRig rig;
+  rig.eye_width = 64;
+  rig.eye_height = 48;
+  const StereoView view = make_stereo_view(s.camera, 0, rig);
+  const FrameOutput with = render_frame(s, view, PipelineSettings{}, 0);
+  Scene without = s;
+  without.materials[size_t(o.material)].passes[size_t(o.pass)].layers.pop_back();
+  const FrameOutput plain = render_frame(without, view, PipelineSettings{}, 0);
+  ASSERT_GT(plain.trace.total_passed(), 0u);
+  EXPECT_EQ(with.colour.rgba, plain.colour.rgba);
+  EXPECT_EQ(with.trace.layer_fetches(), 2 * plain.trace.layer_fetches());
 }
 
 TEST(GlTrace, TheViewRenderedIntoATextureAndCopiedIntoTheWindowIsTheViewsDraws) {

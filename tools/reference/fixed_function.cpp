@@ -26,6 +26,7 @@ std::string pass_refusal(const Pass& p) {
   for (size_t i = 0; i < p.layers.size(); ++i) {
     const TextureLayer& l = p.layers[i];
     if (!identity_transform(l)) return "texture coordinates moved by tcMod (a texture matrix)";
+    if (l.combine == Combine::fetch) return "a layer sampled and not combined";
     if (l.scale != 1.0f && l.scale != 2.0f && l.scale != 4.0f)
       return "a layer scale of " + std::to_string(l.scale) + " (GL_RGB_SCALE takes 1, 2 or 4)";
     if (l.combine == Combine::add && (i == 0 || l.scale != 1.0f)) return "an added layer first or scaled";

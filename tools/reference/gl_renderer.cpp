@@ -130,6 +130,10 @@ std::string fragment_shader(const Pass& pass, bool coverage) {
     body += "  vec4 c = colour;\n";
   } else {
     body += "  vec4 c;\n";
+    for (const TextureLayer& l : pass.layers)
+      if (l.combine == Combine::fetch || l.combine == Combine::replace)
+        throw std::runtime_error(
+            "a layer the reference does not combine (a captured game's): it draws built-in scenes and levels");
     for (int i = 0; i < n; ++i) {
       const std::string k = idx(i), t = std::string("s").append(k);  // appended: GCC 12 warns falsely on "s" + string
       body += "  vec4 " + t + " = sample_layer(" + k + ", " + coords(size_t(i)) + ");\n";

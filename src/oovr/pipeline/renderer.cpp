@@ -692,6 +692,7 @@ class TileRasterizer {
             for (int p = 0; p < 4; ++p)
               if (live & (1u << p)) texel[p] = detail::sample(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
           }
+          if (L.combine == Combine::fetch && !deluxe) continue;  // sampled (counted), not combined
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
             const detail::Rgba& s = texel[p];

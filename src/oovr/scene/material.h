@@ -50,8 +50,11 @@ struct UvTransform {
 // factor, applies to the texel's RGB); add adds the texel's RGB x scale
 // (fixed function's GL_ADD for RGB; alpha still multiplies); replace, on
 // the first layer only, takes the texel as it is: neither the pass colour
-// nor the vertex colours multiply it (fixed function's GL_REPLACE).
-enum class Combine : uint8_t { modulate, add, replace };
+// nor the vertex colours multiply it (fixed function's GL_REPLACE); fetch
+// samples the texel and leaves the colour as it is: a texture a captured
+// game's shader reads for what oovr does not draw (a lit model's normal and
+// gloss maps), so that its fetches and memory traffic are counted.
+enum class Combine : uint8_t { modulate, add, replace, fetch };
 
 struct TextureLayer {
   LayerKind kind = LayerKind::diffuse;

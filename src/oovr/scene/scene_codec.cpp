@@ -238,7 +238,7 @@ std::optional<Scene> decode_scene(std::string_view bytes, std::string* why) {
         int32_t tex = 0;
         uint64_t mods = 0;
         if (!(r.enumeration(l.kind, LayerKind::detail) && r.pod(tex) && r.enumeration(l.coords, TexCoords::lightmap) &&
-              r.enumeration(l.combine, Combine::replace) && r.pod(l.scale) && r.count(mods, 9)))
+              r.enumeration(l.combine, Combine::fetch) && r.pod(l.scale) && r.count(mods, 9)))
           return fail("a texture layer is truncated or out of range");
         l.texture = tex;
         l.mods.resize(size_t(mods));

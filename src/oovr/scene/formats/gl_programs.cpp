@@ -35,6 +35,31 @@ bool neutral(const std::string& d) {
 
 }  // namespace
 
+const std::vector<std::string>& darkplaces_2d_samplers() {
+  // Not the cube maps (Texture_Cube, Texture_ReflectCube,
+  // Texture_CubeProjection), the 3-D bounce grid or the shadow map, which
+  // the permutations oovr draws do not read.
+  static const std::vector<std::string> names = {"Texture_First",
+                                                 "Texture_Second",
+                                                 "Texture_Color",
+                                                 "Texture_Lightmap",
+                                                 "Texture_Deluxemap",
+                                                 "Texture_Normal",
+                                                 "Texture_Gloss",
+                                                 "Texture_Glow",
+                                                 "Texture_Pants",
+                                                 "Texture_Shirt",
+                                                 "Texture_SecondaryColor",
+                                                 "Texture_SecondaryNormal",
+                                                 "Texture_SecondaryGloss",
+                                                 "Texture_SecondaryGlow",
+                                                 "Texture_Attenuation",
+                                                 "Texture_FogMask",
+                                                 "Texture_FogHeightTexture",
+                                                 "Texture_ReflectMask"};
+  return names;
+}
+
 // DarkPlaces' shader (shader_glsl.h, 2018): gl_Position is
 // ModelViewProjectionMatrix * Attrib_Position in every mode; the surface's
 // coordinates are TexMatrix * Attrib_TexCoord0, the lightmap's

@@ -72,6 +72,11 @@ struct ProgramRecipe {
   std::string light_dir, normal, light_ambient, light_diffuse;
 };
 
+// DarkPlaces' 2-D texture samplers: those of them a program keeps (the
+// compiler drops what a permutation does not read) are what it fetches;
+// the ones a recipe does not combine are drawn as fetch layers.
+const std::vector<std::string>& darkplaces_2d_samplers();
+
 // The recipe of a DarkPlaces permutation; throws Error naming the programs
 // oovr does not draw ("DarkPlaces' MODE_WATER programs").
 ProgramRecipe darkplaces_recipe(const std::set<std::string>& defines);

@@ -1336,6 +1336,19 @@ class Interpreter {
     // A uniform's value: as set; 0 where the program has it and it was
     // never set (GLSL's initial value); `fallback` where the compiler left
     // it out (the permutation does not read it).
+    // What else the program samples: fetched, not combined (their fetches
+    // and traffic counted; gl_programs.h).
+    for (const std::string& sampler : darkplaces_2d_samplers()) {
+      if (!located(pr, sampler)) continue;
+      bool drawn = false;
+      for (const auto& l : r.layers) drawn = drawn || l.sampler == sampler;
+      if (drawn) continue;
+      const std::vector<float>* unit = uniform_value(pr, sampler);
+      const int u = unit && !unit->empty() ? int(unit->front()) : 0;
+      if (u < 0 || u >= int(m_unit_texture.size())) continue;
+      const int t = scene_texture(m_unit_texture[size_t(u)]);
+      if (t >= 0) key.layers.push_back({t, TexCoords::surface, Combine::fetch, 1.0f});
+    }
     const auto vec = [&](const std::string& name, size_t n, float fallback) {
       std::vector<float> v(n, fallback);
       if (name.empty()) return v;
