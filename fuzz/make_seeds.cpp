@@ -62,6 +62,33 @@ int main(int argc, char** argv) {
     std::string file = std::string(1, '\1') + w.finish();
     write(dir / "apitrace" / "stream", std::vector<uint8_t>(stream.begin(), stream.end()));
     write(dir / "apitrace" / "file", std::vector<uint8_t>(file.begin(), file.end()));
+    // An OpenGL 3 frame in DarkPlaces' manner: a lightmapped permutation
+    // drawn into a framebuffer object's texture, a generic one copying it
+    // into the window.
+    oovr::test::TraceWriter g3;
+    g3.gl_viewport(64, 48);
+    g3.gl_texture_2x2(7, std::vector<uint8_t>(16, 200));
+    g3.call("glBindFramebuffer", {{"target", g3.e("GL_FRAMEBUFFER", 0x8D40)}, {"framebuffer", g3.u(3)}});
+    g3.call("glFramebufferTexture2D", {{"target", g3.e("GL_FRAMEBUFFER", 0x8D40)},
+                                       {"attachment", g3.e("GL_COLOR_ATTACHMENT0", 0x8CE0)},
+                                       {"textarget", g3.e("GL_TEXTURE_2D", 0x0DE1)},
+                                       {"texture", g3.u(9)},
+                                       {"level", g3.i(0)}});
+    g3.gl_program(5, {"MODE_LIGHTMAP", "USEGLOW"});
+    g3.gl_uniform_matrix({1, 0, 0, 0, 0, 1.333f, 0, 0, 0, 0, -1.02f, -1, 0, 0, -2.02f, 0});
+    g3.call("glUniform1i", {{"location", g3.i(2)}, {"v0", g3.i(0)}});
+    g3.call("glUniform3f", {{"location", g3.i(3)}, {"v0", g3.f(1)}, {"v1", g3.f(0.5f)}, {"v2", g3.f(1)}});
+    g3.gl_buffer_quad(-5);
+    g3.call("glBindFramebuffer", {{"target", g3.e("GL_FRAMEBUFFER", 0x8D40)}, {"framebuffer", g3.u(0)}});
+    g3.gl_program(6, {"MODE_POSTPROCESS", "USEVIEWTINT"});
+    g3.gl_uniform_matrix({2.0f / 64, 0, 0, 0, 0, -2.0f / 48, 0, 0, 0, 0, -1, 0, -1, 1, 0, 1});
+    g3.call("glBindTexture", {{"target", g3.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", g3.u(9)}});
+    g3.gl_buffer_quad(0);
+    g3.call("glXSwapBuffers", {{"dpy", g3.opaque(1)}, {"drawable", g3.u(2)}});
+    std::string gl3_stream = std::string(1, '\0') + g3.stream();
+    std::string gl3_file = std::string(1, '\1') + g3.finish();
+    write(dir / "apitrace" / "gl3_stream", std::vector<uint8_t>(gl3_stream.begin(), gl3_stream.end()));
+    write(dir / "apitrace" / "gl3_file", std::vector<uint8_t>(gl3_file.begin(), gl3_file.end()));
     // The same frame imported, as a cached import (fuzz_trace reads its
     // input as one too).
     oovr::GlTraceWindow window;

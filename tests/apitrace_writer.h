@@ -154,6 +154,70 @@ class TraceWriter {
                           {"pixels", blob(rgba)}});
   }
 
+  // An OpenGL 3 game in DarkPlaces' manner (gl_programs.h): program `id`
+  // of one permutation (each define in its own source string, the shader's
+  // body last), its attributes bound by name, the locations of its matrix,
+  // samplers and colours asked for (0 to 4) and the program used.
+  uint64_t gl_program(uint64_t id, const std::vector<std::string>& defines) {
+    const uint64_t shader = id + 100;
+    call("glCreateShader", {{"type", e("GL_FRAGMENT_SHADER", 0x8B30)}}, u(shader));
+    std::vector<std::string> strings = {str("#version 140\n")};
+    for (const auto& d : defines) strings.push_back(str("#define " + d + "\n"));
+    strings.push_back(str("#define NOT_A_PERMUTATION\nvoid main() {}\n"));  // the body: its #defines are not permutations
+    call("glShaderSource",
+         {{"shader", u(shader)}, {"count", i(int64_t(strings.size()))}, {"string", array(strings)}, {"length", null()}});
+    call("glCreateProgram", {}, u(id));
+    call("glAttachShader", {{"program", u(id)}, {"shader", u(shader)}});
+    const char* names[] = {"Attrib_Position", "Attrib_Color", "Attrib_TexCoord0"};
+    for (int k = 0; k < 3; ++k)
+      call("glBindAttribLocation", {{"program", u(id)}, {"index", u(uint64_t(k))}, {"name", str(names[k])}});
+    call("glLinkProgram", {{"program", u(id)}});
+    call("glUseProgram", {{"program", u(id)}});
+    const char* uniforms[] = {"ModelViewProjectionMatrix", "Texture_First", "Texture_Color", "Color_Diffuse", "Alpha"};
+    for (int k = 0; k < 5; ++k) call("glGetUniformLocation", {{"program", u(id)}, {"name", str(uniforms[k])}}, i(k));
+    return id;
+  }
+  void gl_uniform_matrix(const std::vector<float>& m) {
+    std::vector<std::string> items;
+    for (float x : m) items.push_back(f(x));
+    call("glUniformMatrix4fv", {{"location", i(0)}, {"count", i(1)}, {"transpose", e("GL_FALSE", 0)}, {"value", array(items)}});
+  }
+  // A quad at depth z (in a vertex buffer), drawn through the program in use.
+  void gl_buffer_quad(float z) {
+    const std::vector<float> xyz = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    const std::vector<float> st = {0, 0, 1, 0, 1, 1, 0, 1};
+    const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
+    call("glBindBuffer", {{"target", e("GL_ARRAY_BUFFER", 0x8892)}, {"buffer", u(1)}});
+    call("glBufferData",
+         {{"target", e("GL_ARRAY_BUFFER", 0x8892)}, {"size", i(4096)}, {"data", null()}, {"usage", e("GL_STREAM_DRAW", 0x88E0)}});
+    call("glBufferSubData", {{"target", e("GL_ARRAY_BUFFER", 0x8892)}, {"offset", i(64)}, {"size", i(48)}, {"data", blob(xyz)}});
+    call("glBufferSubData", {{"target", e("GL_ARRAY_BUFFER", 0x8892)}, {"offset", i(112)}, {"size", i(32)}, {"data", blob(st)}});
+    call("glEnableVertexAttribArray", {{"index", u(0)}});
+    call("glVertexAttribPointer", {{"index", u(0)},
+                                   {"size", i(3)},
+                                   {"type", e("GL_FLOAT", 0x1406)},
+                                   {"normalized", e("GL_FALSE", 0)},
+                                   {"stride", i(12)},
+                                   {"pointer", u(64)}});
+    call("glEnableVertexAttribArray", {{"index", u(2)}});
+    call("glVertexAttribPointer", {{"index", u(2)},
+                                   {"size", i(2)},
+                                   {"type", e("GL_FLOAT", 0x1406)},
+                                   {"normalized", e("GL_FALSE", 0)},
+                                   {"stride", i(8)},
+                                   {"pointer", u(112)}});
+    call("glVertexAttrib4f", {{"index", u(1)}, {"x", f(1)}, {"y", f(0.5f)}, {"z", f(1)}, {"w", f(1)}});
+    call("glBindBuffer", {{"target", e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)}, {"buffer", u(2)}});
+    call("glBufferData", {{"target", e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)},
+                          {"size", i(1024)},
+                          {"data", null()},
+                          {"usage", e("GL_STREAM_DRAW", 0x88E0)}});
+    call("glBufferSubData",
+         {{"target", e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)}, {"offset", i(32)}, {"size", i(12)}, {"data", blob(idx)}});
+    call("glDrawElements",
+         {{"mode", e("GL_TRIANGLES", 4)}, {"count", i(6)}, {"type", e("GL_UNSIGNED_SHORT", 0x1403)}, {"indices", u(32)}});
+  }
+
   // Raw bytes appended to the stream (malformed events).
   void raw(const std::string& bytes) { m_stream += bytes; }
   const std::string& stream() const { return m_stream; }

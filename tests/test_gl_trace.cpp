@@ -405,72 +405,7 @@ class Gl3Game {
   TraceWriter w;
   Gl3Game() { w.gl_viewport(64, 48); }
 
-  uint64_t program(uint64_t id, const std::vector<std::string>& defines) {
-    const uint64_t shader = id + 100;
-    w.call("glCreateShader", {{"type", w.e("GL_FRAGMENT_SHADER", 0x8B30)}}, w.u(shader));
-    std::vector<std::string> strings = {w.str("#version 140\n")};
-    for (const auto& d : defines) strings.push_back(w.str("#define " + d + "\n"));
-    strings.push_back(w.str("#define NOT_A_PERMUTATION\nvoid main() {}\n"));  // the body: its #defines are not permutations
-    w.call(
-        "glShaderSource",
-        {{"shader", w.u(shader)}, {"count", w.i(int64_t(strings.size()))}, {"string", w.array(strings)}, {"length", w.null()}});
-    w.call("glCreateProgram", {}, w.u(id));
-    w.call("glAttachShader", {{"program", w.u(id)}, {"shader", w.u(shader)}});
-    const char* names[] = {"Attrib_Position", "Attrib_Color", "Attrib_TexCoord0"};
-    for (int i = 0; i < 3; ++i)
-      w.call("glBindAttribLocation", {{"program", w.u(id)}, {"index", w.u(uint64_t(i))}, {"name", w.str(names[i])}});
-    w.call("glLinkProgram", {{"program", w.u(id)}});
-    w.call("glUseProgram", {{"program", w.u(id)}});
-    const char* uniforms[] = {"ModelViewProjectionMatrix", "Texture_First", "Texture_Color", "Color_Diffuse", "Alpha"};
-    for (int i = 0; i < 5; ++i) w.call("glGetUniformLocation", {{"program", w.u(id)}, {"name", w.str(uniforms[i])}}, w.i(i));
-    return id;
-  }
-  void uniform_matrix(const std::vector<float>& m) {
-    std::vector<std::string> items;
-    for (float f : m) items.push_back(w.f(f));
-    w.call("glUniformMatrix4fv",
-           {{"location", w.i(0)}, {"count", w.i(1)}, {"transpose", w.e("GL_FALSE", 0)}, {"value", w.array(items)}});
-  }
-  // A quad at depth z (in a vertex buffer), drawn through the program in use.
-  void quad(float z) {
-    const std::vector<float> xyz = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
-    const std::vector<float> st = {0, 0, 1, 0, 1, 1, 0, 1};
-    const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
-    w.call("glBindBuffer", {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)}, {"buffer", w.u(1)}});
-    w.call("glBufferData", {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)},
-                            {"size", w.i(4096)},
-                            {"data", w.null()},
-                            {"usage", w.e("GL_STREAM_DRAW", 0x88E0)}});
-    w.call("glBufferSubData",
-           {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)}, {"offset", w.i(64)}, {"size", w.i(48)}, {"data", w.blob(xyz)}});
-    w.call("glBufferSubData",
-           {{"target", w.e("GL_ARRAY_BUFFER", 0x8892)}, {"offset", w.i(112)}, {"size", w.i(32)}, {"data", w.blob(st)}});
-    w.call("glEnableVertexAttribArray", {{"index", w.u(0)}});
-    w.call("glVertexAttribPointer", {{"index", w.u(0)},
-                                     {"size", w.i(3)},
-                                     {"type", w.e("GL_FLOAT", 0x1406)},
-                                     {"normalized", w.e("GL_FALSE", 0)},
-                                     {"stride", w.i(12)},
-                                     {"pointer", w.u(64)}});
-    w.call("glEnableVertexAttribArray", {{"index", w.u(2)}});
-    w.call("glVertexAttribPointer", {{"index", w.u(2)},
-                                     {"size", w.i(2)},
-                                     {"type", w.e("GL_FLOAT", 0x1406)},
-                                     {"normalized", w.e("GL_FALSE", 0)},
-                                     {"stride", w.i(8)},
-                                     {"pointer", w.u(112)}});
-    w.call("glVertexAttrib4f", {{"index", w.u(1)}, {"x", w.f(1)}, {"y", w.f(0.5f)}, {"z", w.f(1)}, {"w", w.f(1)}});
-    w.call("glBindBuffer", {{"target", w.e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)}, {"buffer", w.u(2)}});
-    w.call("glBufferData", {{"target", w.e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)},
-                            {"size", w.i(1024)},
-                            {"data", w.null()},
-                            {"usage", w.e("GL_STREAM_DRAW", 0x88E0)}});
-    w.call("glBufferSubData",
-           {{"target", w.e("GL_ELEMENT_ARRAY_BUFFER", 0x8893)}, {"offset", w.i(32)}, {"size", w.i(12)}, {"data", w.blob(idx)}});
-    w.call(
-        "glDrawElements",
-        {{"mode", w.e("GL_TRIANGLES", 4)}, {"count", w.i(6)}, {"type", w.e("GL_UNSIGNED_SHORT", 0x1403)}, {"indices", w.u(32)}});
-  }
+  void quad(float z) { w.gl_buffer_quad(z); }
   void swap() { w.call("glXSwapBuffers", {{"dpy", w.opaque(1)}, {"drawable", w.u(2)}}); }
   Scene import() const {
     GlTraceWindow win;
@@ -497,10 +432,10 @@ std::vector<float> camera_mvp(Mat4& p, Mat4& mv) {
 TEST(GlTrace, AProgramsDrawTakesItsPositionsFromItsMatrixUniformAndItsPassFromItsPermutation) {
   Gl3Game g;
   g.w.gl_texture_2x2(7, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255});
-  g.program(5, {"MODE_GENERIC", "USEDIFFUSE", "USEVIEWTINT"});          // USEVIEWTINT: the vertex colour, in a generic program
+  g.w.gl_program(5, {"MODE_GENERIC", "USEDIFFUSE", "USEVIEWTINT"});     // USEVIEWTINT: the vertex colour, in a generic program
   g.w.call("glUniform1i", {{"location", g.w.i(1)}, {"v0", g.w.i(0)}});  // Texture_First on unit 0
   Mat4 p, mv;
-  g.uniform_matrix(camera_mvp(p, mv));
+  g.w.gl_uniform_matrix(camera_mvp(p, mv));
   g.quad(-5);
   g.swap();
   const Scene s = g.import();
@@ -554,17 +489,17 @@ TEST(GlTrace, TheViewRenderedIntoATextureAndCopiedIntoTheWindowIsTheViewsDraws) 
                                       {"texture", g.w.u(9)},
                                       {"level", g.w.i(0)}});
   g.w.call("glBindTexture", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", g.w.u(7)}});
-  g.program(5, {"MODE_LIGHTMAP", "USEALPHAKILL"});
+  g.w.gl_program(5, {"MODE_LIGHTMAP", "USEALPHAKILL"});
   Mat4 p, mv;
-  g.uniform_matrix(camera_mvp(p, mv));
+  g.w.gl_uniform_matrix(camera_mvp(p, mv));
   g.w.call("glUniform1i", {{"location", g.w.i(2)}, {"v0", g.w.i(0)}});  // Texture_Color
   g.w.call("glUniform3f", {{"location", g.w.i(3)}, {"v0", g.w.f(0.5f)}, {"v1", g.w.f(0.25f)}, {"v2", g.w.f(1)}});
   g.w.call("glUniform1f", {{"location", g.w.i(4)}, {"v0", g.w.f(0.75f)}});
   g.quad(-5);
   // The copy into the window: a generic program sampling texture 9.
   g.w.call("glBindFramebuffer", {{"target", g.w.e("GL_FRAMEBUFFER", 0x8D40)}, {"framebuffer", g.w.u(0)}});
-  g.program(6, {"MODE_GENERIC", "USEDIFFUSE"});
-  g.uniform_matrix({2.0f / 64, 0, 0, 0, 0, -2.0f / 48, 0, 0, 0, 0, -1, 0, -1, 1, 0, 1});
+  g.w.gl_program(6, {"MODE_GENERIC", "USEDIFFUSE"});
+  g.w.gl_uniform_matrix({2.0f / 64, 0, 0, 0, 0, -2.0f / 48, 0, 0, 0, 0, -1, 0, -1, 1, 0, 1});
   g.w.call("glUniform1i", {{"location", g.w.i(1)}, {"v0", g.w.i(0)}});
   g.w.call("glBindTexture", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)}, {"texture", g.w.u(9)}});
   g.quad(0);
@@ -587,9 +522,9 @@ TEST(GlTrace, AProgramsPermutationOovrDoesNotDrawIsRefusedAtItsDraw) {
                                                   {"MODE_LIGHTMAP", "USEFOGOUTSIDE"},
                                                   {"MODE_GENERIC", "USEDIFFUSE", "USEGAMMARAMPS"}}) {
     Gl3Game g;
-    g.program(5, defines);
+    g.w.gl_program(5, defines);
     Mat4 p, mv;
-    g.uniform_matrix(camera_mvp(p, mv));
+    g.w.gl_uniform_matrix(camera_mvp(p, mv));
     g.quad(-5);
     g.swap();
     try {
@@ -604,8 +539,8 @@ TEST(GlTrace, AProgramsPermutationOovrDoesNotDrawIsRefusedAtItsDraw) {
   }
   // A skewed matrix is no camera: refused, not mis-projected.
   Gl3Game g;
-  g.program(5, {"MODE_GENERIC"});
-  g.uniform_matrix({1, 0, 0, 0, 0.5f, 1, 0, 0, 0, 0, -1, -1, 0, 0, -2, 0});
+  g.w.gl_program(5, {"MODE_GENERIC"});
+  g.w.gl_uniform_matrix({1, 0, 0, 0, 0.5f, 1, 0, 0, 0, 0, -1, -1, 0, 0, -2, 0});
   g.quad(-5);
   g.swap();
   EXPECT_THROW(g.import(), Error);

@@ -17,7 +17,8 @@ std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCh
     throw Error("no folder of snapshots '" + o.snapshots +
                 "' (glretrace -s DIR/ --call-nos=false writes them; scripts/capture-frames.sh keeps them beside the capture)");
   if (!scene.captured() || scene.capture_width <= 0 || scene.capture_height <= 0)
-    throw Error("scene '" + scene.name + "' is not a captured game (trace: or oa-demo:): there are no snapshots to compare with");
+    throw Error("scene '" + scene.name +
+                "' is not a captured game (trace:, oa-demo: or nexuiz-demo:): there are no snapshots to compare with");
   // One eye, the game's own view: the capture's window, no eye offset.
   StereoView view;
   view.eyes = 1;
@@ -59,7 +60,8 @@ std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCh
 
 std::vector<RoundTripFrame> check_round_trip(const Scene& captured, const Scene& original, int max_anisotropy) {
   if (!captured.captured() || captured.capture_width <= 0 || captured.capture_height <= 0)
-    throw Error("scene '" + captured.name + "' is not a captured game (trace: or oa-demo:): there is no round trip to check");
+    throw Error("scene '" + captured.name +
+                "' is not a captured game (trace:, oa-demo: or nexuiz-demo:): there is no round trip to check");
   if (original.captured()) throw Error("scene '" + original.name + "' is itself a capture: give the scene that was captured");
   const int frames = int(captured.camera.frames.size());
   const int path = int(original.camera.frames.size());

@@ -454,8 +454,10 @@ class Doc {
     return list;
   }
 
-  // A captured game (trace:, oa-demo:): what it drew, frame by frame.
-  static bool captured_scene(const std::string& s) { return s.rfind("oa-demo:", 0) == 0 || s.rfind("trace:", 0) == 0; }
+  // A captured game (trace:, oa-demo:, nexuiz-demo:): what it drew, frame by frame.
+  static bool captured_scene(const std::string& s) {
+    return s.rfind("oa-demo:", 0) == 0 || s.rfind("nexuiz-demo:", 0) == 0 || s.rfind("trace:", 0) == 0;
+  }
 
   // Real game frames against the levels (issue 27): the statistics the
   // explanations rely on and the claims, as means over each kind.
