@@ -48,8 +48,7 @@ int main(int argc, char** argv) {
     w.call("glEnableClientState", {{"array", w.e("GL_VERTEX_ARRAY", 0x8074)}});
     const std::vector<float> xyz = {-1, -1, -5, 1, -1, -5, 1, 1, -5};
     const std::vector<uint32_t> idx = {0, 1, 2};
-    w.call("glVertexPointer", {{"size", w.i(3)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(xyz)}},
-           "", true);
+    w.gl_client_array("glVertexPointer", 3, "GL_FLOAT", 0x1406, xyz);
     w.call("glDrawElements", {{"mode", w.e("GL_TRIANGLES", 4)},
                               {"count", w.i(3)},
                               {"type", w.e("GL_UNSIGNED_INT", 0x1405)},

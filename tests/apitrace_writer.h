@@ -154,6 +154,15 @@ class TraceWriter {
                           {"pixels", blob(rgba)}});
   }
 
+  // A client array as apitrace records it before a draw: a fake
+  // glVertexPointer, glTexCoordPointer or glColorPointer call whose pointer
+  // is the array's bytes (tightly packed).
+  template <class T>
+  void gl_client_array(const std::string& function, int size, const std::string& type, int64_t type_value,
+                       const std::vector<T>& data) {
+    call(function, {{"size", i(size)}, {"type", e(type, type_value)}, {"stride", i(0)}, {"pointer", blob(data)}}, "", true);
+  }
+
   // An OpenGL 3 game in DarkPlaces' manner (gl_programs.h): program `id`
   // of one permutation (each define in its own source string, the shader's
   // body last), its attributes bound by name, the locations of its matrix,

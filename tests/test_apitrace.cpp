@@ -34,8 +34,7 @@ TraceWriter two_frames() {
   for (int frame = 0; frame < 2; ++frame) {
     const std::vector<float> xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     const std::vector<uint16_t> indices = {0, 1, 2};
-    w.call("glVertexPointer", {{"size", w.i(3)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(xyz)}},
-           "", true);
+    w.gl_client_array("glVertexPointer", 3, "GL_FLOAT", 0x1406, xyz);
     w.call("glDrawElements", {{"mode", w.e("GL_TRIANGLES", 4)},
                               {"count", w.i(3)},
                               {"type", w.e("GL_UNSIGNED_SHORT", 0x1403)},

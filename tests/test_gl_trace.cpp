@@ -60,13 +60,9 @@ class Game {
     w.call("glEnableClientState", {{"array", w.e("GL_VERTEX_ARRAY", 0x8074)}});
     w.call("glEnableClientState", {{"array", w.e("GL_TEXTURE_COORD_ARRAY", 0x8078)}});
     w.call("glEnableClientState", {{"array", w.e("GL_COLOR_ARRAY", 0x8076)}});
-    w.call("glTexCoordPointer",
-           {{"size", w.i(2)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(st)}}, "", true);
-    w.call("glColorPointer",
-           {{"size", w.i(4)}, {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)}, {"stride", w.i(0)}, {"pointer", w.blob(rgba)}}, "",
-           true);
-    w.call("glVertexPointer", {{"size", w.i(3)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(xyz)}},
-           "", true);
+    w.gl_client_array("glTexCoordPointer", 2, "GL_FLOAT", 0x1406, st);
+    w.gl_client_array("glColorPointer", 4, "GL_UNSIGNED_BYTE", 0x1401, rgba);
+    w.gl_client_array("glVertexPointer", 3, "GL_FLOAT", 0x1406, xyz);
     w.call("glDrawElements", {{"mode", w.e("GL_TRIANGLES", 4)},
                               {"count", w.i(6)},
                               {"type", w.e("GL_UNSIGNED_INT", 0x1405)},

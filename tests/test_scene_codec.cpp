@@ -27,11 +27,8 @@ Scene captured() {
     const std::vector<float> xyz = {-1, -1, -5, 1, -1, -5, 1, 1, -5};
     const std::vector<uint8_t> rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, uint8_t(100 + f)};
     const std::vector<uint16_t> idx = {0, 1, 2};
-    w.call("glColorPointer",
-           {{"size", w.i(4)}, {"type", w.e("GL_UNSIGNED_BYTE", 0x1401)}, {"stride", w.i(0)}, {"pointer", w.blob(rgba)}}, "",
-           true);
-    w.call("glVertexPointer", {{"size", w.i(3)}, {"type", w.e("GL_FLOAT", 0x1406)}, {"stride", w.i(0)}, {"pointer", w.blob(xyz)}},
-           "", true);
+    w.gl_client_array("glColorPointer", 4, "GL_UNSIGNED_BYTE", 0x1401, rgba);
+    w.gl_client_array("glVertexPointer", 3, "GL_FLOAT", 0x1406, xyz);
     w.call("glDrawElements", {{"mode", w.e("GL_TRIANGLES", 4)},
                               {"count", w.i(3)},
                               {"type", w.e("GL_UNSIGNED_SHORT", 0x1403)},
