@@ -1519,6 +1519,7 @@ class Interpreter {
       // A depth texture a framebuffer object renders into (a shadow map):
       // no colour to sample; a draw that samples it is refused.
       GlTextureObject& t = m_textures[m_unit_texture[m_active_unit]];
+      for (const auto& [level, l] : t.levels) m_texel_bytes -= l.rgba.size();
       t.levels.clear();
       t.depth = true;
       t.scene_index = -1;
@@ -1540,6 +1541,8 @@ class Interpreter {
     check_limit(uint64_t(width) * uint64_t(height), lim.image_texels, "image_texels", "a texture upload", "texels");
     GlTextureObject& t = m_textures[m_unit_texture[m_active_unit]];
     t.depth = false;
+    // New contents from the game: no longer a copy of the view (glCopyTexSubImage2D).
+    if (!sub) m_view_targets.erase(m_unit_texture[m_active_unit]);
     if (!sub) {
       t.base_format = base_format(num(c, 2));
       // Sized formats of fewer than 8 bits a channel (RGB4, RGB5, RGBA2,
