@@ -1519,7 +1519,7 @@ class Interpreter {
       // A depth texture a framebuffer object renders into (a shadow map):
       // no colour to sample; a draw that samples it is refused.
       GlTextureObject& t = m_textures[m_unit_texture[m_active_unit]];
-      for (const auto& [level, l] : t.levels) m_texel_bytes -= l.rgba.size();
+      for (const auto& [lod, l] : t.levels) m_texel_bytes -= l.rgba.size();
       t.levels.clear();
       t.depth = true;
       t.scene_index = -1;
