@@ -279,15 +279,20 @@ TEST(GlTrace, StateItDoesNotModelIsRefusedAtTheDraw) {
 // Texture environments of two units: unit 0 modulates texture 7 (not
 // opaque); unit 1 holds opaque texture 8 and gets `setup`'s GL_COMBINE
 // state (or none); then a quad is drawn.
-Game two_units(const std::function<void(Game&)>& setup) {
-  Game g;
-  g.enable("GL_TEXTURE_2D", 0x0DE1);
+// Opaque texture 8 on unit 1, enabled (unit 1 left active).
+void second_unit(Game& g) {
   g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE1", 0x84C1)}});
   g.w.gl_texture_2x2(8, {10, 20, 30, 255, 40, 50, 60, 255, 70, 80, 90, 255, 100, 110, 120, 255});
   g.w.call("glTexParameterf", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)},
                                {"pname", g.w.e("GL_TEXTURE_MIN_FILTER", 0x2801)},
                                {"param", g.w.f(float(0x2601))}});
   g.enable("GL_TEXTURE_2D", 0x0DE1);
+}
+
+Game two_units(const std::function<void(Game&)>& setup) {
+  Game g;
+  g.enable("GL_TEXTURE_2D", 0x0DE1);
+  second_unit(g);
   setup(g);
   g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE0", 0x84C0)}});
   g.perspective();
@@ -352,12 +357,7 @@ TEST(GlTrace, ACombineOovrsLayersCannotComputeIsRefusedAtTheDraw) {
     g.enable("GL_TEXTURE_2D", 0x0DE1);
     env(g, "GL_TEXTURE_ENV_MODE", 0x2200, "GL_COMBINE", 0x8570);
     rgb_scale(g, 2);
-    g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE1", 0x84C1)}});
-    g.w.gl_texture_2x2(8, {10, 20, 30, 255, 40, 50, 60, 255, 70, 80, 90, 255, 100, 110, 120, 255});
-    g.w.call("glTexParameterf", {{"target", g.w.e("GL_TEXTURE_2D", 0x0DE1)},
-                                 {"pname", g.w.e("GL_TEXTURE_MIN_FILTER", 0x2801)},
-                                 {"param", g.w.f(float(0x2601))}});
-    g.enable("GL_TEXTURE_2D", 0x0DE1);
+    second_unit(g);
     g.perspective();
     g.quad(-5);
     expect_refused(g, "an RGB scale on a unit before another");

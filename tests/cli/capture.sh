@@ -39,21 +39,8 @@ cat "$work/check.txt"
 cmp "$work/check.txt" "$work/check2.txt" || { echo "a second import differs:"; diff "$work/check.txt" "$work/check2.txt"; exit 1; }
 
 # What apitrace itself lists, frame by frame: "frame draws triangles".
-apitrace dump --color=never "$work/captures/openarena-demo088.trace" 2>/dev/null | awk '
-  function tris(mode, n) {
-    if (mode == "GL_TRIANGLES") return int(n / 3)
-    if (mode == "GL_TRIANGLE_STRIP" || mode == "GL_TRIANGLE_FAN" || mode == "GL_POLYGON") return n >= 3 ? n - 2 : 0
-    if (mode == "GL_QUADS") return 2 * int(n / 4)
-    if (mode == "GL_QUAD_STRIP") return n >= 4 ? 2 * int((n - 2) / 2) : 0
-    return -1000000
-  }
-  function arg(name,   m) { if (match($0, name " = [A-Z_0-9]+")) { m = substr($0, RSTART, RLENGTH); sub(/.* = /, "", m); return m } return "" }
-  / glXSwapBuffers\(/ { if (frame >= 40 && frame <= 47) print frame, draws, triangles; frame++; draws = 0; triangles = 0; next }
-  / gl(DrawElements|DrawRangeElements|DrawArrays)\(/ { draws++; triangles += tris(arg("mode"), arg("count")); next }
-  / glBegin\(/ { mode = arg("mode"); vertices = 0; next }
-  / glVertex[234]/ { vertices++; next }
-  / glEnd\(/ { draws++; triangles += tris(mode, vertices); next }
-' >"$work/dump.txt"
+apitrace dump --color=never "$work/captures/openarena-demo088.trace" 2>/dev/null |
+  awk -v first=40 -v last=47 -f "$src/tests/cli/dump_counts.awk" >"$work/dump.txt"
 # oovr's: the rows of check-capture (game frame, draws, triangles).
 awk 'NF == 5 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9]+$/ { print $1, $2, $3 }' "$work/check.txt" >"$work/oovr.txt"
 echo "apitrace dump:"

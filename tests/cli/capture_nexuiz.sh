@@ -39,16 +39,8 @@ cat "$work/check.txt"
 [ "$status" -eq 0 ] || exit 1
 
 # What apitrace lists, frame by frame: "frame draws triangles".
-apitrace dump --color=never "$work/captures/nexuiz-bench1.trace" 2>/dev/null | awk '
-  function tris(mode, n) {
-    if (mode == "GL_TRIANGLES") return int(n / 3)
-    if (mode == "GL_TRIANGLE_STRIP" || mode == "GL_TRIANGLE_FAN") return n >= 3 ? n - 2 : 0
-    return -1000000
-  }
-  function arg(name,   m) { if (match($0, name " = [A-Z_0-9]+")) { m = substr($0, RSTART, RLENGTH); sub(/.* = /, "", m); return m } return "" }
-  / glXSwapBuffers\(/ { if (frame >= 100 && frame <= 107) print frame, draws, triangles; frame++; draws = 0; triangles = 0; next }
-  / gl(DrawElements|DrawRangeElements|DrawArrays)\(/ { draws++; triangles += tris(arg("mode"), arg("count")); next }
-' >"$work/dump.txt"
+apitrace dump --color=never "$work/captures/nexuiz-bench1.trace" 2>/dev/null |
+  awk -v first=100 -v last=107 -f "$src/tests/cli/dump_counts.awk" >"$work/dump.txt"
 # oovr's rows (game frame, draws, triangles), with the copy of the view
 # into the window (the last draw of each frame, 2 triangles) added back.
 awk 'NF == 5 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9]+$/ { print $1, $2 + 1, $3 + 2 }' "$work/check.txt" >"$work/oovr.txt"

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <stdexcept>
 
+#include "gl_enums.h"
 #include "gl_renderer.h"
 #include "oovr/core/error.h"
 #include "oovr/scene/stereo.h"
@@ -33,42 +34,6 @@ std::string pass_refusal(const Pass& p) {
     if (l.combine == Combine::replace && (i != 0 || l.scale != 1.0f)) return "a replacing layer after the first or scaled";
   }
   return "";
-}
-
-GLenum blend(BlendFactor f) {
-  switch (f) {
-    case BlendFactor::zero: return GL_ZERO;
-    case BlendFactor::one: return GL_ONE;
-    case BlendFactor::src_colour: return GL_SRC_COLOR;
-    case BlendFactor::one_minus_src_colour: return GL_ONE_MINUS_SRC_COLOR;
-    case BlendFactor::src_alpha: return GL_SRC_ALPHA;
-    case BlendFactor::one_minus_src_alpha: return GL_ONE_MINUS_SRC_ALPHA;
-    case BlendFactor::dst_colour: return GL_DST_COLOR;
-    case BlendFactor::one_minus_dst_colour: return GL_ONE_MINUS_DST_COLOR;
-    case BlendFactor::dst_alpha: return GL_DST_ALPHA;
-    case BlendFactor::one_minus_dst_alpha: return GL_ONE_MINUS_DST_ALPHA;
-  }
-  return GL_ONE;
-}
-
-GLenum depth(DepthFunc f) {
-  switch (f) {
-    case DepthFunc::less: return GL_LESS;
-    case DepthFunc::lequal: return GL_LEQUAL;
-    case DepthFunc::equal: return GL_EQUAL;
-    case DepthFunc::always: return GL_ALWAYS;
-  }
-  return GL_LESS;
-}
-
-GLenum alpha(AlphaFunc f) {
-  switch (f) {
-    case AlphaFunc::always: return GL_ALWAYS;
-    case AlphaFunc::greater: return GL_GREATER;
-    case AlphaFunc::less: return GL_LESS;
-    case AlphaFunc::gequal: return GL_GEQUAL;
-  }
-  return GL_ALWAYS;
 }
 
 // Unit `u`'s texture environment for layer `l`: MODULATE, ADD and REPLACE
@@ -236,17 +201,17 @@ Image draw_fixed_function(const Scene& scene, const FixedFunctionRun& run) {
       glColor4f(pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w);
       if (pass.blended()) {
         glEnable(GL_BLEND);
-        glBlendFunc(blend(pass.src), blend(pass.dst));
+        glBlendFunc(gl_blend(pass.src), gl_blend(pass.dst));
       } else {
         glDisable(GL_BLEND);
       }
       if (pass.alpha_func != AlphaFunc::always) {
         glEnable(GL_ALPHA_TEST);
-        glAlphaFunc(alpha(pass.alpha_func), pass.alpha_ref);
+        glAlphaFunc(gl_alpha(pass.alpha_func), pass.alpha_ref);
       } else {
         glDisable(GL_ALPHA_TEST);
       }
-      glDepthFunc(depth(pass.depth_func));
+      glDepthFunc(gl_depth(pass.depth_func));
       glDepthMask(pass.depth_write ? GL_TRUE : GL_FALSE);
       const GLboolean c = pass.colour_write ? GL_TRUE : GL_FALSE;
       glColorMask(c, c, c, c);

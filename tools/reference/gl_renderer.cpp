@@ -13,6 +13,7 @@
 #include <map>
 #include <string>
 
+#include "gl_enums.h"
 #include "oovr/experiments/hardware.h"
 
 namespace oovr::reference {
@@ -328,32 +329,6 @@ enum class Run { image, passed, covered };
 // Whether draws set their pass's blend and depth state, or keep the
 // coverage run's (depth test always passes, nothing written).
 enum class DrawState { pass, coverage };
-
-GLenum gl_blend(BlendFactor f) {
-  switch (f) {
-    case BlendFactor::zero: return GL_ZERO;
-    case BlendFactor::one: return GL_ONE;
-    case BlendFactor::src_colour: return GL_SRC_COLOR;
-    case BlendFactor::one_minus_src_colour: return GL_ONE_MINUS_SRC_COLOR;
-    case BlendFactor::src_alpha: return GL_SRC_ALPHA;
-    case BlendFactor::one_minus_src_alpha: return GL_ONE_MINUS_SRC_ALPHA;
-    case BlendFactor::dst_colour: return GL_DST_COLOR;
-    case BlendFactor::one_minus_dst_colour: return GL_ONE_MINUS_DST_COLOR;
-    case BlendFactor::dst_alpha: return GL_DST_ALPHA;
-    case BlendFactor::one_minus_dst_alpha: return GL_ONE_MINUS_DST_ALPHA;
-  }
-  return GL_ONE;
-}
-
-GLenum gl_depth(DepthFunc f) {
-  switch (f) {
-    case DepthFunc::less: return GL_LESS;
-    case DepthFunc::lequal: return GL_LEQUAL;
-    case DepthFunc::equal: return GL_EQUAL;
-    case DepthFunc::always: return GL_ALWAYS;
-  }
-  return GL_LESS;
-}
 
 void apply_pass_state(const oovr::Pass& pass) {
   if (pass.blended()) {
