@@ -1310,7 +1310,8 @@ class Interpreter {
       if (m_view_targets.count(name)) {
         // The view, rendered into a texture, drawn into the window whole:
         // the frame's draws already are that image.
-        const bool copy = r.composite || (r.mode == "MODE_GENERIC" && r.layers.size() == 1);
+        // (A generic copy: its one texture, untinted by vertex colours.)
+        const bool copy = r.composite || (r.mode == "MODE_GENERIC" && r.layers.size() == 1 && r.colour.empty());
         if (m_fbo == 0 && copy && !m_blend) {
           for (const auto& id : r.identity_when) {
             const std::vector<float>* v = uniform_value(pr, id.uniform);
@@ -1333,9 +1334,6 @@ class Interpreter {
       key.layers.push_back({t, l.coords, l.combine, 1.0f});
       tints.push_back(&l);
     }
-    // A uniform's value: as set; 0 where the program has it and it was
-    // never set (GLSL's initial value); `fallback` where the compiler left
-    // it out (the permutation does not read it).
     // What else the program samples: fetched, not combined (their fetches
     // and traffic counted; gl_programs.h).
     for (const std::string& sampler : darkplaces_2d_samplers()) {
@@ -1349,6 +1347,9 @@ class Interpreter {
       const int t = scene_texture(m_unit_texture[size_t(u)]);
       if (t >= 0) key.layers.push_back({t, TexCoords::surface, Combine::fetch, 1.0f});
     }
+    // A uniform's value: as set; 0 where the program has it and it was
+    // never set (GLSL's initial value); `fallback` where the compiler left
+    // it out (the permutation does not read it).
     const auto vec = [&](const std::string& name, size_t n, float fallback) {
       std::vector<float> v(n, fallback);
       if (name.empty()) return v;
