@@ -191,6 +191,14 @@ TEST(Materials, FragmentCostCountsLayersAndOperations) {
   p.colour = {0.5f, 1, 1, 1};
   p.layers[0].mods = {{TexMod::Kind::scroll, 0.1f, 0}};
   EXPECT_EQ(fragment_instructions(p), bare + C::coordinates + C::lookup + C::transform + C::colour + C::alpha_test);
+  // A captured program's fetch-only layers: their lookups, no combine, and
+  // what the program computes with a normal or gloss map.
+  Pass f = Pass::textured(0);
+  f.layers.push_back({LayerKind::normal, 1, TexCoords::surface, Combine::fetch, 1.0f, {}});
+  f.layers.push_back({LayerKind::gloss, 1, TexCoords::surface, Combine::fetch, 1.0f, {}});
+  f.layers.push_back({LayerKind::diffuse, 1, TexCoords::surface, Combine::fetch, 1.0f, {}});
+  EXPECT_EQ(fragment_instructions(f),
+            bare + 4 * (C::coordinates + C::lookup) + C::surface_normal + C::diffuse_light + C::specular);
   // The trace carries each draw's cost; blending itself costs no instruction.
   Material m;
   m.name = "two";

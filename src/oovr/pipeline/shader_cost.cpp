@@ -22,6 +22,13 @@ uint32_t fragment_instructions(const Pass& pass) {
       transformed = transformed || (m.kind == TexMod::Kind::scale ? (m.s != 1 || m.t != 1) : (m.s != 0 || m.t != 0));
     if (transformed) n += C::transform;
     if (l.scale != 1.0f) n += C::scale;
+    if (l.combine == Combine::fetch) {
+      // A captured program's texture oovr samples but does not draw with:
+      // what the program computes with it, as per-pixel lighting's terms.
+      if (!lit && l.kind == LayerKind::normal) n += C::surface_normal + C::diffuse_light;
+      if (!lit && l.kind == LayerKind::gloss) n += C::specular;
+      continue;
+    }
     if (i > 0 && !lit) n += C::combine;  // a lit pass combines its layers through the lighting above
   }
   const Vec4& c = pass.colour;

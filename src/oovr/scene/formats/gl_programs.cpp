@@ -35,28 +35,29 @@ bool neutral(const std::string& d) {
 
 }  // namespace
 
-const std::vector<std::string>& darkplaces_2d_samplers() {
+const std::vector<SamplerKind>& darkplaces_2d_samplers() {
   // Not the cube maps (Texture_Cube, Texture_ReflectCube,
   // Texture_CubeProjection), the 3-D bounce grid or the shadow map, which
   // the permutations oovr draws do not read.
-  static const std::vector<std::string> names = {"Texture_First",
-                                                 "Texture_Second",
-                                                 "Texture_Color",
-                                                 "Texture_Lightmap",
-                                                 "Texture_Deluxemap",
-                                                 "Texture_Normal",
-                                                 "Texture_Gloss",
-                                                 "Texture_Glow",
-                                                 "Texture_Pants",
-                                                 "Texture_Shirt",
-                                                 "Texture_SecondaryColor",
-                                                 "Texture_SecondaryNormal",
-                                                 "Texture_SecondaryGloss",
-                                                 "Texture_SecondaryGlow",
-                                                 "Texture_Attenuation",
-                                                 "Texture_FogMask",
-                                                 "Texture_FogHeightTexture",
-                                                 "Texture_ReflectMask"};
+  using K = LayerKind;
+  static const std::vector<SamplerKind> names = {{"Texture_First", K::diffuse},
+                                                 {"Texture_Second", K::diffuse},
+                                                 {"Texture_Color", K::diffuse},
+                                                 {"Texture_Lightmap", K::lightmap},
+                                                 {"Texture_Deluxemap", K::deluxe},
+                                                 {"Texture_Normal", K::normal},
+                                                 {"Texture_Gloss", K::gloss},
+                                                 {"Texture_Glow", K::glow},
+                                                 {"Texture_Pants", K::diffuse},
+                                                 {"Texture_Shirt", K::diffuse},
+                                                 {"Texture_SecondaryColor", K::diffuse},
+                                                 {"Texture_SecondaryNormal", K::normal},
+                                                 {"Texture_SecondaryGloss", K::gloss},
+                                                 {"Texture_SecondaryGlow", K::glow},
+                                                 {"Texture_Attenuation", K::diffuse},
+                                                 {"Texture_FogMask", K::diffuse},
+                                                 {"Texture_FogHeightTexture", K::diffuse},
+                                                 {"Texture_ReflectMask", K::diffuse}};
   return names;
 }
 

@@ -75,7 +75,13 @@ struct ProgramRecipe {
 // DarkPlaces' 2-D texture samplers: those of them a program keeps (the
 // compiler drops what a permutation does not read) are what it fetches;
 // the ones a recipe does not combine are drawn as fetch layers.
-const std::vector<std::string>& darkplaces_2d_samplers();
+// Each with the kind of layer its texture is (normal and gloss maps cost
+// what a program computes with them: pipeline/shader_cost.h).
+struct SamplerKind {
+  const char* name;
+  LayerKind kind;
+};
+const std::vector<SamplerKind>& darkplaces_2d_samplers();
 
 // The recipe of a DarkPlaces permutation; throws Error naming the programs
 // oovr does not draw ("DarkPlaces' MODE_WATER programs").

@@ -329,7 +329,8 @@ struct LayerKey {
   TexCoords coords = TexCoords::surface;
   Combine combine = Combine::modulate;
   float scale = 1;
-  auto tie() const { return std::tie(texture, coords, combine, scale); }
+  LayerKind kind = LayerKind::diffuse;  // a fetch layer's (others: the first diffuse, the rest lightmap)
+  auto tie() const { return std::tie(texture, coords, combine, scale, kind); }
   bool operator<(const LayerKey& o) const { return tie() < o.tie(); }
 };
 
@@ -1331,12 +1332,12 @@ class Interpreter {
         ++m_incomplete;
         continue;
       }
-      key.layers.push_back({t, l.coords, l.combine, 1.0f});
+      key.layers.push_back({t, l.coords, l.combine, 1.0f, LayerKind::diffuse});
       tints.push_back(&l);
     }
     // What else the program samples: fetched, not combined (their fetches
     // and traffic counted; gl_programs.h).
-    for (const std::string& sampler : darkplaces_2d_samplers()) {
+    for (const auto& [sampler, kind] : darkplaces_2d_samplers()) {
       if (!located(pr, sampler)) continue;
       bool drawn = false;
       for (const auto& l : r.layers) drawn = drawn || l.sampler == sampler;
@@ -1345,7 +1346,7 @@ class Interpreter {
       const int u = unit && !unit->empty() ? int(unit->front()) : 0;
       if (u < 0 || u >= int(m_unit_texture.size())) continue;
       const int t = scene_texture(m_unit_texture[size_t(u)]);
-      if (t >= 0) key.layers.push_back({t, TexCoords::surface, Combine::fetch, 1.0f});
+      if (t >= 0) key.layers.push_back({t, TexCoords::surface, Combine::fetch, 1.0f, kind});
     }
     // A uniform's value: as set; 0 where the program has it and it was
     // never set (GLSL's initial value); `fallback` where the compiler left
@@ -1788,7 +1789,7 @@ class Interpreter {
     Pass p;
     for (const LayerKey& lk : k.layers) {
       TextureLayer l;
-      l.kind = p.layers.empty() ? LayerKind::diffuse : LayerKind::lightmap;
+      l.kind = lk.combine == Combine::fetch ? lk.kind : p.layers.empty() ? LayerKind::diffuse : LayerKind::lightmap;
       l.texture = lk.texture;
       l.coords = lk.coords;
       l.scale = lk.scale;
