@@ -32,19 +32,23 @@ struct Reference {
   const char* eye_resolution;
   uint64_t scene_hash;  // scene_fingerprint of the loaded scene
   uint64_t trace_hash;  // FNV-1a of serialize_trace of the rendered frame
+  // Every pass given two fetch-only layers (a normal and a gloss map, as a
+  // captured GLSL program's): what no loaded scene has.
+  bool fetch_layers = false;
 };
 
-// Recorded with kPipelineVersion 1. When a frame's scene hash still matches
+// Recorded with kPipelineVersion 2 (1 for all but the fetch layers' frame). When a frame's scene hash still matches
 // and its trace hash does not, the renderer changed: bump kPipelineVersion and
 // record the new trace hashes (with the version they belong to). When the
 // scene hash changed too, a loader or a scene changed instead: record both.
-constexpr uint32_t kRecordedVersion = 1;
+constexpr uint32_t kRecordedVersion = 2;
 constexpr Reference kReferences[] = {
     {"crowd", 0, "96x64", 7155168817299488758u, 16997077439721387403u},
     {"courtyard", 5, "96x64", 6739315327548645814u, 11421391068056993798u},
     {"oa:oa_dm4", 0, "96x64", 15964993765765942389u, 2787289683188192321u},
     {"nexuiz:strength", 0, "96x64", 11821387306815008176u, 10426362947222672922u},
     {"torcs:forza", 0, "96x64", 18442517620297510886u, 6131576962161297412u},
+    {"courtyard", 5, "96x64", 8638834991936059374u, 3747674295515319064u, true},
 };
 
 bool installed(const std::string& scene) {
@@ -58,7 +62,13 @@ TEST(PipelineVersion, ReferenceTracesAreThoseOfThisVersion) {
   int checked = 0;
   for (const Reference& r : kReferences) {
     if (!installed(r.scene)) continue;
-    const Scene scene = load_scene(r.scene);
+    Scene scene = load_scene(r.scene);
+    if (r.fetch_layers)
+      for (Material& m : scene.materials)
+        for (Pass& p : m.passes)
+          if (p.shading == Shading::layers)
+            for (LayerKind k : {LayerKind::normal, LayerKind::gloss})
+              p.layers.push_back({k, 0, TexCoords::surface, Combine::fetch, 1.0f, {}});
     const StereoView view = make_stereo_view(scene.camera, r.frame, parse_eye_resolution(r.eye_resolution));
     const FrameTrace trace = render_frame(scene, view, PipelineSettings{}, r.frame).trace;
     const uint64_t scene_hash = scene_fingerprint(scene), trace_hash = fnv1a(serialize_trace(trace));

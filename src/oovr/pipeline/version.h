@@ -16,6 +16,8 @@
 
 namespace oovr {
 
-inline constexpr uint32_t kPipelineVersion = 1;
+// 2: fetch-only layers (Combine::fetch, a captured GLSL program's textures)
+//    are sampled, not combined, and cost what the program computes with them.
+inline constexpr uint32_t kPipelineVersion = 2;
 
 }  // namespace oovr
