@@ -11,6 +11,20 @@
 
 namespace oovr {
 
+namespace {
+
+// `v` as one view filling a window of `width` x `height` (a game's own,
+// mono, no eye offset): what a capture was drawn as.
+StereoView window_view(StereoView v, int width, int height) {
+  v.eyes = 1;
+  v.frame_width = width;
+  v.frame_height = height;
+  v.viewport[0] = {0, 0, width, height};
+  return v;
+}
+
+}  // namespace
+
 std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCheckOptions& o) {
   std::error_code ec;
   if (!std::filesystem::is_directory(o.snapshots, ec))
@@ -20,11 +34,7 @@ std::vector<CaptureFrameCheck> check_capture(const Scene& scene, const CaptureCh
     throw Error("scene '" + scene.name +
                 "' is not a captured game (trace:, oa-demo: or nexuiz-demo:): there are no snapshots to compare with");
   // One eye, the game's own view: the capture's window, no eye offset.
-  StereoView view;
-  view.eyes = 1;
-  view.frame_width = scene.capture_width;
-  view.frame_height = scene.capture_height;
-  view.viewport[0] = {0, 0, scene.capture_width, scene.capture_height};
+  const StereoView view = window_view(StereoView{}, scene.capture_width, scene.capture_height);
   PipelineSettings settings;
   settings.max_anisotropy = o.max_anisotropy;
   std::vector<CaptureFrameCheck> out;
@@ -75,13 +85,7 @@ std::vector<RoundTripFrame> check_round_trip(const Scene& captured, const Scene&
   rig.ipd_m = 0;
   rig.eye_width = captured.capture_width;
   rig.eye_height = captured.capture_height;
-  const auto mono = [&](StereoView v) {
-    v.eyes = 1;
-    v.frame_width = rig.eye_width;
-    v.frame_height = rig.eye_height;
-    v.viewport[0] = {0, 0, rig.eye_width, rig.eye_height};
-    return v;
-  };
+  const auto mono = [&](const StereoView& v) { return window_view(v, rig.eye_width, rig.eye_height); };
   const StereoView captured_view = mono(StereoView{});
   std::vector<RoundTripFrame> out;
   for (int k = 0; k < frames; ++k) {

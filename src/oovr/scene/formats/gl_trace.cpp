@@ -717,12 +717,13 @@ class Interpreter {
       const int64_t first = num(c, 1), count = num(c, 2);
       if (first < 0 || count < 0 || count > (int64_t(1) << 24))
         throw Error("a draw of " + std::to_string(count) + " vertices from " + std::to_string(first));
-      if (m_program == 0) {
-        array_draw(num(c, 0), first, count);
-      } else if (in_window() && count > 0) {
+      if (in_window() && count > 0) {
+        // Client arrays are checked before anything the draw's size is allocated.
+        if (m_program == 0) check_vertex(uint64_t(first + count - 1));
         std::vector<uint32_t> element(static_cast<size_t>(count));
         for (int64_t i = 0; i < count; ++i) element[size_t(i)] = uint32_t(first + i);
-        program_draw(num(c, 0), element);
+        if (m_program == 0) array_vertices(num(c, 0), element);
+        else program_draw(num(c, 0), element);
       }
     } else if (n == "glClear") {
       clear(uint64_t(num(c, 0)));
@@ -1090,11 +1091,10 @@ class Interpreter {
 
   // Whether the texture on the unit of sampler `sampler` is a 256x1 ramp
   // mapping every level to itself (its red, green and blue texel i is i).
-  bool identity_ramp(const GlslProgram& p, const std::string& sampler) {
-    const std::vector<float>* unit = uniform_value(p, sampler);
-    const int u = unit && !unit->empty() ? int(unit->front()) : 0;
-    if (u < 0 || u >= int(m_unit_texture.size())) return false;
-    const auto it = m_textures.find(m_unit_texture[size_t(u)]);
+  bool identity_ramp(const GlslProgram& p, const std::string& sampler) const {
+    const int64_t name = sampler_texture(p, sampler);
+    if (name < 0) return false;
+    const auto it = m_textures.find(uint32_t(name));
     if (it == m_textures.end() || !it->second.levels.count(0)) return false;
     const MipLevel& l = it->second.levels.at(0);
     if (l.width != 256 || l.height != 1) return false;
@@ -1115,6 +1115,27 @@ class Interpreter {
   const std::vector<float>* uniform_value(const GlslProgram& p, const std::string& name) const {
     const auto it = p.uniforms.find(name);
     return it == p.uniforms.end() ? nullptr : &it->second;
+  }
+
+  // A uniform's first `n` components: as set; 0 where the program has it
+  // and it was never set (GLSL's initial value); `fallback` where the
+  // compiler left it out (the permutation does not read it) or `name` is "".
+  std::vector<float> uniform_or(const GlslProgram& p, const std::string& name, size_t n, float fallback) const {
+    std::vector<float> v(n, fallback);
+    if (name.empty()) return v;
+    const std::vector<float>* u = uniform_value(p, name);
+    if (!u && located(p, name)) std::fill(v.begin(), v.end(), 0.0f);
+    if (u)
+      for (size_t i = 0; i < n && i < u->size(); ++i) v[i] = (*u)[i];
+    return v;
+  }
+
+  // The 2-D texture bound on the unit sampler `sampler` names (unit 0 when
+  // never set, GLSL's initial value), or -1 for a unit beyond the 32 kept.
+  int64_t sampler_texture(const GlslProgram& p, const std::string& sampler) const {
+    const std::vector<float>* unit = uniform_value(p, sampler);
+    const int u = unit && !unit->empty() ? int(unit->front()) : 0;
+    return u < 0 || u >= int(m_unit_texture.size()) ? -1 : int64_t(m_unit_texture[size_t(u)]);
   }
 
   // Element `i` of an enabled attribute, from its buffer object or client
@@ -1146,30 +1167,14 @@ class Interpreter {
   // The indices of a draw through a program: from the element buffer
   // object (at the offset `indices` gives) or client memory.
   std::vector<uint32_t> program_indices(int64_t count, int64_t type, const Value& indices) const {
-    const int size = type == GL_UNSIGNED_INT ? 4 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_BYTE ? 1 : 0;
-    if (!size) throw Error("index type " + std::to_string(type));
-    const char* base = nullptr;
-    uint64_t bytes = 0;
-    if (m_element_buffer != 0) {
-      const auto it = m_buffers.find(m_element_buffer);
-      const uint64_t offset = uint64_t(indices.integer());
-      if (it == m_buffers.end() || offset > it->second.size()) throw Error("indices outside their buffer object");
-      base = it->second.data() + offset;
-      bytes = it->second.size() - offset;
-    } else if (indices.kind == Value::Kind::blob) {
-      base = indices.bytes.data();
-      bytes = indices.bytes.size();
-    } else {
-      throw Error("indices neither in a buffer object nor recorded");
+    if (m_element_buffer == 0) {
+      if (indices.kind != Value::Kind::blob) throw Error("indices neither in a buffer object nor recorded");
+      return read_indices(count, type, indices.bytes.data(), indices.bytes.size(), "a blob");
     }
-    if (uint64_t(count) * uint64_t(size) > bytes)
-      throw Error(std::to_string(count) + " indices where " + std::to_string(bytes) + " bytes are left");
-    std::vector<uint32_t> element(static_cast<size_t>(count));
-    for (int64_t i = 0; i < count; ++i) {
-      const char* q = base + i * size;
-      element[size_t(i)] = size == 4 ? load<uint32_t>(q) : size == 2 ? load<uint16_t>(q) : load<uint8_t>(q);
-    }
-    return element;
+    const auto it = m_buffers.find(m_element_buffer);
+    const uint64_t offset = uint64_t(indices.integer());
+    if (it == m_buffers.end() || offset > it->second.size()) throw Error("indices outside their buffer object");
+    return read_indices(count, type, it->second.data() + offset, it->second.size() - offset, "what is left of a buffer");
   }
 
   // The projection and modelview of a draw from its one matrix uniform
@@ -1252,15 +1257,8 @@ class Interpreter {
   // Returns the mean light over the vertices and channels.
   float light_vertices(const GlslProgram& pr, const ProgramRecipe& r, uint32_t lo, std::vector<ImmediateVertex>& v,
                        std::array<float, 4>& colour) const {
-    const auto uniform3 = [&](const std::string& name) {
-      std::array<float, 3> out{0, 0, 0};
-      if (name.empty()) return out;
-      if (const std::vector<float>* u = uniform_value(pr, name))
-        for (size_t i = 0; i < 3 && i < u->size(); ++i) out[i] = (*u)[i];
-      return out;
-    };
-    const std::array<float, 3> ambient = uniform3(r.light_ambient), diffuse = uniform3(r.light_diffuse);
-    const std::array<float, 3> dir = uniform3(r.light_dir);
+    const std::vector<float> ambient = uniform_or(pr, r.light_ambient, 3, 0), diffuse = uniform_or(pr, r.light_diffuse, 3, 0);
+    const std::vector<float> dir = uniform_or(pr, r.light_dir, 3, 0);
     const Vec3 l = normalize(Vec3{dir[0], dir[1], dir[2]});
     std::vector<std::array<float, 3>> lit(v.size());
     float top = 1e-6f;
@@ -1304,10 +1302,9 @@ class Interpreter {
       // A sampler the compiler left out is not sampled; one never set
       // samples unit 0 (GLSL's initial value).
       if (!located(pr, l.sampler)) continue;
-      const std::vector<float>* unit = uniform_value(pr, l.sampler);
-      const int u = unit && !unit->empty() ? int(unit->front()) : 0;
-      if (u < 0 || u >= int(m_unit_texture.size())) throw Error("sampler " + l.sampler + " on unit " + std::to_string(u));
-      const uint32_t name = m_unit_texture[size_t(u)];
+      const int64_t bound = sampler_texture(pr, l.sampler);
+      if (bound < 0) throw Error("sampler " + l.sampler + " on a unit beyond the 32 texture units kept");
+      const auto name = uint32_t(bound);
       if (m_view_targets.count(name)) {
         // The view, rendered into a texture, drawn into the window whole:
         // the frame's draws already are that image.
@@ -1315,8 +1312,7 @@ class Interpreter {
         const bool copy = r.composite || (r.mode == "MODE_GENERIC" && r.layers.size() == 1 && r.colour.empty());
         if (m_fbo == 0 && copy && !m_blend) {
           for (const auto& id : r.identity_when) {
-            const std::vector<float>* v = uniform_value(pr, id.uniform);
-            const float x = v && size_t(id.component) < v->size() ? (*v)[size_t(id.component)] : 0.0f;
+            const float x = uniform_or(pr, id.uniform, size_t(id.component) + 1, 0.0f)[size_t(id.component)];
             if (x != id.value) unsupported("a post-process that changes the view (" + id.uniform + " " + std::to_string(x) + ")");
           }
           if (!r.gamma_ramps.empty() && !identity_ramp(pr, r.gamma_ramps))
@@ -1342,25 +1338,11 @@ class Interpreter {
       bool drawn = false;
       for (const auto& l : r.layers) drawn = drawn || l.sampler == sampler;
       if (drawn) continue;
-      const std::vector<float>* unit = uniform_value(pr, sampler);
-      const int u = unit && !unit->empty() ? int(unit->front()) : 0;
-      if (u < 0 || u >= int(m_unit_texture.size())) continue;
-      const int t = scene_texture(m_unit_texture[size_t(u)]);
+      const int64_t bound = sampler_texture(pr, sampler);
+      const int t = bound < 0 ? -1 : scene_texture(uint32_t(bound));
       if (t >= 0) key.layers.push_back({t, TexCoords::surface, Combine::fetch, 1.0f, kind});
     }
-    // A uniform's value: as set; 0 where the program has it and it was
-    // never set (GLSL's initial value); `fallback` where the compiler left
-    // it out (the permutation does not read it).
-    const auto vec = [&](const std::string& name, size_t n, float fallback) {
-      std::vector<float> v(n, fallback);
-      if (name.empty()) return v;
-      const std::vector<float>* u = uniform_value(pr, name);
-      if (!u && located(pr, name)) std::fill(v.begin(), v.end(), 0.0f);
-      if (u)
-        for (size_t i = 0; i < n && i < u->size(); ++i) v[i] = (*u)[i];
-      return v;
-    };
-    const std::vector<float> rgb = vec(r.colour_rgb, 3, 1), alpha = vec(r.alpha, 1, 1);
+    const std::vector<float> rgb = uniform_or(pr, r.colour_rgb, 3, 1), alpha = uniform_or(pr, r.alpha, 1, 1);
     key.colour = {rgb[0], rgb[1], rgb[2], alpha[0]};
     std::string approximation = r.approximation;
     const auto approximate = [&](const std::string& what) { approximation += (approximation.empty() ? "" : "; ") + what; };
@@ -1369,7 +1351,7 @@ class Interpreter {
       // the ambient (exact for a grey ambient on an opaque texture).
       // On a translucent texture the added layer would square its alpha
       // (oovr's added layers modulate alpha): the ambient is left out there.
-      const std::vector<float> a = vec(r.ambient, 3, 0);
+      const std::vector<float> a = uniform_or(pr, r.ambient, 3, 0);
       if (a[0] != 0 || a[1] != 0 || a[2] != 0) {
         LayerKey again = key.layers.front();
         again.combine = Combine::add;
@@ -1434,7 +1416,7 @@ class Interpreter {
     if (!r.light_ambient.empty()) light = light_vertices(pr, r, lo, v, key.colour);
     for (size_t i = 0; i < tints.size(); ++i) {
       if (tints[i]->tint.empty()) continue;
-      const std::vector<float> t = vec(tints[i]->tint, 3, 0);
+      const std::vector<float> t = uniform_or(pr, tints[i]->tint, 3, 0);
       key.layers[i].scale = (t[0] + t[1] + t[2]) / 3 * (tints[i]->lit ? light : 1.0f);
       if (t[0] != t[1] || t[1] != t[2]) approximate(tints[i]->tint + " taken grey");
     }
@@ -1973,26 +1955,22 @@ class Interpreter {
     if (count < 0) throw Error("a negative count");
     if (!in_window() || count == 0) return;
     if (indices.kind != Value::Kind::blob) unsupported("indices in a buffer object");
-    const int size = type == GL_UNSIGNED_INT ? 4 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_BYTE ? 1 : 0;
-    if (!size) throw Error("index type " + std::to_string(type));
-    if (uint64_t(count) * uint64_t(size) > indices.bytes.size())
-      throw Error(std::to_string(count) + " indices in a blob of " + std::to_string(indices.bytes.size()) + " bytes");
-    std::vector<uint32_t> element(static_cast<size_t>(count));
-    for (int64_t i = 0; i < count; ++i) {
-      const char* p = indices.bytes.data() + i * size;
-      element[size_t(i)] = size == 4 ? load<uint32_t>(p) : size == 2 ? load<uint16_t>(p) : load<uint8_t>(p);
-    }
-    array_vertices(mode, element);
+    array_vertices(mode, read_indices(count, type, indices.bytes.data(), indices.bytes.size(), "a blob"));
   }
 
-  void array_draw(int64_t mode, int64_t first, int64_t count) {
-    if (first < 0 || count < 0 || count > (int64_t(1) << 24))
-      throw Error("a draw of " + std::to_string(count) + " vertices from " + std::to_string(first));
-    if (!in_window() || count == 0) return;
-    check_vertex(uint64_t(first + count - 1));
+  // The `count` indices of `type` at `base`, where `bytes` are left (in
+  // `what`, for the error).
+  static std::vector<uint32_t> read_indices(int64_t count, int64_t type, const char* base, uint64_t bytes, const char* what) {
+    const int size = type == GL_UNSIGNED_INT ? 4 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_BYTE ? 1 : 0;
+    if (!size) throw Error("index type " + std::to_string(type));
+    if (uint64_t(count) * uint64_t(size) > bytes)
+      throw Error(std::to_string(count) + " indices in " + what + " of " + std::to_string(bytes) + " bytes");
     std::vector<uint32_t> element(static_cast<size_t>(count));
-    for (int64_t i = 0; i < count; ++i) element[size_t(i)] = uint32_t(first + i);
-    array_vertices(mode, element);
+    for (int64_t i = 0; i < count; ++i) {
+      const char* p = base + i * size;
+      element[size_t(i)] = size == 4 ? load<uint32_t>(p) : size == 2 ? load<uint16_t>(p) : load<uint8_t>(p);
+    }
+    return element;
   }
 
   // Error unless vertex `i` lies in the vertex array apitrace recorded
