@@ -88,6 +88,28 @@ int main(int argc, char** argv) {
     std::string gl3_file = std::string(1, '\1') + g3.finish();
     write(dir / "apitrace" / "gl3_stream", std::vector<uint8_t>(gl3_stream.begin(), gl3_stream.end()));
     write(dir / "apitrace" / "gl3_file", std::vector<uint8_t>(gl3_file.begin(), gl3_file.end()));
+    // An OpenGL 3 frame in ioquake3's opengl2 manner: two vertex array
+    // objects, a lit lightmapped program with key frames and a generic one
+    // with texture-coordinate mods.
+    oovr::test::TraceWriter q3;
+    q3.gl_viewport(64, 48);
+    q3.gl_texture_2x2(7, std::vector<uint8_t>(16, 200));
+    q3.gl_ioq3_program(5, "lightall", {"USE_LIGHT", "USE_FAST_LIGHT", "USE_LIGHTMAP", "USE_VERTEX_ANIMATION"});
+    q3.gl_uniform_matrix({1, 0, 0, 0, 0, 1.333f, 0, 0, 0, 0, -1.02f, -1, 0, 0, -2.02f, 0});
+    q3.gl_uniform4f(4, 2, 2, 2, 1);
+    q3.call("glUniform1f", {{"location", q3.i(6)}, {"v0", q3.f(0.5f)}});
+    q3.call("glBindVertexArray", {{"array", q3.u(1)}});
+    q3.gl_buffer_quad(-5);
+    q3.gl_ioq3_program(6, "generic", {"USE_TCGEN", "USE_TCMOD", "USE_RGBAGEN"});
+    q3.gl_uniform_matrix({1, 0, 0, 0, 0, 1.333f, 0, 0, 0, 0, -1.02f, -1, 0, 0, -2.02f, 0});
+    q3.call("glUniform1i", {{"location", q3.i(5)}, {"v0", q3.i(1)}});
+    q3.call("glBindVertexArray", {{"array", q3.u(2)}});
+    q3.gl_buffer_quad(-6);
+    q3.call("glXSwapBuffers", {{"dpy", q3.opaque(1)}, {"drawable", q3.u(2)}});
+    std::string q3_stream = std::string(1, '\0') + q3.stream();
+    std::string q3_file = std::string(1, '\1') + q3.finish();
+    write(dir / "apitrace" / "ioq3_stream", std::vector<uint8_t>(q3_stream.begin(), q3_stream.end()));
+    write(dir / "apitrace" / "ioq3_file", std::vector<uint8_t>(q3_file.begin(), q3_file.end()));
     // The same frame imported, as a cached import (fuzz_trace reads its
     // input as one too).
     oovr::GlTraceWindow window;

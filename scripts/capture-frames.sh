@@ -9,11 +9,15 @@
 #   GAME      openarena: OpenArena 0.8.8's demo088-test1 (map oa_shouse,
 #             bots), drawn by ioquake3's fixed-function `opengl1` renderer;
 #             scene oa-demo:demo088
+#             openarena-gl2: the same demo drawn by ioquake3's GLSL `opengl2`
+#             renderer (OpenArena's default) with the settings oovr models
+#             (docs/real-frames.md); scene oa-demo:demo088-gl2
 #             nexuiz: Nexuiz 2.5.2's benchmark demo bench1, drawn by
 #             DarkPlaces' GLSL renderer with the settings oovr models
 #             (docs/real-frames.md); scene nexuiz-demo:bench1
 #   --frames  the window oovr imports by default (default 40-103 for
-#             openarena, 100-163 for nexuiz: the loading screens first)
+#             openarena and openarena-gl2, 100-163 for nexuiz: the loading
+#             screens first)
 #   --force   capture again even when the capture is there
 #
 # Idempotent: installs what is missing (scripts/install-deps.sh --capture),
@@ -21,7 +25,7 @@
 # $OOVR_CAPTURE_DIR, else $XDG_CACHE_HOME/oovr/captures, else
 # ~/.cache/oovr/captures; beside the capture, glretrace's snapshots of the
 # window's frames (NAME.snapshots/, for `oovr check-capture`). Takes about
-# half a minute on 2 cores; the kept file is about 60 MB.
+# half a minute on 2 cores; the kept file is 60 to 110 MB.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -37,7 +41,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 case "$game" in
-  openarena) : "${frames:=40-103}" ;;
+  openarena|openarena-gl2) : "${frames:=40-103}" ;;
   nexuiz) : "${frames:=100-163}" ;;
 esac
 if [[ ! "$frames" =~ ^([0-9]{1,7})-([0-9]{1,7})$ ]]; then
@@ -53,14 +57,30 @@ if (( last < first )); then
 fi
 frames="$first-$last"
 
+# Each capture is kept as PREFIX-NAME.trace: the scene PREFIX's source
+# (oa-demo for openarena, nexuiz-demo for nexuiz) reads NAME from there.
 case "$game" in
   openarena)
-    name=demo088
+    prefix=openarena name=demo088 scene=oa-demo:demo088
     command=(/usr/games/openarena +set cl_renderer opengl1 +set s_initsound 0 +set timedemo 1
              +set nextdemo quit +demo demo088-test1)
     ;;
+  openarena-gl2)
+    prefix=openarena name=demo088-gl2 scene=oa-demo:demo088-gl2
+    # ioquake3's opengl2 renderer as oovr's interpreter reads it
+    # (docs/real-frames.md): straight into the window (no HDR, no
+    # multisampling: no render target, tone map or auto-exposure), lit by
+    # its fast path (no normal, specular, deluxe or cube maps), no sun
+    # shadows, screen-space ambient occlusion or projected shadows; the
+    # demo, the depth pre-pass and the dynamic lights as the game draws them.
+    # The bigger hunk is what the renderer needs to load the map.
+    command=(/usr/games/openarena +set cl_renderer opengl2 +set com_hunkmegs 256 +set s_initsound 0 +set timedemo 1
+             +set nextdemo quit +set r_hdr 0 +set r_ext_framebuffer_multisample 0 +set r_postProcess 0
+             +set r_normalMapping 0 +set r_specularMapping 0 +set r_deluxeMapping 0 +set r_cubeMapping 0
+             +set r_sunlightMode 0 +set r_ssao 0 +set r_dlightMode 0 +set r_pshadowDist 0 +demo demo088-test1)
+    ;;
   nexuiz)
-    name=bench1
+    prefix=nexuiz name=bench1 scene=nexuiz-demo:bench1
     # DarkPlaces' OpenGL 3.2 renderer as oovr's interpreter reads it
     # (docs/real-frames.md): no post-processing, water, skeletal animation
     # on the GPU, real-time dynamic lights, deluxe or offset mapping, model
@@ -71,13 +91,14 @@ case "$game" in
              +gl_texturecompression 0 +v_gamma 1 +v_contrast 1 +v_brightness 0 +vid_sRGB 0)
     ;;
   "") usage >&2; exit 2 ;;
-  *) echo "capture-frames: unknown game '$game' (games: openarena, nexuiz)" >&2; exit 2 ;;
+  *) echo "capture-frames: unknown game '$game' (games: openarena, openarena-gl2, nexuiz)" >&2; exit 2 ;;
 esac
 
 dir=${OOVR_CAPTURE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/oovr/captures}
-trace="$dir/$game-$name.trace"
-window="$dir/$game-$name.frames"
-if [[ $force -eq 0 && -f "$trace" && -f "$window" && -d "$dir/$game-$name.snapshots" && "$(cat "$window")" == "$frames" ]]; then
+trace="$dir/$prefix-$name.trace"
+window="$dir/$prefix-$name.frames"
+snapshots="$dir/$prefix-$name.snapshots"
+if [[ $force -eq 0 && -f "$trace" && -f "$window" && -d "$snapshots" && "$(cat "$window")" == "$frames" ]]; then
   echo "capture-frames: $trace is there (frames $frames); --force captures again"
   exit 0
 fi
@@ -133,9 +154,9 @@ for f in "$work/snapshots"/*.png; do
   (( 10#$n >= first && 10#$n <= last )) || rm -f "$f"
 done
 
-rm -rf "$dir/$game-$name.snapshots"
-mv "$work/snapshots" "$dir/$game-$name.snapshots"
+rm -rf "$snapshots"
+mv "$work/snapshots" "$snapshots"
 mv "$work/cut.trace" "$trace"
 printf '%s\n' "$frames" >"$window"
 echo "capture-frames: kept frames 0 to $last in $trace ($(du -h "$trace" | cut -f1)), glretrace's snapshots of" \
-     "frames $frames in $dir/$game-$name.snapshots; scene $([[ $game == openarena ]] && echo oa-demo || echo nexuiz-demo):$name"
+     "frames $frames in $snapshots; scene $scene"

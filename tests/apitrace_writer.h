@@ -186,6 +186,49 @@ class TraceWriter {
     for (int k = 0; k < 5; ++k) call("glGetUniformLocation", {{"program", u(id)}, {"name", str(uniforms[k])}}, i(k));
     return id;
   }
+  // A program in ioquake3's opengl2 manner (gl_programs.h): one source
+  // string, a header of the constants' and the permutation's #defines
+  // closed by `#line 0`, then a body declaring what the `shader` (generic,
+  // lightall, dlight) declares. Attributes bound: attr_Position 0,
+  // attr_Color 1, attr_TexCoord0 2, attr_TexCoord1 3, attr_Normal 4,
+  // attr_Position2 5, attr_Normal2 6; uniform locations:
+  // u_ModelViewProjectionMatrix 0, u_DiffuseMap 1, u_LightMap 2,
+  // u_BaseColor 3, u_VertColor 4, u_AlphaTest 5, u_VertexLerp 6. The
+  // program is used.
+  uint64_t gl_ioq3_program(uint64_t id, const std::string& shader, const std::vector<std::string>& defines) {
+    std::string header =
+        "#version 150\n#define attribute in\n#define varying out\n#ifndef M_PI\n#define M_PI 3.14159265358979323846\n#endif\n";
+    for (const char* c :
+         {"DGEN_WAVE_SIN 1", "DGEN_WAVE_SQUARE 2", "DGEN_WAVE_TRIANGLE 3", "DGEN_WAVE_SAWTOOTH 4", "DGEN_WAVE_INVERSE_SAWTOOTH 5",
+          "DGEN_BULGE 7", "DGEN_MOVE 8", "TCGEN_LIGHTMAP 2", "TCGEN_TEXTURE 3", "TCGEN_ENVIRONMENT_MAPPED 4", "TCGEN_FOG 5",
+          "TCGEN_VECTOR 6", "CGEN_LIGHTING_DIFFUSE 11", "AGEN_LIGHTING_SPECULAR 6", "AGEN_PORTAL 8"})
+      header += std::string("#define ") + c + "\n";
+    for (const auto& d : defines) header += "#define " + d + "\n";
+    std::string body = "attribute vec3 attr_Position;\n";
+    if (shader == "generic") body += "uniform vec4   u_BaseColor;\nvarying vec2   var_DiffuseTex;\n";
+    else if (shader == "lightall") body += "uniform vec4   u_BaseColor;\nvarying vec4   var_TexCoords;\n";
+    else if (shader == "dlight") body += "uniform vec4   u_DlightInfo;\nvarying vec2   var_Tex1;\n";
+    body += "void main() {}\n";
+    const uint64_t vs = id + 100;
+    call("glCreateShader", {{"type", e("GL_VERTEX_SHADER", 0x8B31)}}, u(vs));
+    call("glShaderSource",
+         {{"shader", u(vs)}, {"count", i(1)}, {"string", array({str(header + "#line 0\n" + body)})}, {"length", null()}});
+    call("glCreateProgram", {}, u(id));
+    call("glAttachShader", {{"program", u(id)}, {"shader", u(vs)}});
+    const char* names[] = {"attr_Position", "attr_Color",     "attr_TexCoord0", "attr_TexCoord1",
+                           "attr_Normal",   "attr_Position2", "attr_Normal2"};
+    for (int k = 0; k < 7; ++k)
+      call("glBindAttribLocation", {{"program", u(id)}, {"index", u(uint64_t(k))}, {"name", str(names[k])}});
+    call("glLinkProgram", {{"program", u(id)}});
+    call("glUseProgram", {{"program", u(id)}});
+    const char* uniforms[] = {
+        "u_ModelViewProjectionMatrix", "u_DiffuseMap", "u_LightMap", "u_BaseColor", "u_VertColor", "u_AlphaTest", "u_VertexLerp"};
+    for (int k = 0; k < 7; ++k) call("glGetUniformLocation", {{"program", u(id)}, {"name", str(uniforms[k])}}, i(k));
+    return id;
+  }
+  void gl_uniform4f(int64_t location, float x, float y, float z, float w) {
+    call("glUniform4f", {{"location", i(location)}, {"v0", f(x)}, {"v1", f(y)}, {"v2", f(z)}, {"v3", f(w)}});
+  }
   void gl_uniform_matrix(const std::vector<float>& m) {
     std::vector<std::string> items;
     for (float x : m) items.push_back(f(x));

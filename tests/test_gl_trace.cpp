@@ -8,6 +8,7 @@
 #include "apitrace_writer.h"
 #include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/scene/formats/gl_programs.h"
 #include "oovr/scene/formats/gl_trace.h"
 #include "oovr/scene/stereo.h"
 
@@ -540,6 +541,208 @@ TEST(GlTrace, AProgramsPermutationOovrDoesNotDrawIsRefusedAtItsDraw) {
   g.quad(-5);
   g.swap();
   EXPECT_THROW(g.import(), Error);
+}
+
+// ioquake3's opengl2 renderer: its lightall program on the fast light path
+// with a lightmap is diffuse x var_Color x lightmap, var_Color = u_VertColor
+// x attr_Color + u_BaseColor (here 2 x the disabled colour attribute's
+// constant: above 1, as the world's u_BaseColor 2 of the map's overbright
+// bits is); u_AlphaTest 3 keeps alpha >= 0.5.
+TEST(GlTrace, AnIoquake3ProgramsVertexStageIsEvaluatedAndItsFragmentStageIsItsTextures) {
+  Gl3Game g;
+  g.w.gl_texture_2x2(7, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255});
+  g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE1", 0x84C1)}});
+  g.w.gl_texture_2x2(8, {128, 128, 128, 255, 64, 64, 64, 255, 32, 32, 32, 255, 16, 16, 16, 255});
+  g.w.call("glActiveTexture", {{"texture", g.w.e("GL_TEXTURE0", 0x84C0)}});
+  g.w.gl_ioq3_program(5, "lightall", {"USE_LIGHT", "USE_FAST_LIGHT", "USE_LIGHTMAP", "GLOSS_IS_SMOOTHNESS"});
+  g.w.call("glUniform1i", {{"location", g.w.i(1)}, {"v0", g.w.i(0)}});  // u_DiffuseMap on unit 0
+  g.w.call("glUniform1i", {{"location", g.w.i(2)}, {"v0", g.w.i(1)}});  // u_LightMap on unit 1
+  g.w.gl_uniform4f(3, 0, 0, 0, 0);                                      // u_BaseColor
+  g.w.gl_uniform4f(4, 2, 2, 2, 1);                                      // u_VertColor
+  g.w.call("glUniform1i", {{"location", g.w.i(5)}, {"v0", g.w.i(3)}});  // u_AlphaTest
+  Mat4 p, mv;
+  g.w.gl_uniform_matrix(camera_mvp(p, mv));
+  g.quad(-5);  // attr_Color: the constant (1, 0.5, 1, 1); attr_TexCoord0: the quad's
+  g.swap();
+  const Scene s = g.import();
+  ASSERT_EQ(s.draws(0).size(), 1u);
+  const Object& o = s.draws(0)[0];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(o.clip_from_eye.at(r, c), p.at(r, c), 1e-5) << r << "," << c;
+  const Pass& pass = s.pass_of(o);
+  ASSERT_EQ(pass.layers.size(), 2u);
+  EXPECT_EQ(pass.layers[0].combine, Combine::modulate);
+  EXPECT_EQ(pass.layers[0].coords, TexCoords::surface);
+  EXPECT_EQ(pass.layers[1].combine, Combine::modulate);
+  EXPECT_EQ(pass.layers[1].coords, TexCoords::lightmap);
+  EXPECT_EQ(s.textures[size_t(pass.layers[1].texture)].levels[0].rgba[0], 128);
+  // Every vertex has the same colour: it is the pass colour, overbright kept.
+  EXPECT_FLOAT_EQ(pass.colour.x, 2.0f);
+  EXPECT_FLOAT_EQ(pass.colour.y, 1.0f);
+  EXPECT_FLOAT_EQ(pass.colour.z, 2.0f);
+  EXPECT_FLOAT_EQ(pass.colour.w, 1.0f);
+  EXPECT_EQ(pass.alpha_func, AlphaFunc::gequal);
+  EXPECT_FLOAT_EQ(pass.alpha_ref, 0.5f);
+  const Mesh& m = s.meshes[size_t(o.mesh)];
+  ASSERT_EQ(m.vertices.size(), 4u);
+  EXPECT_EQ(m.vertices[2].uv.x, 1.0f);
+  EXPECT_EQ(m.vertices[2].position.z, -5.0f);
+}
+
+// A vertex array object holds its attributes and element buffer: a draw
+// after binding one back draws what it holds; a draw with a new one, which
+// holds no element buffer, is refused.
+TEST(GlTrace, EachVertexArrayObjectKeepsItsOwnAttributesAndElementBuffer) {
+  const auto game = [](bool second_draws) {
+    auto g = std::make_unique<Gl3Game>();
+    g->w.gl_texture_2x2(7, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255});
+    g->w.gl_ioq3_program(5, "generic", {});
+    g->w.gl_uniform4f(3, 0.25f, 0.5f, 0.75f, 1);  // u_BaseColor
+    Mat4 p, mv;
+    g->w.gl_uniform_matrix(camera_mvp(p, mv));
+    g->w.call("glBindVertexArray", {{"array", g->w.u(1)}});
+    g->quad(-5);
+    g->w.call("glBindVertexArray", {{"array", g->w.u(2)}});
+    if (second_draws) g->w.call("glBindVertexArray", {{"array", g->w.u(1)}});
+    g->w.call("glDrawElements", {{"mode", g->w.e("GL_TRIANGLES", 4)},
+                                 {"count", g->w.i(6)},
+                                 {"type", g->w.e("GL_UNSIGNED_SHORT", 0x1403)},
+                                 {"indices", g->w.u(32)}});
+    g->swap();
+    return g;
+  };
+  const Scene s = game(true)->import();
+  ASSERT_EQ(s.draws(0).size(), 2u);
+  EXPECT_EQ(s.draws(0)[0].mesh, s.draws(0)[1].mesh);
+  // u_VertColor unset (0): the colour is u_BaseColor.
+  EXPECT_FLOAT_EQ(s.pass_of(s.draws(0)[1]).colour.y, 0.5f);
+  try {
+    game(false)->import();
+    ADD_FAILURE() << "a draw with an empty vertex array object accepted";
+  } catch (const Error& e) {
+    // The element buffer binding is the object's: the new one has none.
+    EXPECT_NE(std::string(e.what()).find("indices neither in a buffer object nor recorded"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GlTrace, AnIoquake3ProgramOovrDoesNotDrawIsRefusedAtItsDraw) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> programs = {
+      {"lightall", {"USE_LIGHT", "USE_LIGHTMAP", "USE_NORMALMAP"}},  // per-pixel lighting
+      {"lightall", {"USE_LIGHT", "USE_FAST_LIGHT", "USE_SHADOWMAP"}},
+      {"generic", {"USE_BONE_ANIMATION"}},
+      {"tonemap", {}}};
+  for (const auto& [shader, defines] : programs) {
+    Gl3Game g;
+    g.w.gl_ioq3_program(5, shader, defines);
+    Mat4 p, mv;
+    g.w.gl_uniform_matrix(camera_mvp(p, mv));
+    g.quad(-5);
+    g.swap();
+    try {
+      g.import();
+      ADD_FAILURE() << shader << " accepted";
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("a draw through ioquake3's"), std::string::npos) << what;
+      if (!defines.empty()) {
+        // Per-pixel lighting is refused as such; any other define by its name.
+        const std::string named = defines.back() == "USE_NORMALMAP" ? "without USE_FAST_LIGHT" : "with " + defines.back();
+        EXPECT_NE(what.find(named), std::string::npos) << what;
+      } else {
+        EXPECT_NE(what.find("other than its generic, lightall and dlight shaders"), std::string::npos) << what;
+      }
+      EXPECT_NE(what.find("frame 0"), std::string::npos) << what;
+    }
+  }
+}
+
+// ioquake3's vertex stages, one vertex at a time, against their GLSL
+// worked by hand.
+TEST(Ioq3Vertex, KeyFramesTexCoordModsLightsAndDlightsAreTheGlslsArithmetic) {
+  Ioq3Stage st;
+  for (const auto& [k, v] : std::map<std::string, float>{{"DGEN_WAVE_SIN", 1},
+                                                         {"DGEN_WAVE_SQUARE", 2},
+                                                         {"DGEN_WAVE_TRIANGLE", 3},
+                                                         {"DGEN_WAVE_SAWTOOTH", 4},
+                                                         {"DGEN_WAVE_INVERSE_SAWTOOTH", 5},
+                                                         {"DGEN_BULGE", 7},
+                                                         {"TCGEN_LIGHTMAP", 2},
+                                                         {"TCGEN_ENVIRONMENT_MAPPED", 4},
+                                                         {"TCGEN_VECTOR", 6},
+                                                         {"CGEN_LIGHTING_DIFFUSE", 11},
+                                                         {"AGEN_LIGHTING_SPECULAR", 6},
+                                                         {"AGEN_PORTAL", 8}})
+    st.constants[k] = v;
+  Ioq3VertexIn in;
+  in.position = {10, 20, 30};
+  in.position2 = {20, 20, 30};
+  in.normal = {0, 0, 1};
+  in.normal2 = {0, 0, 1};
+  in.colour = {0.5f, 0.5f, 0.5f, 1};
+  in.tex0 = {0.25f, 0.5f};
+  in.tex1 = {0.75f, 0.125f};
+  Ioq3Uniforms u;
+  u.vert_colour = {1, 1, 1, 1};
+  u.base_colour = {0.25f, 0, 0, 0};
+  // Key frames: mix(attr_Position, attr_Position2, u_VertexLerp).
+  st.vertex_animation = true;
+  u.vertex_lerp = 0.25f;
+  Ioq3VertexOut out = ioq3_vertex(st, u, in);
+  EXPECT_FLOAT_EQ(out.position.x, 12.5f);
+  EXPECT_FLOAT_EQ(out.colour[0], 0.75f);  // 1 x 0.5 + 0.25
+  EXPECT_FLOAT_EQ(out.colour[1], 0.5f);
+  EXPECT_FLOAT_EQ(out.uv.x, 0.25f);
+  EXPECT_FLOAT_EQ(out.lightmap.y, 0.125f);
+  // A deform: base + sin(2 pi (phase + spread x (x+y+z) + time x frequency)) x amplitude along the normal.
+  st.vertex_animation = false;
+  st.deform = true;
+  u.deform_gen = 1;
+  u.deform_params = {1, 2, 0.125f, 0.5f, 0};  // base, amplitude, phase, frequency, spread
+  u.time = 0.25f;
+  out = ioq3_vertex(st, u, in);
+  EXPECT_NEAR(out.position.z, 30 + 1 + 2 * std::sin(2 * kPi * 0.25f), 1e-5);
+  // A texture-coordinate map: the affine part and a turbulence of amplitude 0.
+  st.deform = false;
+  st.tcmod = true;
+  u.tex_matrix = {2, 0, 0, 3};
+  u.off_turb = {0.5f, 0.25f, 0, 0};
+  out = ioq3_vertex(st, u, in);
+  EXPECT_FLOAT_EQ(out.uv.x, 0.25f * 2 + 0.5f);
+  EXPECT_FLOAT_EQ(out.uv.y, 0.5f * 3 + 0.25f);
+  // TCGEN_LIGHTMAP takes the lightmap's coordinates.
+  st.tcgen = true;
+  u.tcgen = 2;
+  u.tex_matrix = {1, 0, 0, 1};
+  u.off_turb = {};
+  out = ioq3_vertex(st, u, in);
+  EXPECT_FLOAT_EQ(out.uv.x, 0.75f);
+  // The fast light: a point light 10 units above, radius 20: N.L = 1,
+  // attenuation clamp((0.5 x 400/100 - 1.5) x 1 + 1) = 1.
+  st.tcgen = st.tcmod = false;
+  st.light_vector = true;
+  u.light_origin = {10, 20, 40, 1};
+  u.light_radius = 20;
+  u.directed_light = {0.5f, 0.5f, 0.5f};
+  u.ambient_light = {0.25f, 0.25f, 0.25f};
+  out = ioq3_vertex(st, u, in);
+  EXPECT_FLOAT_EQ(out.colour[1], 0.5f * (0.5f + 0.25f));
+  // Radius 10: attenuation clamp((0.5 x 1 - 1.5) + 1) = 0, the ambient alone.
+  u.light_radius = 10;
+  out = ioq3_vertex(st, u, in);
+  EXPECT_FLOAT_EQ(out.colour[1], 0.5f * 0.25f);
+  // A dynamic light's disc: coordinates from the distance x 1/radius, the
+  // colour where the surface faces the light.
+  Ioq3Stage dl = st;
+  dl.shader = Ioq3Stage::Shader::dlight;
+  dl.light_vector = false;
+  u.dlight_info = {14, 20, 32, 0.125f};
+  u.colour = {1, 0.5f, 0.25f, 1};
+  out = ioq3_vertex(dl, u, in);
+  EXPECT_FLOAT_EQ(out.uv.x, 4 * 0.125f + 0.5f);
+  EXPECT_FLOAT_EQ(out.uv.y, 0.5f);
+  EXPECT_FLOAT_EQ(out.colour[1], 0.5f * std::clamp(2 * (1 - 2 * 0.125f), 0.0f, 1.0f));
+  u.dlight_info = {14, 20, 28, 0.125f};  // below the surface: dark
+  EXPECT_FLOAT_EQ(ioq3_vertex(dl, u, in).colour[0], 0.0f);
 }
 
 }  // namespace

@@ -10,14 +10,20 @@
 // is refused with its name; where the colour is approximated the recipe
 // says how, and the import counts those draws in a scene note.
 //
-// The convention modelled is DarkPlaces' (Nexuiz) OpenGL 3.2 renderer, its
-// one shader (shader_glsl.h) compiled per permutation.
+// Two conventions are modelled: DarkPlaces' (Nexuiz) OpenGL 3.2 renderer,
+// its one shader (shader_glsl.h) compiled per permutation, and ioquake3's
+// `opengl2` renderer (renderergl2, OpenArena's default), its generic,
+// lightall and dlight shaders, whose vertex stage oovr evaluates per vertex
+// (ioq3_vertex) and whose fragment stage is a product of textures.
 #pragma once
 
+#include <array>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "oovr/core/math.h"
 #include "oovr/scene/material.h"
 
 namespace oovr {
@@ -27,8 +33,61 @@ namespace oovr {
 // then the shader body, whose own #defines are not permutations).
 std::set<std::string> permutation_defines(const std::vector<std::string>& source_strings);
 
+// What ioquake3's opengl2 vertex shaders compute (glsl/generic_vp.glsl,
+// lightall_vp.glsl, dlight_vp.glsl), as its permutation defines select.
+struct Ioq3Stage {
+  enum class Shader : uint8_t { generic, lightall, dlight } shader = Shader::generic;
+  bool deform = false;            // USE_DEFORM_VERTEXES: positions moved along the normal by a wave
+  bool tcgen = false;             // USE_TCGEN: coordinates from the lightmap's, an environment map or vectors
+  bool tcmod = false;             // USE_TCMOD: an affine map and a turbulence of the coordinates
+  bool rgbagen = false;           // USE_RGBAGEN: colour from a light direction, alpha from specular or portal range
+  bool fog = false;               // USE_FOG: the colour attenuated by fog
+  bool vertex_animation = false;  // USE_VERTEX_ANIMATION: two key frames mixed by u_VertexLerp
+  bool lightmap = false;          // USE_LIGHTMAP: the lightmap (u_LightMap) multiplies the colour
+  bool light_vector = false;      // USE_LIGHT_VECTOR with USE_FAST_LIGHT: a light's diffuse term per vertex
+  bool model_matrix = false;      // USE_MODELMATRIX: the light vector's position in world space
+  // The header's constants (#define NAME VALUE: DGEN_WAVE_SIN, TCGEN_VECTOR, ...).
+  std::map<std::string, float> constants;
+};
+
+// A draw's uniforms that ioquake3's vertex stages read (0 where unset).
+struct Ioq3Uniforms {
+  std::array<float, 4> base_colour{}, vert_colour{}, tex_matrix{1, 0, 0, 1}, off_turb{};
+  float tcgen = 0;
+  Vec3 tcgen_vector0, tcgen_vector1, local_view_origin;
+  float colour_gen = 0, alpha_gen = 0, portal_range = 0;
+  Vec3 ambient_light, directed_light, model_light_dir;
+  float deform_gen = 0, time = 0;
+  std::array<float, 5> deform_params{};
+  std::array<float, 4> fog_distance{}, fog_depth{}, fog_colour_mask{};
+  float fog_eye_t = 0;
+  float vertex_lerp = 0;
+  Mat4 model_matrix;
+  std::array<float, 4> light_origin{};
+  float light_radius = 0;
+  std::array<float, 4> dlight_info{}, colour{};  // the dlight shader's
+};
+
+struct Ioq3VertexIn {
+  Vec3 position, normal, position2, normal2;
+  std::array<float, 4> colour{1, 1, 1, 1};
+  Vec2 tex0, tex1;
+};
+
+struct Ioq3VertexOut {
+  Vec3 position;                  // the object-space position gl_Position projects
+  Vec2 uv, lightmap;              // var_DiffuseTex (var_TexCoords.xy, var_Tex1) and var_TexCoords.zw
+  std::array<float, 4> colour{};  // var_Color, unclamped
+};
+
+// One vertex through the stage's vertex shader, as its GLSL computes it.
+Ioq3VertexOut ioq3_vertex(const Ioq3Stage& stage, const Ioq3Uniforms& u, const Ioq3VertexIn& in);
+
 struct ProgramRecipe {
-  std::string mode;  // the permutation's MODE_ define
+  std::string mode;  // the permutation's MODE_ define (DarkPlaces), or ioquake3's shader and defines
+  // ioquake3's opengl2 programs: the vertex stage oovr evaluates per vertex.
+  bool ioq3 = false;
+  Ioq3Stage stage;
   // Attributes (by the name the program binds them to): positions, the
   // surface's and the lightmap's (or second texture's) coordinates, the
   // vertex colour; "" when the permutation does not read one.
@@ -86,5 +145,15 @@ const std::vector<SamplerKind>& darkplaces_2d_samplers();
 // The recipe of a DarkPlaces permutation; throws Error naming the programs
 // oovr does not draw ("DarkPlaces' MODE_WATER programs").
 ProgramRecipe darkplaces_recipe(const std::set<std::string>& defines);
+
+// Whether a program's shader sources are ioquake3's opengl2 renderer's: one
+// string each, a header of #defines closed by `#line 0`, then a body whose
+// attributes are named attr_*.
+bool is_ioq3_program(const std::vector<std::vector<std::string>>& shader_sources);
+
+// The recipe of an ioquake3 opengl2 program from its shaders' sources;
+// throws Error naming what oovr does not draw ("ioquake3's lightall
+// programs with USE_NORMALMAP").
+ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_sources);
 
 }  // namespace oovr

@@ -303,6 +303,10 @@ struct GlTextureObject {
   int scene_index = -1;  // the Scene texture of its current contents; -1: changed since
   int version = 0;
   bool depth = false;  // a depth texture (a shadow map's target)
+  // glGenerateMipmap made its levels from the base level: oovr builds them
+  // as it builds any chain (a box filter; OpenGL leaves the filter to the
+  // implementation), with no note.
+  bool generated = false;
 };
 
 struct ImmediateVertex {
@@ -865,7 +869,6 @@ class Interpreter {
                                                    "glCheckFramebufferStatus",
                                                    "glDeleteFramebuffers",
                                                    "glDeleteRenderbuffers",
-                                                   "glDeleteVertexArrays",
                                                    "glCompileShader",
                                                    "glGetShaderiv",
                                                    "glGetShaderInfoLog",
@@ -878,6 +881,8 @@ class Interpreter {
                                                    "glValidateProgram",
                                                    "glDetachShader",
                                                    "glGetAttribLocation",
+                                                   "glGetActiveUniform",
+                                                   "glGetActiveAttrib",
                                                    "glDrawBuffers",
                                                    "glDebugMessageControl",
                                                    "glDebugMessageControlARB",
@@ -918,9 +923,34 @@ class Interpreter {
         b.replace(size_t(offset), size_t(size), data.bytes, 0, size_t(size));
       }
     } else if (n == "glBindVertexArray") {
+      // A vertex array object holds the attributes' arrays and the element
+      // buffer binding (ioquake3's opengl2 binds one per model and
+      // surface): the current ones are saved under the object left and
+      // those of the object bound are restored (a new object's are unset).
       const auto id = uint32_t(num(c, 0));
-      if (id != 0 && m_vao != 0 && id != m_vao) unsupported("a second vertex array object");
-      if (id != 0) m_vao = id;
+      if (id == m_vao) return true;
+      if (m_vaos.size() >= kMaxVertexArrays && !m_vaos.count(id))
+        throw Error("more than " + std::to_string(kMaxVertexArrays) + " vertex array objects");
+      VertexArrayObject& left = m_vaos[m_vao];
+      left.attribs = m_attribs;
+      left.element_buffer = m_element_buffer;
+      const VertexArrayObject& bound = m_vaos[id];
+      m_attribs = bound.attribs;
+      m_element_buffer = bound.element_buffer;
+      m_vao = id;
+    } else if (n == "glDeleteVertexArrays") {
+      const Value& v = c.arg(1);
+      if (v.kind == Value::Kind::array)
+        for (const Value& id : v.items) {
+          const auto vao = uint32_t(id.integer());
+          if (vao == 0) continue;
+          m_vaos.erase(vao);
+          if (vao == m_vao) {  // deleting the bound object binds 0
+            m_attribs = m_vaos[0].attribs;
+            m_element_buffer = m_vaos[0].element_buffer;
+            m_vao = 0;
+          }
+        }
     } else if (n == "glVertexAttribPointer" || n == "glVertexAttribPointerARB") {
       VertexAttrib& a = attrib(num(c, 0));
       a.array.size = int(num(c, 1));
@@ -987,9 +1017,12 @@ class Interpreter {
         const std::set<std::string> d = permutation_defines(it->second);
         defines.insert(d.begin(), d.end());
       }
+      std::vector<std::vector<std::string>> sources;
+      for (uint32_t sh : p.shaders)
+        if (const auto it = m_shader_sources.find(sh); it != m_shader_sources.end()) sources.push_back(it->second);
       p.linked = true;
       try {
-        p.recipe = darkplaces_recipe(defines);
+        p.recipe = is_ioq3_program(sources) ? ioq3_recipe(sources) : darkplaces_recipe(defines);
         p.refusal.clear();
       } catch (const Error& e) {
         p.refusal = e.what();  // refused at its first draw
@@ -1009,6 +1042,19 @@ class Interpreter {
       if (target == GL_FRAMEBUFFER || target == GL_DRAW_FRAMEBUFFER) m_fbo = uint32_t(num(c, 1));
     } else if (n == "glFramebufferTexture2D") {
       if (num(c, 1) == GL_COLOR_ATTACHMENT0) m_fbo_colour[m_fbo] = uint32_t(num(c, 3));
+    } else if (n == "glGenerateMipmap" || n == "glGenerateMipmapEXT") {
+      if (num(c, 0) != GL_TEXTURE_2D) return true;  // cube maps: not sampled by what oovr draws
+      GlTextureObject& t = m_textures[m_unit_texture[size_t(m_active_unit)]];
+      for (auto it = t.levels.begin(); it != t.levels.end();) {
+        if (it->first == 0) {
+          ++it;
+          continue;
+        }
+        m_texel_bytes -= it->second.rgba.size();
+        it = t.levels.erase(it);
+      }
+      t.generated = true;
+      t.scene_index = -1;
     } else if (n == "glCopyTexSubImage2D" || n == "glCopyTexImage2D") {
       // The framebuffer copied into the bound texture: what it samples
       // then is the view (refused where it is drawn, as render-to-texture).
@@ -1145,8 +1191,22 @@ class Interpreter {
     const auto it = m_buffers.find(a.buffer);
     if (it == m_buffers.end() || a.offset > it->second.size()) return false;
     if (!fetch(a.array, i, out, it->second.data() + a.offset, it->second.size() - a.offset)) return false;
-    if (a.normalized && a.array.type == GL_UNSIGNED_BYTE)
-      for (int k = 0; k < a.array.size; ++k) out[k] /= 255.0f;
+    if (a.normalized) {
+      // OpenGL 4.2's conversion (Section 2.3.5.1): unsigned c / (2^b - 1),
+      // signed max(c / (2^(b-1) - 1), -1).
+      float scale = 1;
+      bool is_signed = false;
+      switch (a.array.type) {
+        case GL_UNSIGNED_BYTE: scale = 255.0f; break;
+        case GL_BYTE: scale = 127.0f, is_signed = true; break;
+        case GL_UNSIGNED_SHORT: scale = 65535.0f; break;
+        case GL_SHORT: scale = 32767.0f, is_signed = true; break;
+        case GL_UNSIGNED_INT: scale = 4294967295.0f; break;
+        case GL_INT: scale = 2147483647.0f, is_signed = true; break;
+        default: break;
+      }
+      for (int k = 0; k < a.array.size; ++k) out[k] = is_signed ? std::max(out[k] / scale, -1.0f) : out[k] / scale;
+    }
     return true;
   }
 
@@ -1279,6 +1339,120 @@ class Interpreter {
     return v.empty() ? 0.0f : float(sum / double(3 * v.size()));
   }
 
+  // The uniforms ioquake3's vertex stages read, from the program in use.
+  Ioq3Uniforms ioq3_uniforms(const GlslProgram& p) const {
+    Ioq3Uniforms u;
+    const auto get = [&](const char* name, float* out, size_t n, float fallback = 0) {
+      const std::vector<float> v = uniform_or(p, name, n, fallback);
+      std::copy(v.begin(), v.end(), out);
+    };
+    const auto vec3 = [&](const char* name, Vec3& out) {
+      float f[3];
+      get(name, f, 3);
+      out = {f[0], f[1], f[2]};
+    };
+    get("u_BaseColor", u.base_colour.data(), 4);
+    get("u_VertColor", u.vert_colour.data(), 4);
+    get("u_DiffuseTexMatrix", u.tex_matrix.data(), 4);
+    get("u_DiffuseTexOffTurb", u.off_turb.data(), 4);
+    get("u_TCGen0", &u.tcgen, 1);
+    vec3("u_TCGen0Vector0", u.tcgen_vector0);
+    vec3("u_TCGen0Vector1", u.tcgen_vector1);
+    vec3("u_LocalViewOrigin", u.local_view_origin);
+    get("u_ColorGen", &u.colour_gen, 1);
+    get("u_AlphaGen", &u.alpha_gen, 1);
+    get("u_PortalRange", &u.portal_range, 1);
+    vec3("u_AmbientLight", u.ambient_light);
+    vec3("u_DirectedLight", u.directed_light);
+    vec3("u_ModelLightDir", u.model_light_dir);
+    get("u_DeformGen", &u.deform_gen, 1);
+    get("u_DeformParams", u.deform_params.data(), 5);
+    get("u_Time", &u.time, 1);
+    get("u_FogDistance", u.fog_distance.data(), 4);
+    get("u_FogDepth", u.fog_depth.data(), 4);
+    get("u_FogEyeT", &u.fog_eye_t, 1);
+    get("u_FogColorMask", u.fog_colour_mask.data(), 4);
+    get("u_VertexLerp", &u.vertex_lerp, 1);
+    float m[16];
+    get("u_ModelMatrix", m, 16);
+    if (const std::vector<float>* mm = uniform_value(p, "u_ModelMatrix"); mm && mm->size() == 16)
+      for (int k = 0; k < 16; ++k) u.model_matrix.m[k / 4][k % 4] = m[k];
+    get("u_LightOrigin", u.light_origin.data(), 4);
+    get("u_LightRadius", &u.light_radius, 1);
+    get("u_DlightInfo", u.dlight_info.data(), 4);
+    get("u_Color", u.colour.data(), 4);
+    return u;
+  }
+
+  // An ioquake3 opengl2 draw's vertices: its vertex stage evaluated per
+  // vertex (gl_programs.h, ioq3_vertex). The colour, which may exceed 1
+  // (the map's overbright light), goes into the pass colour where every
+  // vertex has the same, else into the vertex colours scaled to at most 1
+  // with that scale in the pass colour. The fragment stage's alpha test
+  // (u_AlphaTest) is the pass's.
+  void ioq3_vertices(const GlslProgram& pr, const ProgramRecipe& r, uint32_t lo, std::vector<ImmediateVertex>& v,
+                     MaterialKey& key) const {
+    const Ioq3Uniforms u = ioq3_uniforms(pr);
+    const Ioq3Stage& st = r.stage;
+    std::vector<std::array<float, 4>> colour(v.size());
+    bool same = true;
+    float top = 1;
+    for (size_t i = 0; i < v.size(); ++i) {
+      Ioq3VertexIn in;
+      float f[4] = {0, 0, 0, 1};
+      const auto vec3 = [&](const char* name, Vec3& out) {
+        f[0] = f[1] = f[2] = 0;
+        f[3] = 1;
+        if (attribute(pr, name, lo + i, f)) out = {f[0], f[1], f[2]};
+      };
+      vec3("attr_Position", in.position);
+      vec3("attr_Normal", in.normal);
+      if (st.vertex_animation) {
+        vec3("attr_Position2", in.position2);
+        vec3("attr_Normal2", in.normal2);
+      }
+      float c[4] = {1, 1, 1, 1};
+      if (!r.colour.empty() && attribute(pr, r.colour, lo + i, c)) in.colour = {c[0], c[1], c[2], c[3]};
+      float t[4] = {0, 0, 0, 1};
+      if (attribute(pr, "attr_TexCoord0", lo + i, t)) in.tex0 = {t[0], t[1]};
+      float l[4] = {0, 0, 0, 1};
+      if (attribute(pr, "attr_TexCoord1", lo + i, l)) in.tex1 = {l[0], l[1]};
+      const Ioq3VertexOut out = ioq3_vertex(st, u, in);
+      v[i].position = {out.position.x, out.position.y, out.position.z, 1};
+      v[i].uv[0] = {out.uv.x, out.uv.y};
+      v[i].uv[1] = {out.lightmap.x, out.lightmap.y};
+      colour[i] = out.colour;
+      colour[i][3] = std::clamp(colour[i][3], 0.0f, 1.0f);
+      for (int ch = 0; ch < 3; ++ch) {
+        colour[i][size_t(ch)] = std::max(0.0f, colour[i][size_t(ch)]);
+        top = std::max(top, colour[i][size_t(ch)]);
+      }
+      same = same && colour[i] == colour[0];
+    }
+    if (same && !v.empty()) {
+      key.colour = colour[0];
+      for (auto& x : v) x.colour = pack_colour(1, 1, 1, 1);
+    } else {
+      key.colour = {top, top, top, 1};
+      for (size_t i = 0; i < v.size(); ++i)
+        v[i].colour = pack_colour(colour[i][0] / top, colour[i][1] / top, colour[i][2] / top, colour[i][3]);
+    }
+    // u_AlphaTest: 1 discards alpha 0, 2 alpha >= 0.5, 3 alpha < 0.5.
+    const float test = uniform_or(pr, "u_AlphaTest", 1, 0)[0];
+    if (test == 1) {
+      key.alpha_func = GL_GREATER;
+      key.alpha_ref = 0;
+    } else if (test == 2) {
+      key.alpha_func = GL_LESS;
+      key.alpha_ref = 0.5f;
+    } else if (test == 3) {
+      key.alpha_func = GL_GEQUAL;
+      key.alpha_ref = 0.5f;
+    } else if (test != 0) {
+      unsupported("an ioquake3 alpha test " + std::to_string(test));
+    }
+  }
+
   // A draw through a GLSL program (its recipe: gl_programs.h).
   void program_draw(int64_t mode, const std::vector<uint32_t>& element) {
     const GlslProgram& pr = program(m_program);
@@ -1334,7 +1508,7 @@ class Interpreter {
     // What else the program samples: fetched, not combined (their fetches
     // and traffic counted; gl_programs.h).
     for (const auto& [sampler, kind] : darkplaces_2d_samplers()) {
-      if (!located(pr, sampler)) continue;
+      if (r.ioq3 || !located(pr, sampler)) continue;
       bool drawn = false;
       for (const auto& l : r.layers) drawn = drawn || l.sampler == sampler;
       if (drawn) continue;
@@ -1393,7 +1567,8 @@ class Interpreter {
       if (!attribute(pr, r.position, hi, f)) unsupported("a draw without positions");
     }
     std::vector<ImmediateVertex> v(static_cast<size_t>(used));
-    for (uint64_t i = 0; i < used; ++i) {
+    if (r.ioq3) ioq3_vertices(pr, r, lo, v, key);
+    for (uint64_t i = 0; i < used && !r.ioq3; ++i) {
       float f[4] = {0, 0, 0, 1};
       attribute(pr, r.position, lo + i, f);
       v[i].position = {f[0], f[1], f[2], f[3]};
@@ -1431,7 +1606,16 @@ class Interpreter {
 
   std::unordered_map<uint32_t, std::string> m_buffers;  // buffer objects' bytes
   uint64_t m_buffer_bytes = 0;
-  std::array<VertexAttrib, 16> m_attribs;
+  std::array<VertexAttrib, 16> m_attribs;  // the bound vertex array object's
+  struct VertexArrayObject {
+    std::array<VertexAttrib, 16> attribs;
+    uint32_t element_buffer = 0;
+  };
+  // Every vertex array object but the bound one (whose state is m_attribs
+  // and m_element_buffer); bounded, as a hostile capture could bind
+  // millions.
+  static constexpr size_t kMaxVertexArrays = 16384;
+  std::unordered_map<uint32_t, VertexArrayObject> m_vaos;
   uint32_t m_vao = 0;
   std::unordered_map<uint32_t, std::vector<std::string>> m_shader_sources;
   std::unordered_map<uint32_t, GlslProgram> m_programs;
@@ -1689,7 +1873,7 @@ class Interpreter {
         const auto lv = t.levels.find(l);
         const int w = std::max(1, prev.width / 2), h = std::max(1, prev.height / 2);
         if (lv == t.levels.end() || lv->second.width != w || lv->second.height != h) {
-          ++m_mip_notes;
+          if (!t.generated) ++m_mip_notes;
           tex.levels.resize(size_t(l));
           Texture rest;
           rest.levels.push_back(tex.levels.back());

@@ -14,6 +14,9 @@
 // content across frames), its material (textures and state, de-duplicated)
 // and its view: 3-D draws (a perspective projection) are re-projected for
 // each eye, 2-D draws (an orthographic one) are drawn alike in both.
+// And OpenGL 3 with GLSL as DarkPlaces and ioquake3's `opengl2` drive it:
+// buffer objects, vertex array objects, programs and their uniforms, each
+// program mapped onto a pass (scene/formats/gl_programs.h).
 //
 // A call it does not model is either on its list of calls that change
 // nothing drawn, or state it refuses to draw with (fog, lighting, stencil,

@@ -2,7 +2,8 @@
 //
 //   trace:PATH[?frames=A-B]   any apitrace capture of an OpenGL game
 //                              oovr's interpreter reads (fixed-function
-//                              OpenGL 1.x, or DarkPlaces' GLSL renderer);
+//                              OpenGL 1.x, DarkPlaces' or ioquake3's GLSL
+//                              renderer);
 //                              frames A to B (default 0-63)
 //   oa-demo:NAME[?frames=A-B] a demo OpenArena ships, captured by
 //                              scripts/capture-frames.sh into oovr's
