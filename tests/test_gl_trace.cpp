@@ -659,20 +659,7 @@ TEST(GlTrace, AnIoquake3ProgramOovrDoesNotDrawIsRefusedAtItsDraw) {
 // ioquake3's vertex stages, one vertex at a time, against their GLSL
 // worked by hand.
 TEST(Ioq3Vertex, KeyFramesTexCoordModsLightsAndDlightsAreTheGlslsArithmetic) {
-  Ioq3Stage st;
-  for (const auto& [k, v] : std::map<std::string, float>{{"DGEN_WAVE_SIN", 1},
-                                                         {"DGEN_WAVE_SQUARE", 2},
-                                                         {"DGEN_WAVE_TRIANGLE", 3},
-                                                         {"DGEN_WAVE_SAWTOOTH", 4},
-                                                         {"DGEN_WAVE_INVERSE_SAWTOOTH", 5},
-                                                         {"DGEN_BULGE", 7},
-                                                         {"TCGEN_LIGHTMAP", 2},
-                                                         {"TCGEN_ENVIRONMENT_MAPPED", 4},
-                                                         {"TCGEN_VECTOR", 6},
-                                                         {"CGEN_LIGHTING_DIFFUSE", 11},
-                                                         {"AGEN_LIGHTING_SPECULAR", 6},
-                                                         {"AGEN_PORTAL", 8}})
-    st.constants[k] = v;
+  Ioq3Stage st;  // ioquake3's constants (DGEN_WAVE_SIN 1, TCGEN_LIGHTMAP 2, ...) by default
   Ioq3VertexIn in;
   in.position = {10, 20, 30};
   in.position2 = {20, 20, 30};

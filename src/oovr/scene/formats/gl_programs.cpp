@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 
 #include "oovr/core/error.h"
@@ -236,23 +237,35 @@ bool ioq3_neutral(const std::string& d) {
   return false;
 }
 
+// The names a GLSL body declares at the start of a line as `uniform`,
+// `varying` or `attribute` (`uniform vec4 u_Color;`, `uniform float
+// u_DeformParams[5];`), whatever the spacing.
+std::set<std::string> declarations(const std::string& body) {
+  std::set<std::string> out;
+  std::istringstream lines(body);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string qualifier, type, name;
+    words >> qualifier >> type >> name;
+    if (qualifier != "uniform" && qualifier != "varying" && qualifier != "attribute") continue;
+    name = name.substr(0, name.find_first_of(";["));
+    if (!name.empty()) out.insert(name);
+  }
+  return out;
+}
+
 }  // namespace
 
 bool is_ioq3_program(const std::vector<std::vector<std::string>>& shader_sources) {
   if (shader_sources.empty()) return false;
+  bool position = false;
   for (const auto& s : shader_sources) {
     Ioq3Source src;
     if (!split_ioq3(s, src)) return false;
+    position = position || declarations(src.body).count("attr_Position") > 0;
   }
-  Ioq3Source first;
-  split_ioq3(shader_sources.front(), first);
-  bool attr = false;
-  for (const auto& s : shader_sources) {
-    Ioq3Source src;
-    split_ioq3(s, src);
-    attr = attr || src.body.find("attribute vec3 attr_Position;") != std::string::npos;
-  }
-  return attr;
+  return position;
 }
 
 ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_sources) {
@@ -281,17 +294,17 @@ ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_so
   ProgramRecipe r;
   r.ioq3 = true;
   Ioq3Stage& st = r.stage;
-  st.constants = constants;
   // Which shader the body is, by what only it declares.
-  const auto declares = [&](const char* s) { return bodies.find(s) != std::string::npos; };
+  const std::set<std::string> declared = declarations(bodies);
+  const auto declares = [&](const char* name) { return declared.count(name) > 0; };
   std::string shader;
-  if (declares("uniform vec4   u_DlightInfo;")) {
+  if (declares("u_DlightInfo")) {
     st.shader = Ioq3Stage::Shader::dlight;
     shader = "dlight";
-  } else if (declares("varying vec4   var_TexCoords;") || declares("varying vec4      var_TexCoords;")) {
+  } else if (declares("var_TexCoords")) {
     st.shader = Ioq3Stage::Shader::lightall;
     shader = "lightall";
-  } else if (declares("varying vec2   var_DiffuseTex;") && declares("uniform vec4   u_BaseColor;")) {
+  } else if (declares("var_DiffuseTex") && declares("u_BaseColor")) {
     st.shader = Ioq3Stage::Shader::generic;
     shader = "generic";
   } else {
@@ -338,12 +351,24 @@ ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_so
   for (const auto& d : defines)
     if (!read.count(d) && !ioq3_neutral(d)) throw Error("ioquake3's " + shader + " programs with " + d);
   // The enumerations the stage compares with, from the header.
-  const char* needed[] = {"DGEN_WAVE_SIN",         "DGEN_WAVE_SQUARE",           "DGEN_WAVE_TRIANGLE",
-                          "DGEN_WAVE_SAWTOOTH",    "DGEN_WAVE_INVERSE_SAWTOOTH", "DGEN_BULGE",
-                          "TCGEN_LIGHTMAP",        "TCGEN_ENVIRONMENT_MAPPED",   "TCGEN_VECTOR",
-                          "CGEN_LIGHTING_DIFFUSE", "AGEN_LIGHTING_SPECULAR",     "AGEN_PORTAL"};
-  for (const char* n : needed)
-    if (!constants.count(n)) throw Error(std::string("ioquake3's ") + shader + " programs without the constant " + n);
+  Ioq3Stage::Constants& k = st.constants;
+  const std::pair<const char*, float*> needed[] = {{"DGEN_WAVE_SIN", &k.wave_sin},
+                                                   {"DGEN_WAVE_SQUARE", &k.wave_square},
+                                                   {"DGEN_WAVE_TRIANGLE", &k.wave_triangle},
+                                                   {"DGEN_WAVE_SAWTOOTH", &k.wave_sawtooth},
+                                                   {"DGEN_WAVE_INVERSE_SAWTOOTH", &k.wave_inverse_sawtooth},
+                                                   {"DGEN_BULGE", &k.bulge},
+                                                   {"TCGEN_LIGHTMAP", &k.tcgen_lightmap},
+                                                   {"TCGEN_ENVIRONMENT_MAPPED", &k.tcgen_environment},
+                                                   {"TCGEN_VECTOR", &k.tcgen_vector},
+                                                   {"CGEN_LIGHTING_DIFFUSE", &k.cgen_lighting_diffuse},
+                                                   {"AGEN_LIGHTING_SPECULAR", &k.agen_lighting_specular},
+                                                   {"AGEN_PORTAL", &k.agen_portal}};
+  for (const auto& [name, value] : needed) {
+    const auto it = constants.find(name);
+    if (it == constants.end()) throw Error(std::string("ioquake3's ") + shader + " programs without the constant " + name);
+    *value = it->second;
+  }
   return r;
 }
 
@@ -365,7 +390,7 @@ Ioq3VertexOut finite(Ioq3VertexOut out) {
 }  // namespace
 
 Ioq3VertexOut ioq3_vertex(const Ioq3Stage& st, const Ioq3Uniforms& u, const Ioq3VertexIn& in) {
-  const auto k = [&](const char* name) { return st.constants.at(name); };
+  const Ioq3Stage::Constants& k = st.constants;
   Ioq3VertexOut out;
   Vec3 position = in.position, normal = in.normal;
   if (st.vertex_animation) {
@@ -381,20 +406,20 @@ Ioq3VertexOut ioq3_vertex(const Ioq3Stage& st, const Ioq3Uniforms& u, const Ioq3
       const float base = u.deform_params[0], amplitude = u.deform_params[1], frequency = u.deform_params[3],
                   spread = u.deform_params[4];
       float phase = u.deform_params[2];
-      if (gen == k("DGEN_BULGE")) phase *= in.tex0.x;
+      if (gen == k.bulge) phase *= in.tex0.x;
       else phase += dot(position, Vec3{spread, spread, spread});
       const float value = phase + u.time * frequency;
       float func;
-      if (gen == k("DGEN_WAVE_SIN")) func = std::sin(value * 2 * kPi);
-      else if (gen == k("DGEN_WAVE_SQUARE"))
+      if (gen == k.wave_sin) func = std::sin(value * 2 * kPi);
+      else if (gen == k.wave_square)
         // generic: sign(fract(0.5 - value)); dlight: sign(0.5 - fract(value))
         func = st.shader == Ioq3Stage::Shader::dlight ? (0.5f - fract(value) > 0   ? 1.0f
                                                          : 0.5f - fract(value) < 0 ? -1.0f
                                                                                    : 0.0f)
                                                       : (fract(0.5f - value) > 0 ? 1.0f : 0.0f);
-      else if (gen == k("DGEN_WAVE_TRIANGLE")) func = std::abs(fract(value + 0.75f) - 0.5f) * 4 - 1;
-      else if (gen == k("DGEN_WAVE_SAWTOOTH")) func = fract(value);
-      else if (gen == k("DGEN_WAVE_INVERSE_SAWTOOTH")) func = 1 - fract(value);
+      else if (gen == k.wave_triangle) func = std::abs(fract(value + 0.75f) - 0.5f) * 4 - 1;
+      else if (gen == k.wave_sawtooth) func = fract(value);
+      else if (gen == k.wave_inverse_sawtooth) func = 1 - fract(value);
       else func = std::sin(value);
       position = position + normal * (base + func * amplitude);
     }
@@ -415,14 +440,14 @@ Ioq3VertexOut ioq3_vertex(const Ioq3Stage& st, const Ioq3Uniforms& u, const Ioq3
   Vec2 tex = in.tex0;
   if (st.tcgen) {
     const float gen = u.tcgen;
-    if (gen == k("TCGEN_LIGHTMAP")) {
+    if (gen == k.tcgen_lightmap) {
       tex = in.tex1;
-    } else if (gen == k("TCGEN_ENVIRONMENT_MAPPED")) {
+    } else if (gen == k.tcgen_environment) {
       const Vec3 viewer = normalize(u.local_view_origin - position);
       // reflect(I, N) = I - 2 dot(N, I) N
       const Vec3 ref = viewer - normal * (2 * dot(normal, viewer));
       tex = {ref.y * -0.5f + 0.5f, ref.z * 0.5f + 0.5f};
-    } else if (gen == k("TCGEN_VECTOR")) {
+    } else if (gen == k.tcgen_vector) {
       tex = {dot(position, u.tcgen_vector0), dot(position, u.tcgen_vector1)};
     }
   }
@@ -440,21 +465,21 @@ Ioq3VertexOut ioq3_vertex(const Ioq3Stage& st, const Ioq3Uniforms& u, const Ioq3
   for (int i = 0; i < 4; ++i) out.colour[size_t(i)] = u.vert_colour[size_t(i)] * in.colour[size_t(i)] + u.base_colour[size_t(i)];
   if (st.rgbagen) {
     // CalcColor
-    if (u.colour_gen == k("CGEN_LIGHTING_DIFFUSE")) {
+    if (u.colour_gen == k.cgen_lighting_diffuse) {
       const float incoming = clamp01(dot(normal, u.model_light_dir));
       out.colour[0] = clamp01(u.directed_light.x * incoming + u.ambient_light.x);
       out.colour[1] = clamp01(u.directed_light.y * incoming + u.ambient_light.y);
       out.colour[2] = clamp01(u.directed_light.z * incoming + u.ambient_light.z);
     }
     const Vec3 viewer = u.local_view_origin - position;
-    if (u.alpha_gen == k("AGEN_LIGHTING_SPECULAR")) {
+    if (u.alpha_gen == k.agen_lighting_specular) {
       const Vec3 light_dir = normalize(Vec3{-960, 1980, 96} - position);
       const Vec3 reflected = (light_dir - normal * (2 * dot(normal, light_dir))) * -1.0f;
       float a = clamp01(dot(reflected, normalize(viewer)));
       a *= a;
       a *= a;
       out.colour[3] = a;
-    } else if (u.alpha_gen == k("AGEN_PORTAL")) {
+    } else if (u.alpha_gen == k.agen_portal) {
       out.colour[3] = clamp01(length(viewer) / u.portal_range);
     }
   }

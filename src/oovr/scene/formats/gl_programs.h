@@ -18,7 +18,6 @@
 #pragma once
 
 #include <array>
-#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -46,8 +45,14 @@ struct Ioq3Stage {
   bool lightmap = false;          // USE_LIGHTMAP: the lightmap (u_LightMap) multiplies the colour
   bool light_vector = false;      // USE_LIGHT_VECTOR with USE_FAST_LIGHT: a light's diffuse term per vertex
   bool model_matrix = false;      // USE_MODELMATRIX: the light vector's position in world space
-  // The header's constants (#define NAME VALUE: DGEN_WAVE_SIN, TCGEN_VECTOR, ...).
-  std::map<std::string, float> constants;
+  // The header's constants the stage compares its uniforms with (#define
+  // DGEN_WAVE_SIN 1, ...: ioquake3's values by default; a program's own
+  // header sets them).
+  struct Constants {
+    float wave_sin = 1, wave_square = 2, wave_triangle = 3, wave_sawtooth = 4, wave_inverse_sawtooth = 5, bulge = 7;
+    float tcgen_lightmap = 2, tcgen_environment = 4, tcgen_vector = 6;
+    float cgen_lighting_diffuse = 11, agen_lighting_specular = 6, agen_portal = 8;
+  } constants;
 };
 
 // A draw's uniforms that ioquake3's vertex stages read (0 where unset).
