@@ -15,12 +15,8 @@ set -eu
 oovr=$1
 work=$2
 src=$3
-for tool in apitrace glretrace xvfb-run /usr/games/openarena; do
-  if ! command -v "$tool" >/dev/null 2>&1; then
-    echo "skipped: $tool is not installed (scripts/install-deps.sh --capture)"
-    exit 77
-  fi
-done
+. "$src/tests/cli/capture_lib.sh"
+require_capture_tools /usr/games/openarena
 rm -rf "$work"
 mkdir -p "$work"
 export OOVR_CAPTURE_DIR="$work/captures" OOVR_CACHE_DIR="$work/cache"
@@ -38,19 +34,8 @@ cat "$work/check.txt"
   >"$work/check2.txt"
 cmp "$work/check.txt" "$work/check2.txt" || { echo "a second import differs:"; diff "$work/check.txt" "$work/check2.txt"; exit 1; }
 
-# What apitrace itself lists, frame by frame: "frame draws triangles".
-apitrace dump --color=never "$work/captures/openarena-demo088.trace" 2>/dev/null |
-  awk -v first=40 -v last=47 -f "$src/tests/cli/dump_counts.awk" >"$work/dump.txt"
-# oovr's: the rows of check-capture (game frame, draws, triangles).
-awk 'NF == 5 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9]+$/ { print $1, $2, $3 }' "$work/check.txt" >"$work/oovr.txt"
-echo "apitrace dump:"
-cat "$work/dump.txt"
-[ "$(wc -l <"$work/dump.txt")" -eq 8 ] || { echo "apitrace dump listed $(wc -l <"$work/dump.txt") frames of 40 to 47"; exit 1; }
-if ! cmp -s "$work/dump.txt" "$work/oovr.txt"; then
-  echo "draws or triangles differ from apitrace dump's:"
-  diff "$work/dump.txt" "$work/oovr.txt" || true
-  exit 1
-fi
+# What apitrace itself lists, frame by frame, against check-capture's rows.
+counts_match "$work/captures/openarena-demo088.trace" 40 47 "$work/check.txt" 0 0
 # The gate bites: no frame reaches 99 dB.
 if "$oovr" check-capture --scene oa-demo:demo088 --snapshots "$work/captures/openarena-demo088.snapshots" --min-psnr 99 \
   >/dev/null 2>"$work/gate.txt"; then

@@ -934,6 +934,14 @@ class Interpreter {
       VertexArrayObject& left = m_vaos[m_vao];
       left.attribs = m_attribs;
       left.element_buffer = m_element_buffer;
+      // Client-memory arrays keep no data in the object: apitrace records
+      // their data again before every draw that reads them, and a hostile
+      // capture could otherwise hold a blob in each of thousands of objects.
+      for (VertexAttrib& a : left.attribs)
+        if (a.buffer == 0) {
+          a.array.data = std::string();
+          a.array.have_data = false;
+        }
       const VertexArrayObject& bound = m_vaos[id];
       m_attribs = bound.attribs;
       m_element_buffer = bound.element_buffer;
