@@ -637,11 +637,20 @@ TEST(GlTrace, AnIoquake3ProgramOovrDoesNotDrawIsRefusedAtItsDraw) {
     g.quad(-5);
     // Per-pixel lighting is refused as such, a define by its name, another
     // shader as one.
-    const std::string named = defines.empty()                      ? "other than its generic, lightall and dlight shaders"
+    const std::string named = defines.empty()                     ? "other than its generic, lightall and dlight shaders"
                               : defines.back() == "USE_NORMALMAP" ? "without USE_FAST_LIGHT"
                                                                   : "with " + defines.back();
     expect_refused(g, {"a draw through ioquake3's", named});
   }
+}
+
+// An attribute bound beyond the 16 kept is an Error at the bind (fuzz_apitrace
+// found it reaching a draw as std::out_of_range).
+TEST(GlTrace, AnAttributeBoundBeyondTheSixteenKeptIsAnError) {
+  Gl3Game g;
+  g.w.gl_program(5, {"MODE_GENERIC"});
+  g.w.call("glBindAttribLocation", {{"program", g.w.u(5)}, {"index", g.w.u(64)}, {"name", g.w.str("Attrib_Position")}});
+  expect_refused(g, "vertex attribute 64");
 }
 
 // ioquake3's vertex stages, one vertex at a time, against their GLSL

@@ -1015,7 +1015,9 @@ class Interpreter {
     } else if (n == "glAttachShader") {
       program(num(c, 0)).shaders.push_back(uint32_t(num(c, 1)));
     } else if (n == "glBindAttribLocation") {
-      program(num(c, 0)).attributes[c.arg(2).bytes] = int(num(c, 1));
+      const int64_t index = num(c, 1);
+      (void)attrib(index);  // an index beyond the 16 attributes kept is an error here, not at a draw
+      program(num(c, 0)).attributes[c.arg(2).bytes] = int(index);
     } else if (n == "glLinkProgram") {
       GlslProgram& p = program(num(c, 0));
       std::set<std::string> defines;
