@@ -1197,13 +1197,16 @@ class Interpreter {
   // Element `i` of an enabled attribute, from its buffer object or client
   // memory; false when it lies outside.
   bool fetch_attrib(const VertexAttrib& a, uint64_t i, float out[4]) const {
-    if (a.buffer == 0) return a.array.have_data && fetch(a.array, i, out);
-    const auto it = m_buffers.find(a.buffer);
-    if (it == m_buffers.end() || a.offset > it->second.size()) return false;
-    if (!fetch(a.array, i, out, it->second.data() + a.offset, it->second.size() - a.offset)) return false;
+    if (a.buffer == 0) {
+      if (!a.array.have_data || !fetch(a.array, i, out)) return false;
+    } else {
+      const auto it = m_buffers.find(a.buffer);
+      if (it == m_buffers.end() || a.offset > it->second.size()) return false;
+      if (!fetch(a.array, i, out, it->second.data() + a.offset, it->second.size() - a.offset)) return false;
+    }
     if (a.normalized) {
-      // OpenGL 4.2's conversion (Section 2.3.5.1): unsigned c / (2^b - 1),
-      // signed max(c / (2^(b-1) - 1), -1).
+      // OpenGL's conversion of normalised fixed-point data (since 4.2):
+      // unsigned c / (2^b - 1), signed max(c / (2^(b-1) - 1), -1).
       float scale = 1;
       bool is_signed = false;
       switch (a.array.type) {
