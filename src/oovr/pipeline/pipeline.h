@@ -58,7 +58,4 @@ struct FrameOutput {
 // Renders frame `frame` of the scene's camera path through `view`.
 FrameOutput render_frame(const Scene& scene, const StereoView& view, const PipelineSettings& settings, int frame = 0);
 
-// Texel block that one cache line of RGBA8 data holds (e.g. 128 B -> 8x4).
-void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h);
-
 }  // namespace oovr

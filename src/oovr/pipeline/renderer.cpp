@@ -17,41 +17,6 @@
 
 namespace oovr {
 
-void PipelineSettings::validate() const {
-  if (max_anisotropy < 1 || max_anisotropy > 16)
-    throw Error("max_anisotropy must be from 1 to 16, not " + std::to_string(max_anisotropy));
-  if (line_bytes < 32 || line_bytes > 1024 || (line_bytes & (line_bytes - 1)) != 0)
-    throw Error("line_bytes must be a power of two from 32 to 1024, not " + std::to_string(line_bytes));
-}
-
-void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h) {
-  cells_per_line(line_bytes, 4, block_w, block_h);  // RGBA8 texels or pixels per line
-}
-
-uint64_t FrameTrace::total_covered() const {
-  uint64_t n = 0;
-  for (const auto& t : tiles) n += t.covered;
-  return n;
-}
-
-uint64_t FrameTrace::total_passed() const {
-  uint64_t n = 0;
-  for (const auto& t : tiles) n += t.passed;
-  return n;
-}
-
-uint64_t FrameTrace::layer_fetches() const {
-  uint64_t n = 0;
-  for (const auto& t : tiles) n += uint64_t(t.shaded) * objects[t.object].texture_layers;
-  return n;
-}
-
-uint64_t FrameTrace::unique_tex_lines() const {
-  std::vector<TexLine> lines(tex_lines.begin(), tex_lines.end());
-  std::sort(lines.begin(), lines.end());
-  return uint64_t(std::unique(lines.begin(), lines.end()) - lines.begin());
-}
-
 namespace {
 
 constexpr int kSubpixelBits = 8;  // llvmpipe's FIXED_ORDER: 1/256 pixel

@@ -20,6 +20,13 @@ TextureFormat parse_texture_format(const std::string& name) {
   throw Error("unknown texture format '" + name + "': expected rgba8, bc1, bc3 or bc");
 }
 
+void PipelineSettings::validate() const {
+  if (max_anisotropy < 1 || max_anisotropy > 16)
+    throw Error("max_anisotropy must be from 1 to 16, not " + std::to_string(max_anisotropy));
+  if (line_bytes < 32 || line_bytes > 1024 || (line_bytes & (line_bytes - 1)) != 0)
+    throw Error("line_bytes must be a power of two from 32 to 1024, not " + std::to_string(line_bytes));
+}
+
 PipelineSettings PipelineSettings::from_config(const Config& c) {
   PipelineSettings s;
   s.texture_format = parse_texture_format(

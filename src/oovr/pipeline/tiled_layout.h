@@ -38,6 +38,10 @@ inline void cells_per_line(uint32_t line_bytes, uint32_t cell_bytes, int& w, int
   h = n / w;
 }
 
+// Texel block that one cache line of RGBA8 data holds (e.g. 128 B -> 8x4):
+// the block of pixels or uncompressed texels the trace names by one line.
+inline void line_block_shape(uint32_t line_bytes, int& block_w, int& block_h) { cells_per_line(line_bytes, 4, block_w, block_h); }
+
 // Texels per line of texture `t` stored in `format`.
 inline void texture_line_shape(const Texture& t, TextureFormat format, uint32_t line_bytes, int& block_w, int& block_h) {
   uint32_t cell = 4;  // RGBA8 texel
