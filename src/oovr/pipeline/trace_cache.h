@@ -10,7 +10,8 @@
 // it carries the key it was stored under and a checksum of its payload, and
 // the trace it holds must be one the renderer could have made of the scene,
 // frame, view and settings asked for. An entry that fails any of these is
-// reported (TraceLookup::rejected), removed and rendered again.
+// reported (TraceLookup::rejected), removed and rendered again. The entry's
+// bytes and their checks are trace_format.h's; this file keeps the folder.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +22,7 @@
 
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/pipeline/trace_format.h"
 #include "oovr/pipeline/version.h"
 #include "oovr/scene/scene.h"
 #include "oovr/scene/stereo.h"
@@ -74,25 +76,5 @@ class TraceCache {
   std::string m_dir;
   uint64_t m_max_bytes = uint64_t(8192) << 20;
 };
-
-// The binary form of a trace (the payload of a cache entry; also used by the
-// tests and the fuzz target). deserialize_trace accepts only a payload that
-// is whole and internally consistent: every tile record names an object,
-// eye and tile of the frame and a range of its texture lines, in the order
-// the renderer writes them.
-std::string serialize_trace(const FrameTrace& t);
-std::optional<FrameTrace> deserialize_trace(std::string_view bytes);
-
-// A cache entry: magic, format, the key, the payload's size and checksum,
-// the payload. decode_entry returns the trace, or nothing with `why` set.
-std::string encode_entry(const std::string& key, const FrameTrace& t);
-std::optional<FrameTrace> decode_entry(std::string_view bytes, const std::string& key, std::string* why);
-
-// What makes `t` a trace the renderer could not have made of `frame` of
-// `scene` through `view` with `settings`: its frame, size, tiles, line and
-// storage format, object count, and every texture line within its texture's
-// layout. Empty when it could have.
-std::string trace_mismatch(const FrameTrace& t, const Scene& scene, int frame, const StereoView& view,
-                           const PipelineSettings& settings);
 
 }  // namespace oovr
