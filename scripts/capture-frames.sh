@@ -133,6 +133,14 @@ while kill -0 "$game_pid" 2>/dev/null; do
   sleep 0.5
 done
 wait "$game_pid" 2>/dev/null || true
+# The game may outlive its X server: ioquake3's opengl2 renderer once hung
+# here in its shutdown after the signal, holding 600 MB. Whatever is left of
+# its process group after 10 s is killed.
+for _ in $(seq 20); do
+  kill -0 -- "-$game_pid" 2>/dev/null || break
+  sleep 0.5
+done
+kill -KILL -- "-$game_pid" 2>/dev/null || true
 if [[ ! -s "$work/full.trace" ]]; then
   tail -20 "$work/game.log" >&2
   echo "capture-frames: the game wrote no trace under apitrace (its log is above)" >&2
