@@ -168,24 +168,32 @@ class TraceWriter {
   // body last), its attributes bound by name, the locations of its matrix,
   // samplers and colours asked for (0 to 4) and the program used.
   uint64_t gl_program(uint64_t id, const std::vector<std::string>& defines) {
-    const uint64_t shader = id + 100;
-    call("glCreateShader", {{"type", e("GL_FRAGMENT_SHADER", 0x8B30)}}, u(shader));
     std::vector<std::string> strings = {str("#version 140\n")};
     for (const auto& d : defines) strings.push_back(str("#define " + d + "\n"));
     strings.push_back(str("#define NOT_A_PERMUTATION\nvoid main() {}\n"));  // the body: its #defines are not permutations
+    return gl_link_program(id, e("GL_FRAGMENT_SHADER", 0x8B30), strings, {"Attrib_Position", "Attrib_Color", "Attrib_TexCoord0"},
+                           {"ModelViewProjectionMatrix", "Texture_First", "Texture_Color", "Color_Diffuse", "Alpha"});
+  }
+  // Program `id` of one shader (number id + 100, of type `type`) from
+  // `strings`: the attributes bound to locations 0, 1, ... in order, linked,
+  // used, and the uniforms' locations asked for (0, 1, ... in order).
+  uint64_t gl_link_program(uint64_t id, const std::string& type, const std::vector<std::string>& strings,
+                           const std::vector<std::string>& attributes, const std::vector<std::string>& uniforms) {
+    const uint64_t shader = id + 100;
+    call("glCreateShader", {{"type", type}}, u(shader));
     call("glShaderSource",
          {{"shader", u(shader)}, {"count", i(int64_t(strings.size()))}, {"string", array(strings)}, {"length", null()}});
     call("glCreateProgram", {}, u(id));
     call("glAttachShader", {{"program", u(id)}, {"shader", u(shader)}});
-    const char* names[] = {"Attrib_Position", "Attrib_Color", "Attrib_TexCoord0"};
-    for (int k = 0; k < 3; ++k)
-      call("glBindAttribLocation", {{"program", u(id)}, {"index", u(uint64_t(k))}, {"name", str(names[k])}});
+    for (size_t k = 0; k < attributes.size(); ++k)
+      call("glBindAttribLocation", {{"program", u(id)}, {"index", u(uint64_t(k))}, {"name", str(attributes[k])}});
     call("glLinkProgram", {{"program", u(id)}});
     call("glUseProgram", {{"program", u(id)}});
-    const char* uniforms[] = {"ModelViewProjectionMatrix", "Texture_First", "Texture_Color", "Color_Diffuse", "Alpha"};
-    for (int k = 0; k < 5; ++k) call("glGetUniformLocation", {{"program", u(id)}, {"name", str(uniforms[k])}}, i(k));
+    for (size_t k = 0; k < uniforms.size(); ++k)
+      call("glGetUniformLocation", {{"program", u(id)}, {"name", str(uniforms[k])}}, i(int64_t(k)));
     return id;
   }
+
   // A program in ioquake3's opengl2 manner (gl_programs.h): one source
   // string, a header of the constants' and the permutation's #defines
   // closed by `#line 0`, then a body declaring what the `shader` (generic,
@@ -209,23 +217,13 @@ class TraceWriter {
     else if (shader == "lightall") body += "uniform vec4   u_BaseColor;\nvarying vec4   var_TexCoords;\n";
     else if (shader == "dlight") body += "uniform vec4   u_DlightInfo;\nvarying vec2   var_Tex1;\n";
     body += "void main() {}\n";
-    const uint64_t vs = id + 100;
-    call("glCreateShader", {{"type", e("GL_VERTEX_SHADER", 0x8B31)}}, u(vs));
-    call("glShaderSource",
-         {{"shader", u(vs)}, {"count", i(1)}, {"string", array({str(header + "#line 0\n" + body)})}, {"length", null()}});
-    call("glCreateProgram", {}, u(id));
-    call("glAttachShader", {{"program", u(id)}, {"shader", u(vs)}});
-    const char* names[] = {"attr_Position", "attr_Color",     "attr_TexCoord0", "attr_TexCoord1",
-                           "attr_Normal",   "attr_Position2", "attr_Normal2"};
-    for (int k = 0; k < 7; ++k)
-      call("glBindAttribLocation", {{"program", u(id)}, {"index", u(uint64_t(k))}, {"name", str(names[k])}});
-    call("glLinkProgram", {{"program", u(id)}});
-    call("glUseProgram", {{"program", u(id)}});
-    const char* uniforms[] = {
-        "u_ModelViewProjectionMatrix", "u_DiffuseMap", "u_LightMap", "u_BaseColor", "u_VertColor", "u_AlphaTest", "u_VertexLerp"};
-    for (int k = 0; k < 7; ++k) call("glGetUniformLocation", {{"program", u(id)}, {"name", str(uniforms[k])}}, i(k));
-    return id;
+    return gl_link_program(
+        id, e("GL_VERTEX_SHADER", 0x8B31), {str(header + "#line 0\n" + body)},
+        {"attr_Position", "attr_Color", "attr_TexCoord0", "attr_TexCoord1", "attr_Normal", "attr_Position2", "attr_Normal2"},
+        {"u_ModelViewProjectionMatrix", "u_DiffuseMap", "u_LightMap", "u_BaseColor", "u_VertColor", "u_AlphaTest",
+         "u_VertexLerp"});
   }
+
   void gl_uniform4f(int64_t location, float x, float y, float z, float w) {
     call("glUniform4f", {{"location", i(location)}, {"v0", f(x)}, {"v1", f(y)}, {"v2", f(z)}, {"v3", f(w)}});
   }

@@ -319,6 +319,9 @@ ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_so
   r.position = "attr_Position";
   r.mvp = "u_ModelViewProjectionMatrix";
   r.uv = "attr_TexCoord0";
+  // The second coordinates, which the stage reads for tcGen lightmap and
+  // the lightmap's texel (ioq3_vertex's tex1).
+  r.lightmap_uv = "attr_TexCoord1";
   r.colour = st.shader == Ioq3Stage::Shader::dlight ? "" : "attr_Color";
   r.layers.push_back({"u_DiffuseMap", TexCoords::surface, Combine::modulate, "", false});
   st.deform = use("USE_DEFORM_VERTEXES");
@@ -331,7 +334,6 @@ ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_so
     st.rgbagen = use("USE_RGBAGEN");
     st.fog = use("USE_FOG");
   }
-  if (st.tcgen) r.lightmap_uv = "attr_TexCoord1";
   if (st.shader == Ioq3Stage::Shader::lightall) {
     // The fast light path (r_normalMapping 0, r_specularMapping 0):
     // gl_FragColor.rgb = diffuse.rgb x var_Color.rgb (x the lightmap's
@@ -341,7 +343,6 @@ ProgramRecipe ioq3_recipe(const std::vector<std::vector<std::string>>& shader_so
     if (light && !fast) throw Error("ioquake3's lightall programs without USE_FAST_LIGHT (per-pixel lighting)");
     if (use("USE_LIGHTMAP")) {
       st.lightmap = true;
-      r.lightmap_uv = "attr_TexCoord1";
       r.layers.push_back({"u_LightMap", TexCoords::lightmap, Combine::modulate, "", false});
     }
     st.light_vector = use("USE_LIGHT_VECTOR");

@@ -1020,19 +1020,20 @@ class Interpreter {
       program(num(c, 0)).attributes[c.arg(2).bytes] = int(index);
     } else if (n == "glLinkProgram") {
       GlslProgram& p = program(num(c, 0));
-      std::set<std::string> defines;
-      for (uint32_t sh : p.shaders) {
-        const auto it = m_shader_sources.find(sh);
-        if (it == m_shader_sources.end()) continue;
-        const std::set<std::string> d = permutation_defines(it->second);
-        defines.insert(d.begin(), d.end());
-      }
-      std::vector<std::vector<std::string>> sources;
+      std::vector<std::vector<std::string>> sources;  // each attached shader's strings
       for (uint32_t sh : p.shaders)
         if (const auto it = m_shader_sources.find(sh); it != m_shader_sources.end()) sources.push_back(it->second);
+      const auto darkplaces = [&] {
+        std::set<std::string> defines;
+        for (const auto& strings : sources) {
+          const std::set<std::string> d = permutation_defines(strings);
+          defines.insert(d.begin(), d.end());
+        }
+        return darkplaces_recipe(defines);
+      };
       p.linked = true;
       try {
-        p.recipe = is_ioq3_program(sources) ? ioq3_recipe(sources) : darkplaces_recipe(defines);
+        p.recipe = is_ioq3_program(sources) ? ioq3_recipe(sources) : darkplaces();
         p.refusal.clear();
       } catch (const Error& e) {
         p.refusal = e.what();  // refused at its first draw
@@ -1386,10 +1387,8 @@ class Interpreter {
     get("u_FogEyeT", &u.fog_eye_t, 1);
     get("u_FogColorMask", u.fog_colour_mask.data(), 4);
     get("u_VertexLerp", &u.vertex_lerp, 1);
-    float m[16];
-    get("u_ModelMatrix", m, 16);
     if (const std::vector<float>* mm = uniform_value(p, "u_ModelMatrix"); mm && mm->size() == 16)
-      for (int k = 0; k < 16; ++k) u.model_matrix.m[k / 4][k % 4] = m[k];
+      for (int k = 0; k < 16; ++k) u.model_matrix.m[k / 4][k % 4] = (*mm)[size_t(k)];
     get("u_LightOrigin", u.light_origin.data(), 4);
     get("u_LightRadius", &u.light_radius, 1);
     get("u_DlightInfo", u.dlight_info.data(), 4);
@@ -1418,7 +1417,7 @@ class Interpreter {
         f[3] = 1;
         if (attribute(pr, name, lo + i, f)) out = {f[0], f[1], f[2]};
       };
-      vec3("attr_Position", in.position);
+      vec3(r.position.c_str(), in.position);
       vec3("attr_Normal", in.normal);
       if (st.vertex_animation) {
         vec3("attr_Position2", in.position2);
@@ -1427,9 +1426,9 @@ class Interpreter {
       float c[4] = {1, 1, 1, 1};
       if (!r.colour.empty() && attribute(pr, r.colour, lo + i, c)) in.colour = {c[0], c[1], c[2], c[3]};
       float t[4] = {0, 0, 0, 1};
-      if (attribute(pr, "attr_TexCoord0", lo + i, t)) in.tex0 = {t[0], t[1]};
+      if (attribute(pr, r.uv, lo + i, t)) in.tex0 = {t[0], t[1]};
       float l[4] = {0, 0, 0, 1};
-      if (attribute(pr, "attr_TexCoord1", lo + i, l)) in.tex1 = {l[0], l[1]};
+      if (attribute(pr, r.lightmap_uv, lo + i, l)) in.tex1 = {l[0], l[1]};
       const Ioq3VertexOut out = ioq3_vertex(st, u, in);
       v[i].position = {out.position.x, out.position.y, out.position.z, 1};
       v[i].uv[0] = {out.uv.x, out.uv.y};
@@ -1520,8 +1519,10 @@ class Interpreter {
     }
     // What else the program samples: fetched, not combined (their fetches
     // and traffic counted; gl_programs.h).
+    // (ioquake3's fast-light programs sample nothing beyond their layers.)
     for (const auto& [sampler, kind] : darkplaces_2d_samplers()) {
-      if (r.ioq3 || !located(pr, sampler)) continue;
+      if (r.ioq3) break;
+      if (!located(pr, sampler)) continue;
       bool drawn = false;
       for (const auto& l : r.layers) drawn = drawn || l.sampler == sampler;
       if (drawn) continue;
