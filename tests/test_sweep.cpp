@@ -222,10 +222,13 @@ RunRecord sample_record(const std::string& tag, double ms) {
   sr.frame_latencies_s = {ms * 1e-3};
   sr.throughput_fps = 1e3 / ms;
   sr.gpm_busy_s = {ms * 1e-3, ms * 0.5e-3};
-  sr.memory.dram_bytes = {4096, 2048};
-  sr.memory.gpm_to_gpm_bytes = {0, 1024, 0, 0};
-  sr.memory.link_names = {"gpm0->gpm1"};
-  sr.memory.link_bytes = {1024};
+  for (const char* level : {"l1", "l2", "remote_cache", "home_l2", "dram"}) sr.stats.count(level, "served", 0);
+  sr.stats.count("memory", "accesses", 0);
+  sr.stats.count("gpm[0].dram", "bytes", 4096, "B");
+  sr.stats.count("gpm[1].dram", "bytes", 2048, "B");
+  sr.stats.count("link[0->1]", "bytes", 1024, "B");
+  sr.stats.count("gpm[0]->gpm[1]", "bytes", 1024, "B");
+  sr.stats.count("gpm[1]->gpm[0]", "bytes", 0, "B");
   r.result = to_json(sr);
   r.metrics = metrics_of(sr);
   r.images = {{"gpm", 2, 1, std::string("\x89PNG\0\x01", 6), "{\"gpm0\":\"#e6194b\"}"}};
@@ -472,6 +475,25 @@ TEST(SweepRun, AStoredResultReadsBackExactly) {
     EXPECT_EQ(to_json(back).dump(), r.result.dump()) << r.scheme;
     EXPECT_EQ(back.frame_latency_s, r.result["frame_latency_s"].get<double>());
     EXPECT_GT(back.best_to_worst(), 0);
+    // A result written before results carried their statistics ("stats")
+    // reads back from its memory section and scheme figures: the same
+    // document, and the rows it gave then, each as today's.
+    nlohmann::ordered_json old = r.result;
+    old.erase("stats");
+    const SchemeResult legacy = scheme_result_from_json(old);
+    nlohmann::ordered_json again = to_json(legacy);
+    again.erase("stats");
+    EXPECT_EQ(again.dump(), old.dump()) << r.scheme;
+    std::map<std::pair<std::string, std::string>, double> today;
+    for (const Metric& m : metrics_of(back)) today[{m.location, m.metric}] = m.value;
+    const std::vector<Metric> then = metrics_of(legacy);
+    EXPECT_GT(then.size(), 30u);
+    EXPECT_LT(then.size(), today.size());  // without the engine's statistics
+    for (const Metric& m : then) {
+      const auto it = today.find({m.location, m.metric});
+      ASSERT_NE(it, today.end()) << m.location << " " << m.metric;
+      EXPECT_EQ(it->second, m.value) << m.location << " " << m.metric;
+    }
   }
   EXPECT_NE(message_of([] {
               (void)scheme_result_from_json(nlohmann::ordered_json{{"scheme", "x"}});

@@ -20,6 +20,28 @@ TEST(Timing, OneUnitAloneOnALinkTakesBytesOverBandwidthPlusLatency) {
   EXPECT_DOUBLE_EQ(r.resource_used[size_t(link)], 64e6);
 }
 
+// The engine registers each resource's use and capacity and each queue's
+// busy time as statistics at their names (core/stats.h).
+TEST(Timing, ReportsEachResourcesUseAndCapacityAndEachQueuesBusyTime) {
+  TimingEngine e;
+  const int link = e.add_resource("link[0->1]", kLink, "B");
+  const int shader = e.add_resource("gpm[0].shader", 1e9);
+  const int q = e.add_queue("gpm[0]");
+  e.add_unit({q, {{link, 64e6}}, 1e-3, {}});  // 1 ms of work, 1 ms of latency
+  e.add_unit({q, {{shader, 5e5}}, 0, {}});    // then 0.5 ms
+  const auto r = e.run();
+  Stats s;
+  e.report(r, s);
+  EXPECT_DOUBLE_EQ(s.at("link[0->1]", "used"), 64e6);
+  EXPECT_EQ(s.find("link[0->1]", "used")->unit, "B");
+  EXPECT_EQ(s.at("link[0->1]", "capacity"), kLink);
+  EXPECT_EQ(s.find("link[0->1]", "capacity")->unit, "B/s");
+  EXPECT_DOUBLE_EQ(s.at("gpm[0].shader", "used"), 5e5);
+  EXPECT_EQ(s.find("gpm[0].shader", "capacity")->unit, "1/s");
+  EXPECT_DOUBLE_EQ(s.at("gpm[0]", "queue_busy"), 2.5e-3);
+  EXPECT_EQ(s.size(), 5u);
+}
+
 TEST(Timing, TwoUnitsSharingALinkTakeTwiceAsLong) {
   TimingEngine e;
   const int link = e.add_resource("link", kLink);

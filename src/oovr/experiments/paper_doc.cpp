@@ -478,11 +478,7 @@ class Doc {
       return sc.empty() ? 0.0 : sum / double(sc.size());
     };
     const auto tex = [&](const std::string& s) { return double(get(s, "baseline").inter_gpm_bytes[size_t(Category::texture)]); };
-    const auto batches = [&](const std::string& s) {
-      for (const auto& m : get(s, "oo-vr").metrics)
-        if (m.name == "batches") return m.value;
-      return std::nan("");
-    };
+    const auto batches = [&](const std::string& s) { return scheme_metric(get(s, "oo-vr"), "batches"); };
     const auto draws = [&](const std::string& s) { return double(r.stats.at(s).draws); };
     const auto tris = [&](const std::string& s) { return double(r.stats.at(s).triangles); };
     const double d_lv = avg(levels, draws), d_cap = avg(captured, draws);

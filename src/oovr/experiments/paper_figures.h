@@ -78,9 +78,8 @@ inline std::vector<std::pair<std::string, double>> copy_points(double dram_bytes
 }
 // A figure a scheme reported of itself (NaN when it did not).
 inline double scheme_metric(const SchemeResult& r, const std::string& name) {
-  for (const SchemeMetric& m : r.metrics)
-    if (m.name == name) return m.value;
-  return std::nan("");
+  const Stat* s = r.stats.find(r.scheme, name);
+  return s ? s->value : std::nan("");
 }
 
 // What each step runs at the sweep resolution (scheme, extra overrides).

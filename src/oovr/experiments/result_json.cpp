@@ -5,6 +5,7 @@
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/version.h"
+#include "oovr/experiments/result_metrics.h"
 #include "oovr/memory/memory_spec.h"
 
 namespace oovr {
@@ -39,46 +40,85 @@ nlohmann::ordered_json to_json(const std::map<std::string, Config::Entry>& confi
 
 namespace {
 
+// A count the memory system reported (check_scheme_result makes sure each
+// is a whole number from 0 up); 0 when it did not report it.
+uint64_t count_at(const SchemeResult& r, const std::string& location, const std::string& name) {
+  const Stat* s = r.stats.find(location, name);
+  return s ? uint64_t(s->value) : 0;
+}
+
+std::string gpm(size_t g) { return "gpm[" + std::to_string(g) + "]"; }
+
+const char* const kLevels[][2] = {
+    {"l1", "l1_hits"}, {"l2", "l2_hits"}, {"remote_cache", "remote_hits"}, {"home_l2", "home_l2_hits"}, {"dram", "dram_lines"}};
+
 // The memory system's statistics (docs/results.md, "memory"): counts, the
 // share of accesses each level served, each link's bytes and utilisation
 // (bytes per frame at the run's frame rate over the link's bandwidth), the
 // GPM-to-GPM matrix and each GPM's DRAM bytes.
 nlohmann::ordered_json memory_json(const SchemeResult& r) {
-  const MemoryStats& m = r.memory;
   nlohmann::ordered_json j;
-  j["accesses"] = m.accesses;
-  j["l1_hits"] = m.l1_hits;
-  j["l2_hits"] = m.l2_hits;
-  j["remote_hits"] = m.remote_hits;
-  j["home_l2_hits"] = m.home_l2_hits;
-  j["dram_lines"] = m.dram_lines;
-  const auto share = [&](uint64_t v) { return m.accesses ? double(v) / double(m.accesses) : 0.0; };
-  j["served_share"] = {{"l1", share(m.l1_hits)},
-                       {"l2", share(m.l2_hits)},
-                       {"remote_cache", share(m.remote_hits)},
-                       {"home_l2", share(m.home_l2_hits)},
-                       {"dram", share(m.dram_lines)}};
-  const auto bw = r.config.find("link.bandwidth");
-  const double link_bandwidth = bw != r.config.end() && bw->second.base ? *bw->second.base : 0;
+  const uint64_t accesses = count_at(r, "memory", "accesses");
+  j["accesses"] = accesses;
+  for (const auto& [level, field] : kLevels) j[field] = count_at(r, level, "served");
+  nlohmann::ordered_json share;
+  for (const auto& [level, field] : kLevels)
+    share[level] = accesses ? double(count_at(r, level, "served")) / double(accesses) : 0.0;
+  j["served_share"] = share;
   nlohmann::ordered_json links = nlohmann::ordered_json::array();
-  for (size_t l = 0; l < m.link_bytes.size(); ++l) {
-    nlohmann::ordered_json x;
-    x["link"] = l < m.link_names.size() ? m.link_names[l] : std::to_string(l);
-    x["bytes"] = m.link_bytes[l];
-    x["utilisation"] = link_bandwidth > 0 ? double(m.link_bytes[l]) * r.throughput_fps / link_bandwidth : 0.0;
-    links.push_back(x);
-  }
+  for (const Stat& s : r.stats.all())
+    if (s.name == "bytes" && s.location.rfind("link[", 0) == 0) {
+      nlohmann::ordered_json x;
+      x["link"] = link_name_at(s.location);
+      x["bytes"] = uint64_t(s.value);
+      const double u = utilisation_of(r, s.location);
+      x["utilisation"] = std::isnan(u) ? 0.0 : u;
+      links.push_back(x);
+    }
   j["links"] = links;
   nlohmann::ordered_json matrix = nlohmann::ordered_json::array();
   const size_t n = size_t(r.gpms);
-  for (size_t from = 0; from < n && (from + 1) * n <= m.gpm_to_gpm_bytes.size(); ++from) {
+  for (size_t from = 0; from < n; ++from) {
     nlohmann::ordered_json row = nlohmann::ordered_json::array();
-    for (size_t to = 0; to < n; ++to) row.push_back(m.gpm_to_gpm_bytes[from * n + to]);
+    for (size_t to = 0; to < n; ++to) row.push_back(from == to ? 0 : count_at(r, gpm(from) + "->" + gpm(to), "bytes"));
     matrix.push_back(row);
   }
   j["gpm_to_gpm_bytes"] = matrix;
-  j["dram_bytes"] = m.dram_bytes;
+  nlohmann::ordered_json dram = nlohmann::ordered_json::array();
+  for (size_t g = 0; g < n; ++g) dram.push_back(count_at(r, gpm(g) + ".dram", "bytes"));
+  j["dram_bytes"] = dram;
   return j;
+}
+
+// The memory section of a result written before results carried their
+// statistics (no "stats"): its counts as the memory system reports them,
+// and each link's utilisation as it was stored.
+void stats_from_memory_json(const nlohmann::ordered_json& mem, int gpms, Stats& out) {
+  out.count("memory", "accesses", json_count(mem.at("accesses"), "accesses"));
+  for (const auto& [level, field] : kLevels) out.count(level, "served", json_count(mem.at(field), field));
+  const auto& dram = mem.at("dram_bytes");
+  if (!dram.is_array() || dram.size() != size_t(gpms)) throw Error("a run's result with DRAM bytes of the wrong count");
+  for (size_t g = 0; g < dram.size(); ++g) out.count(gpm(g) + ".dram", "bytes", json_count(dram[g], "DRAM bytes"), "B");
+  for (const auto& l : mem.at("links")) {
+    const std::string name = l.at("link").get<std::string>();
+    const auto arrow = name.find("->");
+    if (arrow == std::string::npos) throw Error("a run's result with a link named '" + name + "'");
+    const auto node = [](std::string x) { return x.rfind("gpm", 0) == 0 ? x.substr(3) : x; };
+    const std::string at = "link[" + node(name.substr(0, arrow)) + "->" + node(name.substr(arrow + 2)) + "]";
+    out.count(at, "bytes", json_count(l.at("bytes"), "bytes"), "B");
+    out.add(at, "utilisation", json_finite(l.at("utilisation"), "a link's utilisation"));
+  }
+  const auto& matrix = mem.at("gpm_to_gpm_bytes");
+  if (!matrix.is_array() || matrix.size() != size_t(gpms))
+    throw Error("a run's result with a GPM-to-GPM matrix of the wrong size");
+  for (size_t from = 0; from < matrix.size(); ++from) {
+    if (!matrix[from].is_array() || matrix[from].size() != size_t(gpms))
+      throw Error("a run's result with a GPM-to-GPM matrix of the wrong size");
+    for (size_t to = 0; to < size_t(gpms); ++to) {
+      const uint64_t b = json_count(matrix[from][to], "GPM-to-GPM bytes");
+      if (from != to) out.count(gpm(from) + "->" + gpm(to), "bytes", b, "B");
+    }
+  }
 }
 
 }  // namespace
@@ -112,15 +152,21 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["notes"] = r.notes;
   // The scheme's own figures (OO-VR's batches, moved chunks, predictor).
   nlohmann::ordered_json own = nlohmann::ordered_json::object();
-  for (const SchemeMetric& m : r.metrics) {
-    own[m.name] = {{"value", m.value}};
-    if (!m.unit.empty()) own[m.name]["unit"] = m.unit;
-  }
+  for (const Stat& m : r.stats.all())
+    if (m.location == r.scheme) {
+      own[m.name] = {{"value", m.value}};
+      if (!m.unit.empty()) own[m.name]["unit"] = m.unit;
+    }
   j["scheme_metrics"] = own;
   j["memory"] = memory_json(r);
   j["frame_latency_cycles_per_frame"] = nlohmann::ordered_json::array();
   for (double l : r.frame_latencies_s) j["frame_latency_cycles_per_frame"].push_back(l * r.frequency_hz);
   j["config"] = to_json(r.config);
+  // Every statistic, as the database's metrics rows have them:
+  // [location, name, value, unit] (what scheme_result_from_json reads).
+  nlohmann::ordered_json stats = nlohmann::ordered_json::array();
+  for (const Stat& s : r.stats.all()) stats.push_back({s.location, s.name, s.value, s.unit});
+  j["stats"] = stats;
   return j;
 }
 
@@ -170,22 +216,19 @@ SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j) {
     r.draws = json_count(j.at("draws_received"), "draws_received");
     r.units = json_count(j.at("work_units"), "work_units");
     r.notes = j.at("notes").get<std::vector<std::string>>();
-    for (const auto& [name, m] : j.at("scheme_metrics").items())
-      r.metrics.push_back({name, json_finite(m.at("value"), name), m.value("unit", "")});
-    const auto& mem = j.at("memory");
-    r.memory.accesses = json_count(mem.at("accesses"), "accesses");
-    r.memory.l1_hits = json_count(mem.at("l1_hits"), "l1_hits");
-    r.memory.l2_hits = json_count(mem.at("l2_hits"), "l2_hits");
-    r.memory.remote_hits = json_count(mem.at("remote_hits"), "remote_hits");
-    r.memory.home_l2_hits = json_count(mem.at("home_l2_hits"), "home_l2_hits");
-    r.memory.dram_lines = json_count(mem.at("dram_lines"), "dram_lines");
-    for (const auto& l : mem.at("links")) {
-      r.memory.link_names.push_back(l.at("link").get<std::string>());
-      r.memory.link_bytes.push_back(json_count(l.at("bytes"), "bytes"));
+    if (j.contains("stats")) {
+      // Statistics are rows here; their merge rules matter only before a
+      // window is merged, which a result read back is not.
+      for (const auto& x : j.at("stats")) {
+        if (!x.is_array() || x.size() != 4) throw Error("a statistic that is not [location, name, value, unit]");
+        r.stats.add(x.at(0).get<std::string>(), x.at(1).get<std::string>(), json_finite(x.at(2), "a statistic's value"),
+                    x.at(3).get<std::string>());
+      }
+    } else {
+      stats_from_memory_json(j.at("memory"), r.gpms, r.stats);
+      for (const auto& [name, m] : j.at("scheme_metrics").items())
+        r.stats.add(r.scheme, name, json_finite(m.at("value"), name), m.value("unit", ""));
     }
-    for (const auto& row : mem.at("gpm_to_gpm_bytes"))
-      for (const auto& b : row) r.memory.gpm_to_gpm_bytes.push_back(json_count(b, "GPM-to-GPM bytes"));
-    for (const auto& b : mem.at("dram_bytes")) r.memory.dram_bytes.push_back(json_count(b, "DRAM bytes"));
     for (const auto& [key, e] : j.at("config").items()) {
       Config::Entry x;
       x.value = e.at("value").get<std::string>();
@@ -216,12 +259,22 @@ void check_scheme_result(const SchemeResult& r) {
   if (r.gpm_busy_s.size() != size_t(r.gpms)) bad("busy times of " + std::to_string(r.gpm_busy_s.size()) + " GPMs");
   for (double b : r.gpm_busy_s)
     if (!(std::isfinite(b) && b >= 0)) bad("a GPM busy for " + format_number(b) + " s");
-  const MemoryStats& m = r.memory;
-  if (m.dram_bytes.size() != size_t(r.gpms)) bad("DRAM bytes of " + std::to_string(m.dram_bytes.size()) + " GPMs");
-  if (m.gpm_to_gpm_bytes.size() != size_t(r.gpms) * size_t(r.gpms)) bad("a GPM-to-GPM matrix of the wrong size");
-  if (m.link_names.size() != m.link_bytes.size()) bad("link bytes without their links");
-  for (const SchemeMetric& x : r.metrics)
-    if (!std::isfinite(x.value)) bad("the scheme's figure '" + x.name + "' is not a number");
+  // The memory system's counts that JSON writes as whole numbers.
+  const auto count = [&](const std::string& location, const std::string& name) {
+    const Stat* s = r.stats.find(location, name);
+    if (!s) bad("no statistic '" + location + " " + name + "'");
+    if (!(s->value >= 0 && s->value < 0x1p64 && s->value == std::floor(s->value)))
+      bad("statistic '" + location + " " + name + "' is " + format_number(s->value) + ", not a count");
+  };
+  count("memory", "accesses");
+  for (const auto& [level, field] : kLevels) count(level, "served");
+  for (int g = 0; g < r.gpms; ++g) {
+    count(gpm(size_t(g)) + ".dram", "bytes");
+    for (int to = 0; to < r.gpms; ++to)
+      if (to != g) count(gpm(size_t(g)) + "->" + gpm(size_t(to)), "bytes");
+  }
+  for (const Stat& s : r.stats.all())
+    if (s.name == "bytes" && s.location.rfind("link[", 0) == 0) count(s.location, "bytes");
 }
 
 nlohmann::ordered_json results_document(const std::string& command, const std::string& scene, int frame, int frames,

@@ -1,5 +1,7 @@
 #include "oovr/experiments/result_metrics.h"
 
+#include <cmath>
+
 #include "oovr/memory/category.h"
 
 namespace oovr {
@@ -8,20 +10,31 @@ namespace {
 
 std::string gpm(size_t g) { return "gpm[" + std::to_string(g) + "]"; }
 
-// The topology's name for a link ("gpm0->gpm1", "gpm2->switch0") ->
-// "link[0->1]", "link[2->switch0]".
-std::string link_location(const std::string& name, size_t index) {
-  const auto arrow = name.find("->");
-  if (arrow == std::string::npos) return "link[" + std::to_string(index) + "]";
-  const auto node = [](std::string n) { return n.rfind("gpm", 0) == 0 ? n.substr(3) : n; };
-  return "link[" + node(name.substr(0, arrow)) + "->" + node(name.substr(arrow + 2)) + "]";
+}  // namespace
+
+double utilisation_of(const SchemeResult& r, const std::string& location) {
+  const Stat* capacity = r.stats.find(location, "capacity");
+  if (!capacity) {
+    const Stat* stored = r.stats.find(location, "utilisation");
+    return stored ? stored->value : std::nan("");
+  }
+  const Stat* used = r.stats.find(location, "bytes");
+  if (!used) used = r.stats.find(location, "used");
+  return used && capacity->value > 0 ? used->value * r.throughput_fps / capacity->value : 0.0;
 }
 
-}  // namespace
+std::string link_name_at(const std::string& location) {
+  const auto arrow = location.find("->");
+  if (location.rfind("link[", 0) != 0 || location.back() != ']' || arrow == std::string::npos) return location;
+  const auto node = [](const std::string& n) {
+    return !n.empty() && n.find_first_not_of("0123456789") == std::string::npos ? "gpm" + n : n;
+  };
+  return node(location.substr(5, arrow - 5)) + "->" + node(location.substr(arrow + 2, location.size() - arrow - 3));
+}
 
 std::vector<Metric> metrics_of(const SchemeResult& r) {
   std::vector<Metric> out;
-  const auto add = [&](const std::string& location, const std::string& metric, double value, const char* unit) {
+  const auto add = [&](const std::string& location, const std::string& metric, double value, const std::string& unit) {
     out.push_back({location, metric, value, unit});
   };
   add("frame", "latency", r.frame_latency_s, "s");
@@ -42,32 +55,14 @@ std::vector<Metric> metrics_of(const SchemeResult& r) {
     add("frame[" + std::to_string(k) + "]", "latency", r.frame_latencies_s[k], "s");
   for (size_t g = 0; g < r.gpm_busy_s.size(); ++g) add(gpm(g), "busy", r.gpm_busy_s[g], "s");
 
-  // The memory system: what share of the line accesses each level served.
-  const MemoryStats& m = r.memory;
-  add("memory", "accesses", double(m.accesses), "");
-  const struct {
-    const char* level;
-    uint64_t served;
-  } levels[] = {
-      {"l1", m.l1_hits}, {"l2", m.l2_hits}, {"remote_cache", m.remote_hits}, {"home_l2", m.home_l2_hits}, {"dram", m.dram_lines}};
-  for (const auto& l : levels) {
-    add(l.level, "served", double(l.served), "");
-    add(l.level, "served_share", m.accesses ? double(l.served) / double(m.accesses) : 0.0, "");
+  const Stat* accesses = r.stats.find("memory", "accesses");
+  for (const Stat& s : r.stats.all()) {
+    add(s.location, s.name, s.value, s.unit);
+    // What share of the line accesses each level served.
+    if (s.name == "served" && accesses)
+      add(s.location, "served_share", accesses->value > 0 ? s.value / accesses->value : 0.0, "");
+    if (s.name == "capacity") add(s.location, "utilisation", utilisation_of(r, s.location), "");
   }
-  for (size_t g = 0; g < m.dram_bytes.size(); ++g) add(gpm(g) + ".dram", "bytes", double(m.dram_bytes[g]), "B");
-  const auto bw = r.config.find("link.bandwidth");
-  const double link_bandwidth = bw != r.config.end() && bw->second.base ? *bw->second.base : 0;
-  for (size_t l = 0; l < m.link_bytes.size(); ++l) {
-    const std::string where = link_location(l < m.link_names.size() ? m.link_names[l] : "", l);
-    add(where, "bytes", double(m.link_bytes[l]), "B");
-    add(where, "utilisation", link_bandwidth > 0 ? double(m.link_bytes[l]) * r.throughput_fps / link_bandwidth : 0.0, "");
-  }
-  const size_t n = size_t(r.gpms);
-  for (size_t from = 0; from < n && (from + 1) * n <= m.gpm_to_gpm_bytes.size(); ++from)
-    for (size_t to = 0; to < n; ++to)
-      if (from != to) add(gpm(from) + "->" + gpm(to), "bytes", double(m.gpm_to_gpm_bytes[from * n + to]), "B");
-
-  for (const SchemeMetric& s : r.metrics) out.push_back({r.scheme, s.name, s.value, s.unit});
   return out;
 }
 

@@ -20,9 +20,24 @@ struct Metric {
   std::string unit;  // "s", "B", "cycles", "frames/s", "bit"; "" for counts and ratios
 };
 
-// Every figure of `r`, in a fixed order. Bytes and counts are per frame
-// (the window's mean); "utilisation" of a link is its bytes per frame at
-// the run's frame rate over the link's bandwidth.
+// Every figure of `r`: the frame's (latency, throughput, traffic, busy
+// time), then every statistic (r.stats, core/stats.h) in the order its
+// owners registered it, with the formulas evaluated at output time: after
+// each level's reads `served`, its `served_share` of the accesses; after
+// each resource's `capacity`, its `utilisation` (utilisation_of). Bytes
+// and counts are per frame (the window's mean).
 std::vector<Metric> metrics_of(const SchemeResult& r);
+
+// A resource's use per frame at the run's frame rate over its capacity:
+// of a link or a DRAM, the bytes the memory system counted (exact) at the
+// location; of another resource, the amount the timing engine used. NaN
+// when the location has no capacity; a utilisation read back from a
+// result written before the engine reported capacities (results.md) is
+// returned as it was stored.
+double utilisation_of(const SchemeResult& r, const std::string& location);
+
+// "link[0->1]" -> "gpm0->gpm1", "link[2->switch0]" -> "gpm2->switch0": the
+// topology's name of the link at a statistics location (JSON's `links`).
+std::string link_name_at(const std::string& location);
 
 }  // namespace oovr

@@ -392,4 +392,30 @@ uint64_t MemorySystem::footprint_bytes() const {
   return s;
 }
 
+void MemorySystem::report(Stats& out) const {
+  const TrafficTotals& t = m_totals;
+  out.count("memory", "accesses", t.accesses);
+  out.count("l1", "served", t.l1_hits);
+  out.count("l2", "served", t.l2_hits);
+  out.count("remote_cache", "served", t.remote_hits);
+  out.count("home_l2", "served", t.home_l2_hits);
+  out.count("dram", "served", t.dram_lines);
+  const auto gpm = [](int g) { return "gpm[" + std::to_string(g) + "]"; };
+  const auto sum = [](const PerCategory& c) {
+    uint64_t s = 0;
+    for (uint64_t b : c) s += b;
+    return s;
+  };
+  for (int g = 0; g < m_spec.gpms; ++g)
+    out.count(gpm(g) + ".dram", "bytes", sum(t.dram_read_bytes[size_t(g)]) + sum(t.dram_write_bytes[size_t(g)]), "B");
+  for (size_t l = 0; l < t.link_bytes.size(); ++l)
+    out.count(m_topology->link_location(int(l)), "bytes", sum(t.link_bytes[l]), "B");
+  const size_t n = size_t(m_spec.gpms);
+  for (size_t from = 0; from < n; ++from)
+    for (size_t to = 0; to < n; ++to)
+      if (from != to) out.count(gpm(int(from)) + "->" + gpm(int(to)), "bytes", t.moved[from * n + to], "B");
+  out.count("memory", "copies_evicted", t.copies_evicted);
+  out.count("memory", "copies_refused", t.copies_refused);
+}
+
 }  // namespace oovr

@@ -21,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "oovr/core/stats.h"
 #include "oovr/memory/address_map.h"
 #include "oovr/memory/cache.h"
 #include "oovr/memory/category.h"
@@ -148,6 +149,14 @@ class MemorySystem {
   uint64_t footprint_bytes() const;
 
   const TrafficTotals& totals() const { return m_totals; }
+  // Registers the memory system's counters, running totals since it was
+  // built (a frame's are the difference of two snapshots, Stats::since):
+  // `memory` accesses; the reads each level served (`l1`, `l2`,
+  // `remote_cache`, `home_l2`, `dram`); each GPM's DRAM bytes
+  // (`gpm[g].dram`); each link's bytes, every hop counted
+  // (`link[0->1]`); the GPM-to-GPM matrix, once per transfer
+  // (`gpm[0]->gpm[1]`); copies dropped for room and refused for want of it.
+  void report(Stats& out) const;
   const Cache& l1(int gpm, int sm) const { return m_l1[size_t(gpm * m_spec.sms_per_gpm + sm)]; }
   const Cache& l2(int gpm) const { return m_l2[size_t(gpm)]; }
   const Cache& remote_cache(int gpm) const { return m_remote[size_t(gpm)]; }

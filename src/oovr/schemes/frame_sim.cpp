@@ -33,37 +33,6 @@ double SchemeResult::best_to_worst() const {
   return lo > 0 ? hi / lo : 0;
 }
 
-namespace {
-
-void add_each(std::vector<uint64_t>& to, const std::vector<uint64_t>& from) {
-  if (to.size() < from.size()) to.resize(from.size(), 0);
-  for (size_t i = 0; i < from.size(); ++i) to[i] += from[i];
-}
-
-}  // namespace
-
-MemoryStats& MemoryStats::operator+=(const MemoryStats& o) {
-  accesses += o.accesses;
-  l1_hits += o.l1_hits;
-  l2_hits += o.l2_hits;
-  remote_hits += o.remote_hits;
-  home_l2_hits += o.home_l2_hits;
-  dram_lines += o.dram_lines;
-  if (link_names.empty()) link_names = o.link_names;
-  add_each(link_bytes, o.link_bytes);
-  add_each(gpm_to_gpm_bytes, o.gpm_to_gpm_bytes);
-  add_each(dram_bytes, o.dram_bytes);
-  return *this;
-}
-
-void MemoryStats::divide(uint64_t n) {
-  if (n <= 1) return;
-  const auto d = [n](uint64_t& v) { v = (v + n / 2) / n; };
-  for (uint64_t* v : {&accesses, &l1_hits, &l2_hits, &remote_hits, &home_l2_hits, &dram_lines}) d(*v);
-  for (auto* list : {&link_bytes, &gpm_to_gpm_bytes, &dram_bytes})
-    for (uint64_t& v : *list) d(v);
-}
-
 std::vector<ObjectRecords> records_by_object(const FrameTrace& t, size_t objects) {
   std::vector<ObjectRecords> r(objects);
   for (const TileWork& w : t.tiles) r[w.object].eye[w.eye].push_back(&w);
@@ -111,6 +80,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
     m_depth = carried->depth;
     m_memory->end_frame();
     m_before = m_memory->totals();
+    m_memory->report(m_stats_before);
   } else {
     m_map = std::make_shared<AddressMap>(m_memory_spec.page, m_memory_spec.line);
     m_layout = std::make_shared<SceneLayout>(*m_map, *in.scene, f);
@@ -122,6 +92,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
     }
     m_memory = std::make_shared<MemorySystem>(m_memory_spec, *m_map);
     m_before = m_memory->totals();
+    m_memory->report(m_stats_before);
     if (carried) {
       carried->map = m_map;
       carried->layout = m_layout;
@@ -378,28 +349,12 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
       s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
                             t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
   s.footprint_bytes = m_memory->footprint_bytes();
-  MemoryStats& m = s.memory;
-  m.accesses = t.accesses - m_before.accesses;
-  m.l1_hits = t.l1_hits - m_before.l1_hits;
-  m.l2_hits = t.l2_hits - m_before.l2_hits;
-  m.remote_hits = t.remote_hits - m_before.remote_hits;
-  m.home_l2_hits = t.home_l2_hits - m_before.home_l2_hits;
-  m.dram_lines = t.dram_lines - m_before.dram_lines;
-  const Topology& topology = m_memory->topology();
-  for (size_t l = 0; l < topology.links().size(); ++l) {
-    m.link_names.push_back(topology.link_name(int(l)));
-    uint64_t bytes = 0;
-    for (int c = 0; c < kCategories; ++c) bytes += t.link_bytes[l][size_t(c)] - m_before.link_bytes[l][size_t(c)];
-    m.link_bytes.push_back(bytes);
-  }
-  for (size_t i = 0; i < t.moved.size(); ++i) m.gpm_to_gpm_bytes.push_back(t.moved[i] - m_before.moved[i]);
-  for (int g = 0; g < gpms(); ++g) {
-    uint64_t bytes = 0;
-    for (int c = 0; c < kCategories; ++c)
-      bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
-               t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
-    m.dram_bytes.push_back(bytes);
-  }
+  // This frame's statistics: the memory system's since the frame began,
+  // the engine's of this run.
+  Stats now;
+  m_memory->report(now);
+  s.stats = now.since(m_stats_before);
+  m_engine.report(r, s.stats);
   // Never seen so far; said when it happens rather than hidden.
   if (m_engine.unconverged())
     s.notes.push_back(std::to_string(m_engine.unconverged()) +

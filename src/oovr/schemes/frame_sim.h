@@ -158,6 +158,7 @@ class FrameSim {
   std::shared_ptr<SceneLayout> m_layout;
   std::shared_ptr<MemorySystem> m_memory;
   TrafficTotals m_before;  // the memory system's totals when this frame began
+  Stats m_stats_before;    // and its statistics
   TimingEngine m_engine;
   std::unique_ptr<MachineModel> m_machine;
   std::vector<uint32_t> m_colour, m_depth;

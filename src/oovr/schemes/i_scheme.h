@@ -16,6 +16,7 @@
 
 #include "oovr/core/config.h"
 #include "oovr/core/registry.h"
+#include "oovr/core/stats.h"
 #include "oovr/memory/memory_system.h"
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/scene/scene.h"
@@ -38,33 +39,6 @@ struct SchemeInput {
   std::shared_ptr<CarriedState> carried;
 };
 
-// The memory system's statistics for one frame (from run_scheme_window: per
-// frame, the window's mean). Counts are of line accesses; bytes are whole.
-struct MemoryStats {
-  uint64_t accesses = 0;                   // line accesses by every SM (reads and writes)
-  uint64_t l1_hits = 0;                    // reads served by the SM's L1
-  uint64_t l2_hits = 0;                    // local data found in the requester's L2 (reads and writes)
-  uint64_t remote_hits = 0;                // remote reads served by the requester's remote cache
-  uint64_t home_l2_hits = 0;               // remote reads served by the holder's L2
-  uint64_t dram_lines = 0;                 // reads served by a DRAM, local or remote
-  std::vector<std::string> link_names;     // "gpm0->gpm1", per link of the topology
-  std::vector<uint64_t> link_bytes;        // per link, every hop counted on its link
-  std::vector<uint64_t> gpm_to_gpm_bytes;  // [from * gpms + to], once per transfer
-  std::vector<uint64_t> dram_bytes;        // per GPM, read and written
-
-  MemoryStats& operator+=(const MemoryStats& o);
-  // Divides every count by `n`, rounding to nearest (a window's mean).
-  void divide(uint64_t n);
-};
-
-// A figure only some schemes have (OO-VR's batches, moved chunks and
-// predictor rates), exported with the run (experiments/result_metrics.h).
-struct SchemeMetric {
-  std::string name;  // "batches", "predictor.c0"
-  double value = 0;
-  std::string unit;  // base unit ("s", "B", "bit") or "" for counts and ratios
-};
-
 struct SchemeResult {
   std::string scheme;
   int gpms = 0;
@@ -77,7 +51,6 @@ struct SchemeResult {
   PerCategory inter_gpm_bytes{};
   uint64_t local_dram_bytes = 0;  // bytes read and written by every DRAM
   uint64_t footprint_bytes = 0;   // memory resident in all GPMs' DRAMs
-  MemoryStats memory;
   // Counts summed over every GPM (and, from run_scheme_window, every frame):
   uint64_t covered_fragments = 0;  // fragments rasterised by all units (duplicates included)
   uint64_t vertices = 0;           // vertex shader invocations (duplicates included)
@@ -90,13 +63,19 @@ struct SchemeResult {
   std::vector<std::pair<std::pair<uint32_t, uint32_t>, int>> owner;
   std::map<std::string, Config::Entry> config;  // resolved configuration, described (Config::entries)
   std::vector<std::string> notes;
-  // The scheme's own figures (from run_scheme_window: the window's mean per
-  // frame, for the figures every frame reports).
-  std::vector<SchemeMetric> metrics;
+  // Statistics (core/stats.h): the memory system's and the timing
+  // engine's for this frame (FrameSim::finish), then the scheme's own
+  // figures at its name (OO-VR's batches, moved chunks and predictor
+  // rates: add_own). From run_scheme_window: merged by each one's rule.
+  Stats stats;
   // Set by FrameSim::finish once the run's conservation laws held
   // (schemes/conservation.h); run_scheme refuses a result without it.
   bool laws_checked = false;
 
+  // Adds one of the scheme's own figures (location: the scheme's name).
+  void add_own(std::string name, double value, std::string unit = "", Merge merge = Merge::mean) {
+    stats.add(scheme, std::move(name), value, std::move(unit), merge);
+  }
   double frame_latency_cycles() const { return frame_latency_s * frequency_hz; }
   uint64_t total_inter_gpm_bytes() const;
   // The GPM that shaded `object` in tile `tile` of frames[0]; -1 when none did.

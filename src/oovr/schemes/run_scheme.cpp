@@ -1,7 +1,6 @@
 // Running a scheme (by name or as a SchemeRef), on one frame or over a window of frames in
 // sequence (i_scheme.h).
 #include <algorithm>
-#include <map>
 #include <new>
 
 #include "oovr/core/error.h"
@@ -109,14 +108,12 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
   double time = 0;  // seconds the window's frames take, frames in flight overlapping
   for (auto& x : s.inter_gpm_bytes) x = 0;
   s.local_dram_bytes = s.covered_fragments = s.vertices = s.draws = s.units = 0;
-  s.memory = MemoryStats{};
   std::vector<double> busy(s.gpm_busy_s.size(), 0);
   for (const SchemeResult& r : all) {
     s.frame_latencies_s.insert(s.frame_latencies_s.end(), r.frame_latencies_s.begin(), r.frame_latencies_s.end());
     time += double(r.frames_in_flight) / r.throughput_fps;
     for (size_t c = 0; c < s.inter_gpm_bytes.size(); ++c) s.inter_gpm_bytes[c] += r.inter_gpm_bytes[c];
     s.local_dram_bytes += r.local_dram_bytes;
-    s.memory += r.memory;
     s.covered_fragments += r.covered_fragments;
     s.vertices += r.vertices;
     s.draws += r.draws;
@@ -128,20 +125,12 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
   const auto per_frame = [&](uint64_t v) { return (v + uint64_t(window) / 2) / uint64_t(window); };
   for (auto& x : s.inter_gpm_bytes) x = per_frame(x);
   s.local_dram_bytes = per_frame(s.local_dram_bytes);
-  s.memory.divide(uint64_t(window));
   s.gpm_busy_s = busy;
-  // The scheme's figures: each the mean over the frames that report it, in
-  // the order they first appear.
-  s.metrics.clear();
-  std::map<std::string, std::pair<double, int>> sums;
-  for (const SchemeResult& r : all)
-    for (const SchemeMetric& x : r.metrics) {
-      auto& [total, count] = sums[x.name];
-      if (count == 0) s.metrics.push_back(x);
-      total += x.value;
-      ++count;
-    }
-  for (SchemeMetric& x : s.metrics) x.value = sums[x.name].first / double(sums[x.name].second);
+  // Every statistic by its rule (core/stats.h): counts per frame, the
+  // scheme's figures the mean over the runs that report them.
+  std::vector<const Stats*> stats;
+  for (const SchemeResult& r : all) stats.push_back(&r.stats);
+  s.stats = Stats::window(stats, uint64_t(window));
   double sum = 0;
   for (double l : s.frame_latencies_s) sum += l;
   s.frame_latency_s = sum / double(s.frame_latencies_s.size());

@@ -8,9 +8,10 @@
 
 namespace oovr {
 
-int TimingEngine::add_resource(std::string name, double capacity) {
+int TimingEngine::add_resource(std::string name, double capacity, std::string unit) {
   if (!(capacity > 0) || !std::isfinite(capacity)) throw Error("timing: resource '" + name + "' needs a positive capacity");
   m_resource_names.push_back(std::move(name));
+  m_resource_units.push_back(std::move(unit));
   m_capacity.push_back(capacity);
   return int(m_capacity.size()) - 1;
 }
@@ -179,6 +180,19 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
   }
   m_unconverged = sharing.unconverged();
   return m_res;
+}
+
+void TimingEngine::report(const Result& r, Stats& out) const {
+  for (size_t k = 0; k < m_capacity.size(); ++k) {
+    const std::string& unit = m_resource_units[k];
+    const double used = k < r.resource_used.size() ? r.resource_used[k] : 0;
+    out.add(m_resource_names[k], "used", used, unit, Merge::sum);
+    // Per second: bytes per second, a count per second, or (time held per
+    // second) a count of holders.
+    out.add(m_resource_names[k], "capacity", m_capacity[k], unit == "s" ? "" : unit.empty() ? "1/s" : unit + "/s", Merge::max);
+  }
+  for (size_t q = 0; q < m_queue_names.size(); ++q)
+    out.add(m_queue_names[q], "queue_busy", q < r.queue_busy.size() ? r.queue_busy[q] : 0, "s", Merge::mean);
 }
 
 }  // namespace oovr

@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "oovr/core/stats.h"
 #include "oovr/timing/sharing.h"
 
 namespace oovr {
@@ -52,7 +53,9 @@ class TimingEngine {
 
   void set_sharing(Sharing s) { m_sharing = s; }
   // Adds a resource with `capacity` units per second; returns its id.
-  int add_resource(std::string name, double capacity);
+  // `name` is its location in statistics ("gpm[0].shader", "link[0->1]");
+  // `unit` that of its amounts ("B"; "s" for time held; "" for counts).
+  int add_resource(std::string name, double capacity, std::string unit = "");
   int add_queue(std::string name);
   // Adds a unit; its dependencies must be units added before. Returns its id.
   int add_unit(Unit u);
@@ -68,6 +71,13 @@ class TimingEngine {
   // start at the current time or later. Dependencies on units already
   // finished are met. Runs once per engine.
   Result run(const std::function<void(int unit)>& on_finish = {});
+
+  // Registers a run's statistics: per resource (at its name) the amount
+  // `used` and its `capacity` per second (utilisation is used over
+  // capacity and time, a formula for the output: experiments/
+  // result_metrics.h); per queue (at its name) `queue_busy`, the seconds it
+  // had a unit running, work and latency.
+  void report(const Result& r, Stats& out) const;
 
   // Rate allocations of the last run that stopped at the iteration limit
   // (ResourceSharing::unconverged).
@@ -87,7 +97,7 @@ class TimingEngine {
   void finish(int i, const std::function<void(int)>& on_finish);
   void start_ready();
 
-  std::vector<std::string> m_resource_names, m_queue_names;
+  std::vector<std::string> m_resource_names, m_resource_units, m_queue_names;
   std::vector<double> m_capacity;
   std::vector<Unit> m_units;
 

@@ -66,15 +66,15 @@ MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, c
     r.raster = engine.add_resource(p + "raster", double(timing.raster_fragments_per_clock) * f);
     r.setup = engine.add_resource(p + "setup", double(timing.setup_triangles_per_clock) * f);
     r.rop = engine.add_resource(p + "rop", double(timing.rops) * timing.rop_pixels_per_clock * f);
-    r.dram = engine.add_resource(p + "dram", memory.dram_bandwidth.value);
+    r.dram = engine.add_resource(p + "dram", memory.dram_bandwidth.value, "B");
     if (timing.requests_in_flight > 0)
-      r.requests = engine.add_resource(p + "requests", double(memory.sms_per_gpm) * timing.requests_in_flight);
+      r.requests = engine.add_resource(p + "requests", double(memory.sms_per_gpm) * timing.requests_in_flight, "s");
     m_gpm.push_back(r);
     m_queue.push_back(engine.add_queue("gpm[" + std::to_string(g) + "]"));
     m_front_queue.push_back(engine.add_queue("gpm[" + std::to_string(g) + "].front"));
   }
   for (size_t l = 0; l < topology.links().size(); ++l)
-    m_link.push_back(engine.add_resource("link[" + topology.link_name(int(l)) + "]", memory.link_bandwidth.value));
+    m_link.push_back(engine.add_resource(topology.link_location(int(l)), memory.link_bandwidth.value, "B"));
 }
 
 std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCounts& w, const UnitTraffic& t) const {

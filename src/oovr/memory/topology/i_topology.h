@@ -28,6 +28,8 @@ class Topology {
   const std::vector<int>& route(int from, int to) const { return m_routes[size_t(from * m_gpms + to)]; }
   std::string node_name(int node) const;
   std::string link_name(int link) const;  // e.g. "gpm1->gpm0"
+  // The link's location in statistics: "link[1->0]", "link[2->switch0]".
+  std::string link_location(int link) const;
 
  protected:
   Topology(int gpms, int switches) : m_gpms(gpms), m_nodes(gpms + switches) {}

@@ -14,6 +14,12 @@ std::string Topology::link_name(int link) const {
   return node_name(l.from) + "->" + node_name(l.to);
 }
 
+std::string Topology::link_location(int link) const {
+  const Link& l = m_links[size_t(link)];
+  const auto node = [&](int n) { return n < m_gpms ? std::to_string(n) : node_name(n); };
+  return "link[" + node(l.from) + "->" + node(l.to) + "]";
+}
+
 void Topology::finish() {
   m_routes.assign(size_t(m_gpms) * size_t(m_gpms), {});
   for (int src = 0; src < m_gpms; ++src) {

@@ -174,14 +174,13 @@ class OO final : public Scheme {
 
  private:
   // Pre-allocated and split copies (Section 5.2): the most one GPM has held
-  // (with no cap, where the scene's copies fit), and this frame's copies
-  // dropped for room and pages refused for want of it.
+  // (with no cap, where the scene's copies fit); this frame's copies dropped
+  // for room and pages refused for want of it are the memory system's
+  // statistics, and a note when there are any.
   static void copies(SchemeResult& r, FrameSim& sim, uint64_t evicted, uint64_t refused) {
     uint64_t peak = 0;
     for (int g = 0; g < sim.gpms(); ++g) peak = std::max(peak, sim.memory().copy_peak_bytes(g));
-    r.metrics.push_back({"copies.peak_bytes", double(peak), "B"});
-    r.metrics.push_back({"copies.evicted", double(evicted), ""});
-    r.metrics.push_back({"copies.refused", double(refused), ""});
+    r.add_own("copies.peak_bytes", double(peak), "B");
     if (evicted || refused)
       r.notes.push_back("copies: " + std::to_string(evicted) + " pages dropped for room, " + std::to_string(refused) +
                         " not copied for want of it (" + format_bytes(Bytes{peak}) + " held at most on one GPM)");
@@ -191,10 +190,10 @@ class OO final : public Scheme {
     uint64_t tris = 0;
     const auto& batches = runtime.batches();
     for (const auto& b : batches) tris += b.triangles;
-    r.metrics.push_back({"batches", double(batches.size()), ""});
+    r.add_own("batches", double(batches.size()), "");
     const size_t objects = sim.draws(sim.frame()).size();
-    r.metrics.push_back({"objects", double(objects), ""});
-    r.metrics.push_back({"batch_triangles", batches.empty() ? 0.0 : double(tris) / double(batches.size()), ""});
+    r.add_own("objects", double(objects), "");
+    r.add_own("batch_triangles", batches.empty() ? 0.0 : double(tris) / double(batches.size()), "");
     r.notes.push_back(std::to_string(batches.size()) + " batches of " + std::to_string(objects) + " objects (mean " +
                       std::to_string(batches.empty() ? 0 : tris / batches.size()) + " triangles); " +
                       (spec.predictor ? "predictor" : "round-robin") + ", pre-allocation " + (spec.prealloc ? "on" : "off") +
@@ -208,16 +207,16 @@ class OO final : public Scheme {
       r.notes.push_back(buf);
       // The linear predictor's fitted costs (Section 5.2, Equation 3): per
       // triangle, per transformed vertex and per pixel.
-      r.metrics.push_back({"predictor.c0", x.c0, "s"});
-      r.metrics.push_back({"predictor.c1", x.c1, "s"});
-      r.metrics.push_back({"predictor.c2", x.c2, "s"});
+      r.add_own("predictor.c0", x.c0, "s");
+      r.add_own("predictor.c1", x.c1, "s");
+      r.add_own("predictor.c2", x.c2, "s");
       const EngineStorage st = engine_storage(n, spec.batch_queue);
-      r.metrics.push_back({"engine_storage", double(st.total()), "bit"});
+      r.add_own("engine_storage", double(st.total()), "bit");
       r.notes.push_back("distribution engine storage: " + std::to_string(st.total()) + " bits (counters " +
                         std::to_string(st.counter_bits) + ", batch ids " + std::to_string(st.batch_id_bits) + ", registers " +
                         std::to_string(st.register_bits) + "; the paper: 960)");
     }
-    r.metrics.push_back({"moved_chunks", double(runtime.moved_chunks()), ""});
+    r.add_own("moved_chunks", double(runtime.moved_chunks()), "");
     if (runtime.moved_chunks())
       r.notes.push_back(std::to_string(runtime.moved_chunks()) + " chunks of fragment work moved to idle GPMs");
   }
