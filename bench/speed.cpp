@@ -36,8 +36,8 @@
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
-#include "oovr/experiments/frames.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/run/frames.h"
 #include "oovr/scene/load.h"
 #include "oovr/schemes/i_scheme.h"
 

@@ -9,9 +9,9 @@
 #include <set>
 
 #include "oovr/core/error.h"
-#include "oovr/experiments/result_images.h"
-#include "oovr/experiments/result_metrics.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/run/result_images.h"
+#include "oovr/run/result_metrics.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/schemes/i_scheme.h"
 #include "oovr/schemes/sort_first.h"

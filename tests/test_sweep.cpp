@@ -9,11 +9,11 @@
 #include <set>
 
 #include "oovr/core/error.h"
-#include "oovr/experiments/result_json.h"
-#include "oovr/experiments/result_metrics.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
+#include "oovr/run/result_json.h"
+#include "oovr/run/result_metrics.h"
 #include "temp_dir.h"
 #include "test_util.h"
 

@@ -15,9 +15,9 @@
 
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
-#include "oovr/experiments/frames.h"
-#include "oovr/experiments/session.h"
 #include "oovr/pipeline/trace_cache.h"
+#include "oovr/run/frames.h"
+#include "oovr/run/session.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/schemes/i_scheme.h"
 #include "temp_dir.h"

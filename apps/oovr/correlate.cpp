@@ -9,7 +9,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/experiments/hardware.h"
-#include "oovr/experiments/result_json.h"
+#include "oovr/run/result_json.h"
 
 namespace oovr::cli {
 namespace {

@@ -7,10 +7,10 @@
 #include "commands.h"
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
-#include "oovr/experiments/result_images.h"
-#include "oovr/experiments/result_json.h"
-#include "oovr/experiments/result_text.h"
-#include "oovr/experiments/simulation.h"
+#include "oovr/run/result_images.h"
+#include "oovr/run/result_json.h"
+#include "oovr/run/result_text.h"
+#include "oovr/run/simulation.h"
 
 namespace oovr::cli {
 namespace {

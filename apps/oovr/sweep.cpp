@@ -127,16 +127,8 @@ int sweep(const SweepArgs& a) {
     o.use_cache = !a.no_cache;
     o.command = a.command;
     o.on_status = [&](const std::string& line) { progress.status(line); };
-    o.on_record = [&](const RunRecord& r) {
-      child_db.insert(r);
-      progress.point(r);
-    };
-    o.on_flight = [&](const std::vector<size_t>& points, bool starting) {
-      std::vector<std::string> ids;
-      for (size_t i : points) ids.push_back(s.points[i].id);
-      child_db.mark_in_flight(ids, starting ? int64_t(::getpid()) : 0);
-    };
-    run_points(s, which, o);
+    o.on_record = [&](const RunRecord& r) { progress.point(r); };
+    run_points_into(s, which, child_db, o, true);
     progress.finish();
   };
   const int rc = supervise_points(s, todo, so);

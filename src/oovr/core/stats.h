@@ -5,7 +5,7 @@
 // TimingEngine::report, a scheme's own figures), in the spirit of gem5's
 // ADD_STAT and Ramulator 2's Stats; every export (the database's metrics
 // rows, JSON, Python, the text table, the paper and the report) reads them
-// from here (experiments/result_metrics.h). Derived numbers (shares,
+// from here (run/result_metrics.h). Derived numbers (shares,
 // utilisation) are formulas evaluated at output time, never accumulated.
 #pragma once
 

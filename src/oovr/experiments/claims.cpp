@@ -6,7 +6,7 @@
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/units.h"
-#include "oovr/experiments/result_json.h"
+#include "oovr/run/result_json.h"
 
 namespace oovr {
 

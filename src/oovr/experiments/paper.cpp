@@ -14,10 +14,10 @@
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/units.h"
-#include "oovr/experiments/frames.h"
 #include "oovr/experiments/paper_figures.h"
-#include "oovr/experiments/result_json.h"
 #include "oovr/experiments/sweep_run.h"
+#include "oovr/run/frames.h"
+#include "oovr/run/result_json.h"
 #include "oovr/scene/load.h"
 #include "oovr/timing/gpm_model.h"
 
@@ -131,11 +131,8 @@ PaperResults run_paper(PaperOptions& o) {
   ro.jobs = o.jobs;
   ro.command = o.command;
   ro.on_status = o.progress;
-  ro.on_record = [&](const RunRecord& r) {
-    db.insert(r);
-    if (o.on_record) o.on_record(r);
-  };
-  run_points(s, todo, ro);
+  ro.on_record = o.on_record;
+  run_points_into(s, todo, db, ro);
   res.ran = todo.size();
 
   // Read them back: the document is written from the database.

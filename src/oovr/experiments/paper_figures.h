@@ -13,11 +13,6 @@
 
 namespace oovr::paper {
 
-// Every scheme of Figure 15, the page-aware baseline, the bounds and the SMP
-// comparison.
-inline const std::vector<std::string> kSchemes = {"baseline", "baseline-1tb", "baseline-paged", "afr",
-                                                  "sfr-v",    "sfr-h",        "object",         "oo-app",
-                                                  "oo-vr",    "single-gpm",   "ideal",          "two-pass"};
 // Figure 17 and 18: the baseline, object-level SFR and OO-VR.
 inline const std::vector<std::string> kSweepSchemes = {"baseline", "object", "oo-vr"};
 inline const std::vector<std::pair<std::string, double>> kLinks = {{"32GBps", 32},   {"64GBps", 64},   {"128GBps", 128},

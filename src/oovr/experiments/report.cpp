@@ -11,6 +11,7 @@
 #include "oovr/core/text.h"
 #include "oovr/experiments/claims.h"
 #include "oovr/experiments/results_db.h"
+#include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
 
@@ -34,7 +35,10 @@ std::string write_report(const ReportOptions& o) {
   const std::string script = (fs::path(o.out) / "report.py").string();
   const std::string claims = (fs::path(o.out) / "claims.json").string();
   write_output_file(script, embedded::report_py, "report script");
-  write_output_file(claims, resolved_claims_json(paper_claims()).dump(1) + "\n", "claims");
+  // The claims and the order schemes are drawn in (the registered one).
+  nlohmann::ordered_json context = resolved_claims_json(paper_claims());
+  context["scheme_order"] = schemes_in_order();
+  write_output_file(claims, context.dump(1) + "\n", "claims");
 
   std::string python = o.python;
   if (python.empty()) {

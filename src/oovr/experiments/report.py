@@ -25,9 +25,9 @@ import numpy as np  # noqa: E402
 
 FIXED = {"id", "sweep", "position", "scene", "scheme", "resolution", "frame", "frames", "aniso", "config", "checksum",
          "status", "error", "oovr_version", "git_commit", "command", "host", "started", "wall_s", "result"}
-# The order schemes are drawn in (the paper's first), then any other.
-ORDER = ["baseline", "baseline-1tb", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "oo-app", "oo-vr",
-         "single-gpm", "ideal", "two-pass"]
+# The order schemes are drawn in: the registered schemes' order (the paper's
+# first), which oovr writes beside the claims; then any other by name.
+ORDER = []
 MAX_IMAGE_RUNS = 12
 RUN_ID = re.compile(r"[0-9a-f]{16}")
 
@@ -352,6 +352,7 @@ def main():
     claims_path = sys.argv[3] if len(sys.argv) > 3 else os.path.join(out, "claims.json")
     with open(claims_path) as f:
         claims = json.load(f)
+    ORDER[:] = claims["scheme_order"]
     con, runs, sweeps = load(db)
     values = claim_values(runs, claims["claims"], claims["defaults"])
 

@@ -14,8 +14,8 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/text.h"
-#include "oovr/experiments/result_json.h"
 #include "oovr/experiments/sweep.h"
+#include "oovr/run/result_json.h"
 
 namespace oovr {
 

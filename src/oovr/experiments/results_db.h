@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "oovr/experiments/result_metrics.h"
+#include "oovr/run/result_metrics.h"
 
 struct sqlite3;
 

@@ -15,8 +15,8 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
-#include "oovr/experiments/result_json.h"
 #include "oovr/experiments/sweep_run.h"
+#include "oovr/run/result_json.h"
 
 namespace oovr {
 namespace fs = std::filesystem;

@@ -12,9 +12,9 @@
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
 #include "oovr/core/units.h"
-#include "oovr/experiments/frames.h"
-#include "oovr/experiments/result_json.h"
 #include "oovr/memory/memory_spec.h"
+#include "oovr/run/frames.h"
+#include "oovr/run/result_json.h"
 #include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
 

@@ -1,5 +1,7 @@
 #include "oovr/experiments/sweep_run.h"
 
+#include <unistd.h>
+
 #include <signal.h>
 
 #include <chrono>
@@ -22,12 +24,12 @@
 #include "oovr/core/parallel.h"
 #include "oovr/core/text.h"
 #include "oovr/core/version.h"
-#include "oovr/experiments/frames.h"
-#include "oovr/experiments/result_images.h"
-#include "oovr/experiments/result_json.h"
-#include "oovr/experiments/result_metrics.h"
 #include "oovr/experiments/sweep_schedule.h"
 #include "oovr/pipeline/image.h"
+#include "oovr/run/frames.h"
+#include "oovr/run/result_images.h"
+#include "oovr/run/result_json.h"
+#include "oovr/run/result_metrics.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/stereo.h"
 
@@ -421,6 +423,24 @@ void begin_sweep(const Sweep& s, const SweepPlan& plan, ResultsDb& db, const std
   const auto status = db.run_status();
   for (size_t i : plan.todo)
     if (status.count(s.points[i].id)) db.remove(s.points[i].id);  // a failed run, retried
+}
+
+void run_points_into(const Sweep& s, const std::vector<size_t>& which, ResultsDb& db, SweepRunOptions o, bool track_in_flight) {
+  const auto then = std::move(o.on_record);
+  o.on_record = [&db, then](const RunRecord& r) {
+    db.insert(r);  // stored first: a callback that throws loses nothing
+    if (then) then(r);
+  };
+  if (track_in_flight) {
+    const auto flight = std::move(o.on_flight);
+    o.on_flight = [&db, &s, flight](const std::vector<size_t>& points, bool starting) {
+      std::vector<std::string> ids;
+      for (size_t i : points) ids.push_back(s.points[i].id);
+      db.mark_in_flight(ids, starting ? int64_t(::getpid()) : 0);
+      if (flight) flight(points, starting);
+    };
+  }
+  run_points(s, which, o);
 }
 
 }  // namespace oovr

@@ -55,6 +55,16 @@ struct SweepRunOptions {
 // Runs s.points[i] for every i in `which` (resolved: resolve_all).
 void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o);
 
+// Runs them as run_points does and writes each record into `db` as it ends
+// (ResultsDb::insert: the run, its metrics and images in one transaction),
+// then calls o.on_record with it: the one routine that writes runs, used by
+// `oovr sweep`'s workers, `oovr paper` and Python's oovr.sweep. With
+// `track_in_flight`, the database marks the points whose work has started
+// with this process (o.on_flight is then called after), which the sweep's
+// supervisor reads to find a point that killed its worker.
+void run_points_into(const Sweep& s, const std::vector<size_t>& which, ResultsDb& db, SweepRunOptions o,
+                     bool track_in_flight = false);
+
 // What running a sweep into a database that may hold some of its points
 // does: the points to run, and what it keeps.
 struct SweepPlan {

@@ -30,17 +30,17 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/version.h"
-#include "oovr/experiments/result_images.h"
-#include "oovr/experiments/result_json.h"
-#include "oovr/experiments/result_metrics.h"
-#include "oovr/experiments/result_text.h"
 #include "oovr/experiments/results_db.h"
-#include "oovr/experiments/session.h"
-#include "oovr/experiments/simulation.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
 #include "oovr/pipeline/frame_summary.h"
 #include "oovr/pipeline/image.h"
+#include "oovr/run/result_images.h"
+#include "oovr/run/result_json.h"
+#include "oovr/run/result_metrics.h"
+#include "oovr/run/result_text.h"
+#include "oovr/run/session.h"
+#include "oovr/run/simulation.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/scene_info.h"
 
@@ -348,11 +348,10 @@ py::dict sweep(const std::string& text, const std::string& name, const std::stri
   o.jobs = jobs;
   o.use_cache = cache;
   o.command = command;
-  // Called one at a time, from worker threads: the record is stored first,
-  // so a callback that raises loses nothing.
+  // Called one at a time, from worker threads, once run_points_into has
+  // stored the record: a callback that raises loses nothing.
   std::optional<py::error_already_set> raised;
   o.on_record = [&](const RunRecord& r) {
-    db.insert(r);
     ++(r.status == "done" ? done : failed);
     py::gil_scoped_acquire gil;
     if (raised || on_record.is_none()) return;
@@ -374,7 +373,7 @@ py::dict sweep(const std::string& text, const std::string& name, const std::stri
   const auto t0 = std::chrono::steady_clock::now();
   {
     py::gil_scoped_release release;
-    run_points(s, plan.todo, o);
+    run_points_into(s, plan.todo, db, o);
   }
   if (raised) throw std::move(*raised);
   py::dict out;

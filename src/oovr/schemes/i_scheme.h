@@ -100,8 +100,16 @@ class Scheme {
 struct SchemeFactory {
   std::string description;
   std::function<std::unique_ptr<Scheme>()> make;
+  // Where the scheme stands in tables, plots and the default comparison
+  // (schemes_in_order): the paper's schemes in the paper's order (10, 20,
+  // ...), then the others, by name.
+  int order = 1000;
 };
 using Schemes = Registry<SchemeFactory>;
+
+// Every registered scheme, by order, then name: the one scheme order that
+// `oovr compare`, the paper's document and the report read.
+std::vector<std::string> schemes_in_order();
 
 // A scheme to run and the name its results carry: a registered one
 // (find_scheme), or one made outside the registry (a scheme written in
@@ -132,7 +140,7 @@ void check_scheme_config(const SchemeRef& scheme, const Config& config);
 void check_scheme_config(const std::string& name, const Config& config);
 
 // Consecutive frames' traces handed out one at a time, so that a long
-// window need not be in memory at once (experiments/frames.h streams them
+// window need not be in memory at once (run/frames.h streams them
 // from disk). at() is safe to call from several threads; the caller holds
 // the trace while it uses it.
 class FrameSequence {

@@ -19,6 +19,13 @@ SchemeRef find_scheme(const std::string& name) {
   return {name, f->make()};
 }
 
+std::vector<std::string> schemes_in_order() {
+  std::vector<std::string> names = Schemes::names();
+  std::stable_sort(names.begin(), names.end(),
+                   [](const std::string& a, const std::string& b) { return Schemes::find(a)->order < Schemes::find(b)->order; });
+  return names;
+}
+
 int scheme_frames_needed(const SchemeRef& scheme, const Config& config) {
   Config c = config;
   scheme.impl->configure(c);

@@ -73,10 +73,10 @@ class TimingEngine {
   Result run(const std::function<void(int unit)>& on_finish = {});
 
   // Registers a run's statistics: per resource (at its name) the amount
-  // `used` and its `capacity` per second (utilisation is used over
-  // capacity and time, a formula for the output: experiments/
-  // result_metrics.h); per queue (at its name) `queue_busy`, the seconds it
-  // had a unit running, work and latency.
+  // `used` and its `capacity` per second (utilisation, use per frame at
+  // the frame rate over capacity, is a formula of the output:
+  // run/result_metrics.h); per queue (at its name) `queue_busy`, the
+  // seconds it had a unit running, work and latency.
   void report(const Result& r, Stats& out) const;
 
   // Rate allocations of the last run that stopped at the iteration limit

@@ -336,7 +336,7 @@ def compare(scene: Union[str, Scene], schemes: Optional[Sequence[Union[str, Sche
     return _run(call, scene, names, config, frames, frame, resolution, eye_resolution, aniso, cache, images, jobs)
 
 
-# How `oovr compare` prints each column (experiments/result_text.cpp).
+# How `oovr compare` prints each column (run/result_text.cpp).
 _CLI_FORMAT = {
     "latency ms": "{:.3f}", "speed-up": "{:.2f}x", "frames/s": "{:.1f}", "throughput": "{:.2f}x",
     "inter-GPM MB": "{:.2f}", "traffic": "{:.2f}x", "best/worst": "{:.2f}",

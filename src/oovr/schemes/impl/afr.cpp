@@ -59,8 +59,8 @@ class Afr final : public Scheme {
   }
 };
 
-const Schemes::Add reg("afr",
-                       {"alternate frame rendering: a frame per GPM, data replicated", [] { return std::make_unique<Afr>(); }});
+const Schemes::Add reg("afr", {"alternate frame rendering: a frame per GPM, data replicated",
+                               [] { return std::make_unique<Afr>(); }, 40});
 
 }  // namespace
 }  // namespace oovr

@@ -31,7 +31,7 @@ class Baseline final : public Scheme {
 };
 
 const Schemes::Add reg("baseline", {"one GPU: eyes to GPM groups, tiles dealt one by one, SMP geometry once per draw",
-                                    [] { return std::make_unique<Baseline>(); }});
+                                    [] { return std::make_unique<Baseline>(); }, 10});
 
 }  // namespace
 }  // namespace oovr

@@ -17,7 +17,7 @@ class Baseline1Tb final : public Scheme {
   }
 };
 
-const Schemes::Add reg("baseline-1tb", {"the baseline with 1 TB/s links", [] { return std::make_unique<Baseline1Tb>(); }});
+const Schemes::Add reg("baseline-1tb", {"the baseline with 1 TB/s links", [] { return std::make_unique<Baseline1Tb>(); }, 20});
 
 }  // namespace
 }  // namespace oovr

@@ -22,7 +22,7 @@ class BaselinePaged final : public Scheme {
 };
 
 const Schemes::Add reg("baseline-paged", {"the baseline with tiles dealt by framebuffer page (page-aware)",
-                                          [] { return std::make_unique<BaselinePaged>(); }});
+                                          [] { return std::make_unique<BaselinePaged>(); }, 30});
 
 }  // namespace
 }  // namespace oovr

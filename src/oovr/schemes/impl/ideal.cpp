@@ -40,7 +40,8 @@ class Ideal final : public Scheme {
   }
 };
 
-const Schemes::Add reg("ideal", {"one GPU with N times a GPM's resources, no NUMA", [] { return std::make_unique<Ideal>(); }});
+const Schemes::Add reg("ideal",
+                       {"one GPU with N times a GPM's resources, no NUMA", [] { return std::make_unique<Ideal>(); }, 110});
 
 }  // namespace
 }  // namespace oovr

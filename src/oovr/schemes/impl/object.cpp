@@ -47,7 +47,7 @@ class ObjectLevel final : public Scheme {
 };
 
 const Schemes::Add reg("object", {"object-level SFR: objects round-robin, eyes separate, root composition",
-                                  [] { return std::make_unique<ObjectLevel>(); }});
+                                  [] { return std::make_unique<ObjectLevel>(); }, 70});
 
 }  // namespace
 }  // namespace oovr

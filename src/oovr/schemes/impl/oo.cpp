@@ -232,9 +232,9 @@ OOSpec mechanisms(bool on) {
 }
 
 const Schemes::Add reg_app("oo-app", {"OO_APP: multi-view objects batched by texture sharing, round-robin, root composition",
-                                      [] { return std::make_unique<OO>("oo-app", mechanisms(false)); }});
+                                      [] { return std::make_unique<OO>("oo-app", mechanisms(false)); }, 80});
 const Schemes::Add reg_vr("oo-vr", {"OO-VR: OO_APP + distribution engine (predictor, pre-allocation, split) + DHC",
-                                    [] { return std::make_unique<OO>("oo-vr", mechanisms(true)); }});
+                                    [] { return std::make_unique<OO>("oo-vr", mechanisms(true)); }, 90});
 
 }  // namespace
 }  // namespace oovr

@@ -25,7 +25,7 @@ class SfrH final : public Scheme {
 };
 
 const Schemes::Add reg("sfr-h", {"tile SFR, one horizontal strip per GPM spanning both eyes (SMP works)",
-                                 [] { return std::make_unique<SfrH>(); }});
+                                 [] { return std::make_unique<SfrH>(); }, 60});
 
 }  // namespace
 }  // namespace oovr

@@ -25,7 +25,7 @@ class SfrV final : public Scheme {
 };
 
 const Schemes::Add reg("sfr-v", {"tile SFR, one vertical strip per GPM (eyes apart, no SMP sharing)",
-                                 [] { return std::make_unique<SfrV>(); }});
+                                 [] { return std::make_unique<SfrV>(); }, 50});
 
 }  // namespace
 }  // namespace oovr

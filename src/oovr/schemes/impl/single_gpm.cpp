@@ -19,7 +19,7 @@ class SingleGpm final : public Scheme {
   }
 };
 
-const Schemes::Add reg("single-gpm", {"one GPM alone", [] { return std::make_unique<SingleGpm>(); }});
+const Schemes::Add reg("single-gpm", {"one GPM alone", [] { return std::make_unique<SingleGpm>(); }, 100});
 
 }  // namespace
 }  // namespace oovr

@@ -34,7 +34,7 @@ class TwoPass final : public Scheme {
 };
 
 const Schemes::Add reg("two-pass", {"one GPM, the two views rendered one after the other (no SMP)",
-                                    [] { return std::make_unique<TwoPass>(); }});
+                                    [] { return std::make_unique<TwoPass>(); }, 120});
 
 }  // namespace
 }  // namespace oovr

@@ -1,12 +1,12 @@
-#include "oovr/experiments/result_json.h"
+#include "oovr/run/result_json.h"
 
 #include <cmath>
 
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/version.h"
-#include "oovr/experiments/result_metrics.h"
 #include "oovr/memory/memory_spec.h"
+#include "oovr/run/result_metrics.h"
 
 namespace oovr {
 

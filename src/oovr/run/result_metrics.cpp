@@ -1,4 +1,4 @@
-#include "oovr/experiments/result_metrics.h"
+#include "oovr/run/result_metrics.h"
 
 #include <cmath>
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "oovr/core/config.h"
-#include "oovr/experiments/frames.h"
-#include "oovr/experiments/session.h"
+#include "oovr/run/frames.h"
+#include "oovr/run/session.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {

@@ -1,4 +1,4 @@
-#include "oovr/experiments/session.h"
+#include "oovr/run/session.h"
 
 #include "oovr/pipeline/trace_cache.h"
 #include "oovr/scene/load.h"

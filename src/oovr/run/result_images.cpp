@@ -1,4 +1,4 @@
-#include "oovr/experiments/result_images.h"
+#include "oovr/run/result_images.h"
 
 #include <algorithm>
 #include <cmath>

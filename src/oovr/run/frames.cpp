@@ -1,4 +1,4 @@
-#include "oovr/experiments/frames.h"
+#include "oovr/run/frames.h"
 
 #include <sys/statvfs.h>
 #include <unistd.h>

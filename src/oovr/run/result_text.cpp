@@ -1,4 +1,4 @@
-#include "oovr/experiments/result_text.h"
+#include "oovr/run/result_text.h"
 
 #include <fmt/format.h>
 

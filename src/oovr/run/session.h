@@ -20,7 +20,7 @@
 #include <mutex>
 #include <string>
 
-#include "oovr/experiments/frames.h"
+#include "oovr/run/frames.h"
 
 namespace oovr {
 

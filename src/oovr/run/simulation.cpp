@@ -1,4 +1,4 @@
-#include "oovr/experiments/simulation.h"
+#include "oovr/run/simulation.h"
 
 #include <algorithm>
 #include <chrono>
@@ -36,14 +36,6 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
   return s;
 }
 
-std::vector<std::string> default_compare_schemes() {
-  std::vector<std::string> ordered = {"baseline", "baseline-1tb", "baseline-paged", "afr",        "sfr-v", "sfr-h",
-                                      "object",   "oo-app",       "oo-vr",          "single-gpm", "ideal", "two-pass"};
-  ordered.erase(std::remove_if(ordered.begin(), ordered.end(), [](const std::string& n) { return !Schemes::find(n); }),
-                ordered.end());
-  for (const auto& n : Schemes::names())
-    if (std::find(ordered.begin(), ordered.end(), n) == ordered.end()) ordered.push_back(n);
-  return ordered;
-}
+std::vector<std::string> default_compare_schemes() { return schemes_in_order(); }
 
 }  // namespace oovr

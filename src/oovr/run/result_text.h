@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "oovr/experiments/simulation.h"
+#include "oovr/run/simulation.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
