@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
@@ -23,6 +24,14 @@ namespace {
 using test::message_of;
 
 Sweep parse(const std::string& text) { return parse_sweep(text, "t.toml", ""); }
+
+// A scheme's own section, as a scheme added with a key of its own brings
+// one (no registered scheme names it): only in this test program, not in
+// the oovr that wrote the ids below.
+const ConfigSections::Add kAddedSchemeKeys("test_added", {"a scheme added with a key of its own",
+                                                          [](const Config& c) { (void)c.get_int("test_added.knob", 7, 0, 9); },
+                                                          {{"test_added.knob", "a setting of an added scheme"}},
+                                                          true});
 
 TEST(Sweep, CrossProductWithSchemesInnermost) {
   Sweep s = parse(R"(
@@ -101,6 +110,30 @@ TEST(Sweep, IdsDependOnWhatDeterminesTheResultOnly) {
   EXPECT_NE(a, id("scenes = ['courtyard']\nschemes = ['baseline']\n"));
   EXPECT_EQ(stable_id(""), "cbf29ce484222325");  // FNV-1a 64's offset basis
   EXPECT_EQ(stable_id("a"), "af63dc4c8601ec8c");
+}
+
+// A point's id hashes the keys its run reads: the machine's and its
+// scheme's own. The ids are those `oovr sweep --list` gives for the file
+// (an oovr without the section above): adding a scheme with a key of its
+// own changes no stored id, so `--resume` re-runs nothing. (They change
+// when the machine gains a key, as they must: its runs could differ.)
+TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
+  Sweep s = parse("scenes = ['crowd']\nschemes = ['baseline', 'oo-vr']\nresolutions = ['96x64']\nframes = 1\n");
+  resolve_all(s);
+  ASSERT_EQ(s.points.size(), 2u);
+  EXPECT_NE(s.points[0].config.entries().count("test_added.knob"), 0u);  // read, as every key is checked
+  for (const SweepPoint& p : s.points) EXPECT_EQ(p.canonical.find("test_added"), std::string::npos) << p.scheme;
+  EXPECT_EQ(s.points[0].canonical.find("oo.tsl_threshold"), std::string::npos);  // OO-VR's, not the baseline's
+  EXPECT_NE(s.points[1].canonical.find("oo.tsl_threshold"), std::string::npos);
+  EXPECT_EQ(s.points[0].id, "6bd0ffd58f119c57");
+  EXPECT_EQ(s.points[1].id, "5c7dc1f515043f62");
+  // A point cannot set a key its scheme does not read: points differing in
+  // it alone would be one run.
+  Sweep bad = parse("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'oo.batch_queue' = 8\n");
+  const std::string why = message_of([&] { resolve_all(bad); });
+  EXPECT_NE(why.find("'oo.batch_queue' is a setting of the schemes with the 'oo' section (oo-app, oo-vr), not of baseline"),
+            std::string::npos)
+      << why;
 }
 
 TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
@@ -457,6 +490,61 @@ gpms = [2, 4]
     }
   }
   EXPECT_EQ(failed, 8u);
+}
+
+// A database written before version 3 hashed every key read into a run's
+// id, other schemes' own too (OO-VR's oo.* into a baseline run's). Opened to
+// write, it is migrated: each run keeps the keys its scheme reads and its
+// id follows, metrics and images with it, so `--resume` runs nothing. A run
+// record of version 2 (a SLURM task's) reads back the same way.
+TEST(ResultsDb, AVersion2DatabaseIsMigratedSoResumeRunsNothing) {
+  Sweep s = parse("scenes = ['crowd']\nschemes = ['baseline', 'oo-vr']\nresolutions = ['96x64']\nframes = 1\n");
+  resolve_all(s);
+  std::vector<RunRecord> records;
+  SweepRunOptions o;
+  o.use_cache = false;
+  o.on_record = [&](const RunRecord& r) { records.push_back(r); };
+  run_points(s, {0, 1}, o);
+  ASSERT_EQ(records.size(), 2u);
+  const nlohmann::ordered_json every_key = to_json(s.points[1].config.entries());
+  ASSERT_TRUE(every_key.contains("oo.tsl_threshold"));
+  test::TempDir dir;
+  const std::string path = dir.file("old.db");
+  std::set<std::string> old_ids;
+  {
+    ResultsDb db(path);
+    begin_sweep(s, plan_sweep(s, db, false, false), db, "oovr sweep t.toml");
+    for (RunRecord r : records) {
+      for (const auto& [key, e] : every_key.items())  // as version 2 wrote it
+        if (!r.config.contains(key)) r.config[key] = e;
+      r.id = stable_id(canonical_setup(r));
+      old_ids.insert(r.id);
+      ASSERT_TRUE(db.insert(r));
+      if (r.scheme == "baseline") {
+        nlohmann::ordered_json j = to_json(r);
+        j["schema_version"] = 2;
+        EXPECT_EQ(run_record_from_json(j).id, s.points[0].id);
+        EXPECT_FALSE(run_record_from_json(j).config.contains("oo.tsl_threshold"));
+      }
+    }
+    EXPECT_FALSE(plan_sweep(s, db, true, false).todo.empty());  // as written now, nothing matches
+  }
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(raw, "PRAGMA user_version = 2", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(raw);
+  ResultsDb db(path);  // opened to write: migrated
+  db.verify();
+  std::set<std::string> ids;
+  for (const auto& [id, status] : db.run_status()) ids.insert(id);
+  EXPECT_EQ(ids, (std::set<std::string>{s.points[0].id, s.points[1].id}));
+  EXPECT_NE(ids, old_ids);
+  EXPECT_TRUE(plan_sweep(s, db, true, false).todo.empty());
+  for (const RunRecord& r : db.runs()) {
+    EXPECT_GT(r.metrics.size(), 30u) << r.scheme;
+    EXPECT_EQ(r.config.contains("oo.tsl_threshold"), r.scheme == "oo-vr") << r.scheme;
+    EXPECT_FALSE(r.config.contains("test_added.knob")) << r.scheme;
+  }
 }
 
 TEST(SweepRun, AStoredResultReadsBackExactly) {

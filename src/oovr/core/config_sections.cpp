@@ -9,6 +9,13 @@ const ConfigKey* find_config_key(const std::string& key) {
   return nullptr;
 }
 
+std::string config_section_of(const std::string& key) {
+  for (const auto& name : ConfigSections::names())
+    for (const ConfigKey& k : ConfigSections::find(name)->keys)
+      if (k.key == key) return name;
+  return "";
+}
+
 void check_config(const Config& c) {
   for (const auto& name : ConfigSections::names()) ConfigSections::find(name)->check(c);
   c.check_all_used();

@@ -41,6 +41,12 @@ struct ConfigSection {
   // default belongs to whoever uses the key); throws Error on a bad value.
   std::function<void(const Config&)> check;
   std::vector<ConfigKey> keys;  // every key `check` reads
+  // A scheme's own section (OO-VR's `oo`): only the schemes that name it in
+  // their registration (SchemeFactory::sections) read it, and a run of any
+  // other scheme neither records its keys nor hashes them into its id, so
+  // adding a scheme with keys of its own changes no stored run. Every
+  // other section is the machine's.
+  bool scheme_section = false;
 };
 using ConfigSections = Registry<ConfigSection>;
 
@@ -51,5 +57,7 @@ void check_config(const Config& c);
 
 // The declaration of `key` (null when no section declares it).
 const ConfigKey* find_config_key(const std::string& key);
+// The name of the section declaring `key` ("" when none does).
+std::string config_section_of(const std::string& key);
 
 }  // namespace oovr

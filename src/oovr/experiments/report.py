@@ -123,6 +123,8 @@ def matches(run, scheme, settings, defaults):
     for key, default in defaults.items():
         want = settings.get(key, default)
         have = config_value(run, key)
+        if have is None and key not in settings:
+            continue  # a key of another scheme's own section, which the run does not read
         if isinstance(want, (int, float)) and isinstance(have, (int, float)):
             if abs(have - want) > 1e-9 * max(1.0, abs(want)):
                 return False

@@ -16,6 +16,7 @@
 #include "oovr/core/text.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/run/result_json.h"
+#include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
 
@@ -225,6 +226,7 @@ ResultsDb::ResultsDb(const std::string& path, Access access, const DatabaseLock*
     exec(
         "CREATE TABLE IF NOT EXISTS images(run TEXT NOT NULL REFERENCES runs(id) ON DELETE CASCADE, kind TEXT NOT NULL, "
         "width INTEGER NOT NULL, height INTEGER NOT NULL, data BLOB NOT NULL, legend TEXT NOT NULL, PRIMARY KEY (run, kind))");
+    if (version >= 1 && version < 3) scope_runs_to_schemes();
     exec("PRAGMA user_version = " + std::to_string(kResultsDbVersion));
     exec("COMMIT");
   } catch (...) {
@@ -439,6 +441,39 @@ bool ResultsDb::has_table(const std::string& name) const {
   return s.step() && s.integer(0) == 1;
 }
 
+void ResultsDb::scope_runs_to_schemes() {
+  // Inside the opening transaction; the metrics', images' and in-flight
+  // rows follow their run's new id before it commits.
+  exec("PRAGMA defer_foreign_keys = ON");
+  std::set<std::string> ids;
+  for (const auto& [id, status] : run_status()) ids.insert(id);
+  std::map<std::string, std::string> checksums;
+  {
+    Statement s(m_db, "SELECT id, checksum FROM runs", m_path);
+    while (s.step())
+      if (!s.value(1).is_null()) checksums[s.text(0)] = s.text(1);
+  }
+  for (RunRecord r : runs()) {
+    const std::string old = r.id;
+    const auto sum = checksums.find(old);
+    // A run that is not what was written stays as it is, for verify() to name.
+    if (sum != checksums.end() && sum->second != record_checksum(r)) continue;
+    if (!scope_to_scheme(r) || ids.count(r.id)) continue;
+    Statement u(m_db, "UPDATE runs SET id = ?, config = ?, checksum = ? WHERE id = ?", m_path);
+    u.bind(1, r.id).bind(2, r.config.dump());
+    u.bind(3, sum != checksums.end() ? nlohmann::json(record_checksum(r)) : nlohmann::json(nullptr)).bind(4, old);
+    u.step();
+    for (const char* table : {"UPDATE metrics SET run = ? WHERE run = ?", "UPDATE images SET run = ? WHERE run = ?",
+                              "UPDATE in_flight SET id = ? WHERE id = ?"}) {
+      Statement m(m_db, table, m_path);
+      m.bind(1, r.id).bind(2, old);
+      m.step();
+    }
+    ids.erase(old);
+    ids.insert(r.id);
+  }
+}
+
 std::vector<RunRecord> ResultsDb::runs() const {
   std::vector<RunRecord> out;
   {
@@ -564,7 +599,23 @@ std::string record_checksum(const RunRecord& r) {
   std::sort(c.metrics.begin(), c.metrics.end(),
             [](const Metric& a, const Metric& b) { return std::tie(a.location, a.metric) < std::tie(b.location, b.metric); });
   std::sort(c.images.begin(), c.images.end(), [](const RunImage& a, const RunImage& b) { return a.kind < b.kind; });
-  return stable_id(to_json(c).dump());
+  // The record's JSON form as version 2, which brought checksums, wrote it:
+  // a later version number must not change every stored run's checksum.
+  nlohmann::ordered_json j = to_json(c);
+  j["schema_version"] = 2;
+  return stable_id(j.dump());
+}
+
+bool scope_to_scheme(RunRecord& r) {
+  if (!r.config.is_object()) return false;
+  nlohmann::ordered_json kept = nlohmann::ordered_json::object();
+  for (const auto& [key, e] : r.config.items())
+    if (scheme_reads_key(r.scheme, key)) kept[key] = e;
+    else if (r.swept.count(key)) return false;
+  if (kept.size() == r.config.size()) return false;
+  r.config = std::move(kept);
+  r.id = stable_id(canonical_setup(r));
+  return true;
 }
 
 std::string canonical_setup(const RunRecord& r) {
@@ -798,7 +849,8 @@ RunRecord run_record_from_json(const nlohmann::ordered_json& j) {
       im.legend = x.at("legend").get<std::string>();
       r.images.push_back(std::move(im));
     }
-    check_run_record(r);
+    check_run_record(r);                  // as it was written
+    if (version < 3) scope_to_scheme(r);  // as version 3 writes it (a SLURM task of an older oovr)
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("a run record that is not oovr's: ") + e.what());

@@ -25,8 +25,11 @@ namespace oovr {
 
 // Bumped when a table or column changes meaning or goes. 2: runs and
 // sweeps carry a checksum of what they hold (a database of version 1 is
-// given the columns when opened to write; its older rows have none).
-inline constexpr int kResultsDbVersion = 2;
+// given the columns when opened to write; its older rows have none). 3: a
+// run's configuration and id hold only the keys its run reads, the
+// machine's and its scheme's own (scheme_entries); a database of an older
+// version is migrated when opened to write (scope_to_scheme).
+inline constexpr int kResultsDbVersion = 3;
 
 struct RunImage {
   std::string kind;  // "gpm": PNG of the first frame coloured by GPM; "tile_traffic": JSON array of bytes per tile
@@ -76,6 +79,13 @@ bool is_run_id(const std::string& id);
 // The JSON a run's id hashes (sweep.cpp's resolve()), from its record: the
 // scene, scheme, resolution, frames and every configuration key's value.
 std::string canonical_setup(const RunRecord& r);
+// A record written before version 3, when ids hashed every key read, other
+// schemes' own included (OO-VR's oo.* in a baseline run), as version 3
+// writes it: its configuration without the keys its scheme does not read,
+// and the id of that. False, leaving it as it is, when nothing changes or
+// a swept key would go (such a record keeps its old id and the point is
+// run again under the new one).
+bool scope_to_scheme(RunRecord& r);
 // Throws Error naming the run and what cannot be in one of oovr's records:
 // an id of another form, or not the hash of the record's setup; a name with
 // control characters; numbers out of range or not finite; a done run whose
@@ -170,6 +180,8 @@ class ResultsDb {
 
  private:
   void exec(const std::string& sql) const;
+  // Version 2 and older: every run as scope_to_scheme writes it.
+  void scope_runs_to_schemes();
   std::set<std::string> columns() const;
   bool has_table(const std::string& name) const;
   bool has_column(const std::string& table, const std::string& column) const;

@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -439,6 +440,20 @@ Sweep read_sweep(const std::string& path) {
   return parse_sweep(text, path, fs::path(path).parent_path().string());
 }
 
+namespace {
+
+// "oo-app, oo-vr": the registered schemes that read `section`.
+std::string schemes_reading(const std::string& section) {
+  std::string out;
+  for (const auto& name : schemes_in_order()) {
+    const auto& own = Schemes::find(name)->sections;
+    if (std::find(own.begin(), own.end(), section) != own.end()) out += (out.empty() ? "" : ", ") + name;
+  }
+  return out.empty() ? "none registered" : out;
+}
+
+}  // namespace
+
 void resolve(SweepPoint& p, const Config& machine) {
   try {
     Config c = machine;
@@ -447,8 +462,16 @@ void resolve(SweepPoint& p, const Config& machine) {
     check_config(c);
     const StereoRig rig = parse_frame_resolution(p.resolution);
     p.window = measured_window({p.scheme}, c, p.frames, "frames");
+    // A point's setting its scheme does not read would make points that
+    // differ only in it the same run.
+    for (const auto& [key, value] : p.settings)
+      if (!scheme_reads_key(p.scheme, key))
+        throw Error("'" + key + "' is a setting of the schemes with the '" + config_section_of(key) + "' section (" +
+                    schemes_reading(config_section_of(key)) + "), not of " + p.scheme + ": give it in their points only");
+    // Its id hashes the keys its run reads: the machine's and its scheme's
+    // own (a scheme added with keys of its own changes no point's id).
     nlohmann::ordered_json config = nlohmann::ordered_json::object();
-    for (const auto& [key, e] : c.entries()) config[key] = base_value(e);
+    for (const auto& [key, e] : scheme_entries(p.scheme, c.entries())) config[key] = base_value(e);
     p.canonical = canonical_point(p.scene, p.scheme, std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()),
                                   p.frame, p.window, p.aniso, config);
     p.id = stable_id(p.canonical);

@@ -62,7 +62,7 @@ RunRecord record_of(const Sweep& s, size_t index, const std::string& command) {
   r.aniso = p.aniso;
   // Swept values as numbers in base units where the key has a unit, so
   // that columns sort and plot as numbers.
-  const auto& entries = p.config.entries();
+  const auto entries = scheme_entries(p.scheme, p.config.entries());
   for (const auto& [key, text] : p.swept) {
     const auto it = entries.find(key);
     r.swept[key] = it != entries.end() ? base_value(it->second) : nlohmann::ordered_json(text);

@@ -54,7 +54,9 @@ const ConfigSections::Add reg(
       {"oo.prealloc", "pre-allocation units copy a batch's data into its GPM's DRAM ahead of use", kPerScheme, "true or false"},
       {"oo.split", "idle GPMs take the leftover fragment work of large batches, their data copied", kPerScheme, "true or false"},
       {"oo.composition", "root (all colour to GPM 0) or distributed (DHC: N vertical strips, Section 5.3)",
-       "per scheme: oo-app root, oo-vr distributed", "one of root, distributed"}}});
+       "per scheme: oo-app root, oo-vr distributed", "one of root, distributed"}},
+     // OO_APP's and OO-VR's own (schemes/impl/oo.cpp names it).
+     true});
 
 }  // namespace
 

@@ -108,7 +108,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_draw_ends.assign(size_t(gpms()), {});
   m_draws_received.assign(size_t(gpms()), 0);
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
-  m_result.config = in.config.entries();
+  m_result.config = in.config.entries();  // every key read, checked above
   if (law_checks()) m_ledger = std::make_unique<RunLedger>(in.frames);
 }
 
@@ -310,6 +310,8 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
   s.frequency_hz = m_timing_spec.frequency.value;
   s.frames_in_flight = frames_in_flight;
   s.frame_latency_s = r.makespan;
+  // The configuration the run read: the machine's keys and its scheme's own.
+  s.config = scheme_entries(scheme, s.config);
   s.frame_latencies_s = {r.makespan};
   s.throughput_fps = r.makespan > 0 ? double(frames_in_flight) / r.makespan : 0;
   // A GPM is busy while any of its units runs: the union of their

@@ -104,8 +104,21 @@ struct SchemeFactory {
   // (schemes_in_order): the paper's schemes in the paper's order (10, 20,
   // ...), then the others, by name.
   int order = 1000;
+  // The configuration sections of its own it reads (ConfigSection::
+  // scheme_section, e.g. OO-VR's "oo"), besides the machine's.
+  std::vector<std::string> sections = {};
 };
 using Schemes = Registry<SchemeFactory>;
+
+// Whether a run of `scheme` reads `key`: a key of a machine section, or of
+// a section the scheme names (a scheme not registered, written in Python,
+// reads the machine's). A key no section declares is the machine's (it is
+// refused elsewhere).
+bool scheme_reads_key(const std::string& scheme, const std::string& key);
+// The entries of `entries` (Config::entries) that a run of `scheme` reads:
+// what its result and its record list, and what its id hashes.
+std::map<std::string, Config::Entry> scheme_entries(const std::string& scheme,
+                                                    const std::map<std::string, Config::Entry>& entries);
 
 // Every registered scheme, by order, then name: the one scheme order that
 // `oovr compare`, the paper's document and the report read.

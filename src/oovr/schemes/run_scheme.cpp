@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <new>
 
+#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/out_of_memory.h"
 #include "oovr/schemes/frame_sim.h"
@@ -24,6 +25,22 @@ std::vector<std::string> schemes_in_order() {
   std::stable_sort(names.begin(), names.end(),
                    [](const std::string& a, const std::string& b) { return Schemes::find(a)->order < Schemes::find(b)->order; });
   return names;
+}
+
+bool scheme_reads_key(const std::string& scheme, const std::string& key) {
+  const std::string section = config_section_of(key);
+  const ConfigSection* s = section.empty() ? nullptr : ConfigSections::find(section);
+  if (!s || !s->scheme_section) return true;
+  const SchemeFactory* f = Schemes::find(scheme);
+  return f && std::find(f->sections.begin(), f->sections.end(), section) != f->sections.end();
+}
+
+std::map<std::string, Config::Entry> scheme_entries(const std::string& scheme,
+                                                    const std::map<std::string, Config::Entry>& entries) {
+  std::map<std::string, Config::Entry> out;
+  for (const auto& [key, e] : entries)
+    if (scheme_reads_key(scheme, key)) out.emplace(key, e);
+  return out;
 }
 
 int scheme_frames_needed(const SchemeRef& scheme, const Config& config) {

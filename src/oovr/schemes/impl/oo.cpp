@@ -232,9 +232,13 @@ OOSpec mechanisms(bool on) {
 }
 
 const Schemes::Add reg_app("oo-app", {"OO_APP: multi-view objects batched by texture sharing, round-robin, root composition",
-                                      [] { return std::make_unique<OO>("oo-app", mechanisms(false)); }, 80});
+                                      [] { return std::make_unique<OO>("oo-app", mechanisms(false)); },
+                                      80,
+                                      {"oo"}});
 const Schemes::Add reg_vr("oo-vr", {"OO-VR: OO_APP + distribution engine (predictor, pre-allocation, split) + DHC",
-                                    [] { return std::make_unique<OO>("oo-vr", mechanisms(true)); }, 90});
+                                    [] { return std::make_unique<OO>("oo-vr", mechanisms(true)); },
+                                    90,
+                                    {"oo"}});
 
 }  // namespace
 }  // namespace oovr
