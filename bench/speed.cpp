@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
       // What `oovr simulate` renders with: the machine's line size and
       // texture format, the paper's 16x filtering.
       const Config config;
-      PipelineSettings settings = trace_settings(config, a.aniso);
+      PipelineSettings settings = trace_settings(MachineSpec::from_config(config), a.aniso);
       settings.threads = threads;
       std::vector<FrameOutput> outputs(static_cast<size_t>(n));
       row.functional = per_frame(

@@ -43,7 +43,7 @@ class Custom final : public Scheme {
 std::string run_custom(const std::string& name, std::function<SchemeResult(const SchemeInput&)> f) {
   const Frames& fr = frames("courtyard");
   return test::message_of([&] {
-    (void)run_scheme({name, std::make_shared<Custom>(std::move(f))}, fr.scene, {fr.traces[0]}, {});
+    (void)run_scheme({name, std::make_shared<Custom>(std::move(f))}, fr.scene, {fr.traces[0]}, Config{});
   });
 }
 
@@ -171,7 +171,7 @@ TEST(Conservation, AFramesPixelsBelongInItsOwnFinalFramebuffer) {
     return sim.finish("afr-like", 2);
   };
   const std::string m = test::message_of([&] {
-    (void)run_scheme({"afr-like", std::make_shared<Custom>(afr_like)}, fr.scene, {fr.traces[0], fr.traces[1]}, {});
+    (void)run_scheme({"afr-like", std::make_shared<Custom>(afr_like)}, fr.scene, {fr.traces[0], fr.traces[1]}, Config{});
   });
   EXPECT_NE(m.find("frame 1 of the run: object"), std::string::npos) << m;
   EXPECT_NE(m.find("was written into frame 0's final framebuffer"), std::string::npos) << m;
@@ -191,7 +191,7 @@ TEST(Conservation, ARecordReplayedAsAnotherFramesIsAnError) {
     return sim.finish("mixed");
   };
   const std::string m = test::message_of([&] {
-    (void)run_scheme({"mixed", std::make_shared<Custom>(mixed)}, fr.scene, {fr.traces[0], fr.traces[1]}, {});
+    (void)run_scheme({"mixed", std::make_shared<Custom>(mixed)}, fr.scene, {fr.traces[0], fr.traces[1]}, Config{});
   });
   EXPECT_NE(m.find("scheme 'mixed' breaks a conservation law (every covered fragment rasterised once per eye): object "),
             std::string::npos)

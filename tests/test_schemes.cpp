@@ -174,6 +174,25 @@ TEST(Schemes, MemoryStatisticsAccountForEveryByte) {
   }
 }
 
+// The machine is read once, at the entry point (MachineSpec::from_config),
+// and every scheme's runs of a window use its typed fields, their own
+// overrides (ideal's GPM, baseline-1tb's links, OO-VR's switches) edited
+// in place: no setting is parsed twice in a run.
+TEST(Schemes, NoSettingIsParsedTwiceInARun) {
+  const Rendered& r = courtyard();
+  auto reads = std::make_shared<std::map<std::string, int>>();
+  Config c;
+  c.set("link.bandwidth", "32GBps");
+  c.set("oo.predictor", "false");
+  c.count_reads(reads);
+  const MachineSpec machine = MachineSpec::from_config(c);
+  ASSERT_GT(reads->size(), 40u);  // every key of every section
+  for (const auto& [key, n] : *reads) EXPECT_EQ(n, 1) << key << " read " << n << " times by the entry point";
+  for (const std::string& name : schemes_in_order())
+    (void)run_scheme_window(find_scheme(name), r.scene, FramesInMemory(r.traces), machine, 4);
+  for (const auto& [key, n] : *reads) EXPECT_EQ(n, 1) << key << " read " << n << " times";
+}
+
 // Statistics counted for long and exported only once the statistics
 // facility came (core/stats.h) leave as rows like every other: the memory
 // system's dropped and refused copies, each engine resource's use,
@@ -364,7 +383,7 @@ TEST(Schemes, ASchemeOutsideTheRegistryRunsAsARegisteredOne) {
    public:
     explicit Wrapped(SchemeRef inner) : m_inner(std::move(inner)) {}
     int frames_needed(int gpms) const override { return m_inner.impl->frames_needed(gpms); }
-    void configure(Config& c) const override { m_inner.impl->configure(c); }
+    void configure(MachineSpec& m) const override { m_inner.impl->configure(m); }
     SchemeResult run(const SchemeInput& in) const override { return m_inner.impl->run(in); }
 
    private:
@@ -526,9 +545,11 @@ TEST(FrontEnd, AHandOffBetweenGpmsPaysTheLinkLatency) {
     SchemeInput in;
     in.scene = &r.scene;
     in.frames = {&one};
-    in.config.set("gpms", "2");
-    in.config.set("gpm.requests_in_flight", "0");
-    in.config.set("link.latency", latency);
+    Config c;
+    c.set("gpms", "2");
+    c.set("gpm.requests_in_flight", "0");
+    c.set("link.latency", latency);
+    in.spec = std::make_shared<const MachineSpec>(MachineSpec::from_config(c));
     FrameSim sim(in);
     const std::vector<ObjectRecords> objects = records_by_object(sim.frame(), r.scene.objects.size());
     const uint32_t o = first;
@@ -539,6 +560,48 @@ TEST(FrontEnd, AHandOffBetweenGpmsPaysTheLinkLatency) {
   };
   EXPECT_NEAR(one_draw("1us", 9600) - one_draw("32ns", 9600), 1e-6 - 32e-9, 1e-15);
   EXPECT_NEAR(one_draw("1us", 0), one_draw("32ns", 0), 1e-15) << "nothing handed over, nothing waits";
+}
+
+// FrameSim checks every argument a scheme gives it, so a scheme in C++ and
+// one in Python (python/schemes.cpp only narrows Python's ints) get the
+// same errors, each naming the call, the argument and what exists.
+TEST(FrontEnd, FrameSimRefusesArgumentsNamingWhatExists) {
+  const Rendered& r = courtyard();
+  SchemeInput in;
+  in.scene = &r.scene;
+  in.frames = {r.traces[0]};
+  in.spec = std::make_shared<const MachineSpec>(MachineSpec::from_config(Config{}));
+  FrameSim sim(in);
+  using test::message_of;
+  EXPECT_EQ(message_of([&] { sim.command(4); }), "command(gpm=4): GPM 4 does not exist (GPMs 0 to 3)");
+  EXPECT_EQ(message_of([&] { sim.command(0, 0); }), "command(draws=0): draws must be at least 1");
+  const size_t objects = sim.draws(sim.frame()).size();
+  EXPECT_EQ(message_of([&] { sim.geometry(0, uint32_t(objects), 1, 0); }),
+            "geometry(object=" + std::to_string(objects) + "): object " + std::to_string(objects) +
+                " does not exist (objects 0 to " + std::to_string(objects - 1) + ")");
+  EXPECT_EQ(message_of([&] { sim.geometry(0, 0, 3, 0); }),
+            "geometry(vertex_passes=3): vertex_passes is 1 (SMP) or 2 (one per eye)");
+  EXPECT_EQ(message_of([&] { sim.geometry(0, 0, 1, 0, {1000}); }).rfind("geometry(after): unit 1000 has not been added", 0), 0u);
+  EXPECT_EQ(message_of([&] { sim.geometry(0, 0, 1, 0, {}, 1); }), "geometry(frame_k=1): frame 1 does not exist (frames 0 to 0)");
+  const std::vector<ObjectRecords> by_object = records_by_object(sim.frame(), objects);
+  const auto& left = by_object[r.traces[0]->tiles.front().object].eye[0];
+  EXPECT_EQ(message_of([&] { sim.tiles(0, left, 1, sim.frame()); }),
+            "tiles(fb=1): framebuffer 1 does not exist (this FrameSim has 1)");
+  EXPECT_EQ(message_of([&] { sim.tiles(0, left, 0, *r.traces[1]); }), "tiles: the records are not of this run's frames");
+  EXPECT_EQ(message_of([&] { sim.tiles(0, left, 0, sim.frame(), {}, 5); }),
+            "tiles(from_gpm=5): GPM 5 does not exist (GPMs 0 to 3)");
+  EXPECT_EQ(message_of([&] {
+              sim.tiles_together({{0, {left.begin(), left.end()}, 0, {}, -1, 0, {0}}}, sim.frame());
+            }),
+            "tiles_together: per-record framebuffers must be one per record (" + std::to_string(left.size()) + "), not 1");
+  EXPECT_EQ(message_of([&] { sim.transfer(0, 7, 10, Category::colour); }),
+            "transfer(to_gpm=7): GPM 7 does not exist (GPMs 0 to 3)");
+  EXPECT_EQ(message_of([&] { sim.compose(-1, {}, 1); }), "compose(gpm=-1): GPM -1 does not exist (GPMs 0 to 3)");
+  EXPECT_EQ(message_of([&] { sim.declare_repeats(0); }), "declare_repeats(times=0): times must be 1 to 1000");
+  EXPECT_EQ(message_of([&] { sim.use_draw(0, 99); }), "use_draw(command_unit=99): unit 99 has not been added (units 0 to -1)");
+  EXPECT_EQ(message_of([&] { sim.end_draw(4); }), "end_draw(gpm=4): GPM 4 does not exist (GPMs 0 to 3)");
+  EXPECT_EQ(message_of([&] { (void)sim.finish("x", 2); }),
+            "finish(frames_in_flight=2): frames_in_flight must be 1 to the frames given (1)");
 }
 
 // Reads hold request slots for their latency (Little's law): a unit whose

@@ -121,7 +121,7 @@ TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
   Sweep s = parse("scenes = ['crowd']\nschemes = ['baseline', 'oo-vr']\nresolutions = ['96x64']\nframes = 1\n");
   resolve_all(s);
   ASSERT_EQ(s.points.size(), 2u);
-  EXPECT_NE(s.points[0].config.entries().count("test_added.knob"), 0u);  // read, as every key is checked
+  EXPECT_NE(s.points[0].machine.entries.count("test_added.knob"), 0u);  // read, as every key is checked
   for (const SweepPoint& p : s.points) EXPECT_EQ(p.canonical.find("test_added"), std::string::npos) << p.scheme;
   EXPECT_EQ(s.points[0].canonical.find("oo.tsl_threshold"), std::string::npos);  // OO-VR's, not the baseline's
   EXPECT_NE(s.points[1].canonical.find("oo.tsl_threshold"), std::string::npos);
@@ -506,7 +506,7 @@ TEST(ResultsDb, AVersion2DatabaseIsMigratedSoResumeRunsNothing) {
   o.on_record = [&](const RunRecord& r) { records.push_back(r); };
   run_points(s, {0, 1}, o);
   ASSERT_EQ(records.size(), 2u);
-  const nlohmann::ordered_json every_key = to_json(s.points[1].config.entries());
+  const nlohmann::ordered_json every_key = to_json(s.points[1].machine.entries);
   ASSERT_TRUE(every_key.contains("oo.tsl_threshold"));
   test::TempDir dir;
   const std::string path = dir.file("old.db");

@@ -307,7 +307,7 @@ def test_a_scheme_that_breaks_a_conservation_law_is_an_error():
                                          r"framebuffer [2-4] and never composed"):
         oovr.simulate("crowd", Uncomposed(False), resolution="160x128", frames=1)
     assert oovr.simulate("crowd", Uncomposed(True), resolution="160x128", frames=1).covered_fragments > 0
-    with pytest.raises(ValueError, match="declare_repeats: times must be 1 to 1000"):
+    with pytest.raises(ValueError, match=r"declare_repeats\(times=0\): times must be 1 to 1000"):
         class Zero(Twice):
             def run(self, input):
                 oovr.FrameSim(input).declare_repeats(0)

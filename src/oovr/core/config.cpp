@@ -195,6 +195,7 @@ void Config::set(const std::string& key, const std::string& value) {
 }
 
 const Config::Value* Config::find(const std::string& key) const {
+  if (m_reads) ++(*m_reads)[key];
   const auto it = m_values.find(key);
   if (it == m_values.end()) return nullptr;
   m_used[key] = true;

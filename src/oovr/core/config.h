@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,11 @@ class Config {
   void set_source(const std::string& source) { m_set_source = source; }
 
   bool has(const std::string& key) const { return m_values.count(key) != 0; }
+
+  // Counts every read of a key by a getter, in this configuration and in
+  // the copies made of it from now on, into `counts`: how a test shows that
+  // no setting is parsed twice in a run. Copies share the map: one thread.
+  void count_reads(std::shared_ptr<std::map<std::string, int>> counts) { m_reads = std::move(counts); }
 
   // Numbers in [lo, hi], checked as read, before any narrowing: a value
   // outside is an Error naming the key and the range (never truncated).
@@ -96,6 +102,7 @@ class Config {
   mutable std::map<std::string, Entry> m_entries;
   std::string m_origin;
   std::string m_set_source = "--set";
+  std::shared_ptr<std::map<std::string, int>> m_reads;  // count_reads (null: not counted)
 };
 
 // Every value in force (c.resolved(), after check_config) as TOML lines

@@ -16,8 +16,13 @@ std::string config_section_of(const std::string& key) {
   return "";
 }
 
-void check_config(const Config& c) {
-  for (const auto& name : ConfigSections::names()) ConfigSections::find(name)->check(c);
+void check_config(const Config& c, const std::set<std::string>& already_read) {
+  for (const auto& name : ConfigSections::names()) {
+    if (already_read.count(name)) continue;
+    const ConfigSection& s = *ConfigSections::find(name);
+    if (s.read) (void)s.read(c);
+    else s.check(c);
+  }
   c.check_all_used();
   // A key a component reads is one a user can set: it must be listed, with
   // its meaning, by the section that reads it.

@@ -15,7 +15,9 @@
 // a scheme with settings of its own is one file.
 #pragma once
 
+#include <any>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -47,13 +49,18 @@ struct ConfigSection {
   // adding a scheme with keys of its own changes no stored run. Every
   // other section is the machine's.
   bool scheme_section = false;
+  // For a scheme's own section: reads its keys once into the settings its
+  // schemes use (MachineSpec::own), instead of `check`.
+  std::function<std::any(const Config&)> read = {};
 };
 using ConfigSections = Registry<ConfigSection>;
 
-// Runs every section's check, then throws Error naming every key no section
-// read, or one that was read but that no section declares. Afterwards
-// c.resolved() holds every value in force.
-void check_config(const Config& c);
+// Runs every section's check (its reader, when it has one), then throws
+// Error naming every key no section read, or one that was read but that no
+// section declares. Afterwards c.resolved() holds every value in force.
+// Sections named in `already_read` are taken as read (MachineSpec reads
+// those into typed fields itself).
+void check_config(const Config& c, const std::set<std::string>& already_read = {});
 
 // The declaration of `key` (null when no section declares it).
 const ConfigKey* find_config_key(const std::string& key);

@@ -141,6 +141,7 @@ PaperResults run_paper(PaperOptions& o) {
   const auto& machine = machine_entries(o.machine);
   std::map<std::string, std::string> failed;  // scene -> first error
   std::vector<std::string> done_scenes;
+  std::vector<std::pair<size_t, PaperRun>> read;  // (position in the sweep, run)
   for (const RunRecord& r : db.runs()) {
     const auto p = position.find(r.id);
     if (p == position.end()) continue;
@@ -157,9 +158,15 @@ PaperResults run_paper(PaperOptions& o) {
       config[key] = x;
     }
     const std::string canonical = differences(config, machine);
-    res.index[index_key(r.scene, r.resolution, r.scheme, canonical)] = res.runs.size();
-    res.runs.push_back({r.scene, r.resolution, r.scheme, canonical, std::move(result)});
+    read.push_back({p->second, {r.scene, r.resolution, r.scheme, canonical, std::move(result)}});
     done_scenes.push_back(r.scene);
+  }
+  // In the sweep file's order (the database's is its ids'), so that tables
+  // and CSV files list the runs the same way whatever their ids.
+  std::sort(read.begin(), read.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [at, run] : read) {
+    res.index[index_key(run.scene, run.resolution, run.scheme, run.variant)] = res.runs.size();
+    res.runs.push_back(std::move(run));
   }
   // The order of the sweep file; levels that ran nothing are skipped, with why.
   for (size_t i : which) {
@@ -183,6 +190,7 @@ PaperResults run_paper(PaperOptions& o) {
 
   // What the writers need to know of the runs.
   o.config = o.machine;
+  o.spec = MachineSpec::from_config(o.config);
   o.resolutions.clear();
   o.sweep_resolution.clear();
   for (size_t i : which) {
@@ -212,13 +220,12 @@ PaperResults run_paper(PaperOptions& o) {
     w.first = o.first_frame;
     w.count = 1;
     w.aniso = o.aniso;
-    const FrameWindow window = load_window(loaded, parse_frame_resolution(o.sweep_resolution), o.config, w);
+    const FrameWindow window = load_window(loaded, parse_frame_resolution(o.sweep_resolution), o.spec, w);
     PaperSceneStats& st = stats[k];
     st.draws = scene.draws(o.first_frame).size();
     st.triangles = scene.triangle_count(o.first_frame);
     for (const auto& t : scene.textures) st.texture_bytes += t.bytes();
-    Config probe = o.config;
-    const TimingSpec timing = TimingSpec::from_config(probe);
+    const TimingSpec& timing = o.spec.timing;
     double vi = 0, fi = 0;
     const std::shared_ptr<const FrameTrace> trace = window.frames->at(0);
     for (const auto& ow : trace->objects) vi += double(ow.vertices) * timing.vertex_instructions;
@@ -367,8 +374,7 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
   const fs::path d(dir);
   Figures F{r, o};
   nlohmann::ordered_json j = results_header(o.command);
-  check_config(o.config);  // reads every key, so that all are described
-  j["config"] = to_json(o.config.entries());
+  j["config"] = to_json(o.spec.entries);  // every key, described
   j["scenes"] = r.scenes;
   j["skipped"] = r.skipped;
   j["frames"] = o.frames;

@@ -47,7 +47,8 @@ struct PaperOptions {
   bool steps = false;
   bool copies = false;
   bool workloads = false;
-  Config config;  // the machine as the document describes it (= machine)
+  Config config;     // the machine as the document describes it (= machine)
+  MachineSpec spec;  // and as read, once (MachineSpec::from_config of it)
 };
 
 // One run: `variant` names the overrides on top of the machine ("" for none).

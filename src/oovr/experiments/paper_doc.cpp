@@ -291,9 +291,8 @@ class Doc {
     row("P15", "SMP against two sequential views (one GPM)", paper_claim("P15").words,
         pct(mean([&](auto& s) { return sp(s, "single-gpm", "two-pass"); })),
         [&](const std::string& s) { return pct(sp(s, "single-gpm", "two-pass")); });
-    const OOSpec spec = OOSpec::parameters(o.config);
-    Config probe = o.config;
-    const int gpms = MemorySpec::from_config(probe).gpms;
+    const OOSpec spec = o.spec.own<OOSettings>("oo").parameters;
+    const int gpms = o.spec.memory.gpms;
     const EngineStorage st = engine_storage(gpms, spec.batch_queue);
     row("P16", "distribution engine storage", paper_claim("P16").words, fmt::format("{} bits", st.total()),
         [&](const std::string&) { return fmt::format("{} bits", st.total()); });
@@ -1196,7 +1195,7 @@ class Doc {
                                  : "",
                       paper_text("P15", "SMP")));
     {
-      const EngineStorage st = engine_storage(MemorySpec::from_config(o.config).gpms, OOSpec::parameters(o.config).batch_queue);
+      const EngineStorage st = engine_storage(o.spec.memory.gpms, o.spec.own<OOSettings>("oo").parameters.batch_queue);
       claim(double(st.total()) == paper("P16", "engine storage"),
             fmt::format("**P16.** The engine's storage, computed from the configuration, is {} bits (the paper: {}).", st.total(),
                         paper_text("P16", "engine storage")));

@@ -175,7 +175,7 @@ struct Figures {
   }
   // Each GPM's DRAM on the document's machine: where the uncapped runs
   // keep their copies.
-  double dram_bytes() const { return double(MemorySpec::from_config(o.config).dram_capacity.value); }
+  double dram_bytes() const { return double(o.spec.memory.dram_capacity.value); }
   std::vector<double> across(const std::function<double(const std::string&)>& f) const {
     std::vector<double> v;
     for (const auto& s : r.scenes) {

@@ -459,9 +459,9 @@ void resolve(SweepPoint& p, const Config& machine) {
     Config c = machine;
     c.set_source("sweep");
     for (const auto& [key, value] : p.settings) c.set(key, value);
-    check_config(c);
+    MachineSpec machine_spec = MachineSpec::from_config(c);  // every key read, once
     const StereoRig rig = parse_frame_resolution(p.resolution);
-    p.window = measured_window({p.scheme}, c, p.frames, "frames");
+    p.window = measured_window({p.scheme}, machine_spec, p.frames, "frames");
     // A point's setting its scheme does not read would make points that
     // differ only in it the same run.
     for (const auto& [key, value] : p.settings)
@@ -471,11 +471,11 @@ void resolve(SweepPoint& p, const Config& machine) {
     // Its id hashes the keys its run reads: the machine's and its scheme's
     // own (a scheme added with keys of its own changes no point's id).
     nlohmann::ordered_json config = nlohmann::ordered_json::object();
-    for (const auto& [key, e] : scheme_entries(p.scheme, c.entries())) config[key] = base_value(e);
+    for (const auto& [key, e] : scheme_entries(p.scheme, machine_spec.entries)) config[key] = base_value(e);
     p.canonical = canonical_point(p.scene, p.scheme, std::to_string(rig.frame_width()) + "x" + std::to_string(rig.frame_height()),
                                   p.frame, p.window, p.aniso, config);
     p.id = stable_id(p.canonical);
-    p.config = std::move(c);
+    p.machine = std::move(machine_spec);
   } catch (const UnknownKeyError& e) {  // the kind kept, for the Python module's KeyError
     throw UnknownKeyError("point (" + describe(p) + "): " + e.what());
   } catch (const NotFoundError& e) {
@@ -500,7 +500,7 @@ Config resolve_all(Sweep& s) {
 
 std::string trace_group(const SweepPoint& p) {
   return p.scene + "|" + p.resolution + "|" + std::to_string(p.frame) + "|" + std::to_string(p.aniso) + "|" +
-         std::to_string(MemorySpec::from_config(p.config).line.value);
+         std::to_string(p.machine.memory.line.value);
 }
 
 }  // namespace oovr

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "oovr/core/config.h"
+#include "oovr/schemes/machine_spec.h"
 
 namespace oovr {
 
@@ -49,9 +50,11 @@ struct SweepPoint {
   std::map<std::string, std::string> swept;
 
   // Filled by resolve():
-  std::string id;         // 16 hex digits
-  int window = 0;         // frames actually measured
-  Config config;          // preset + settings, every key read
+  std::string id;  // 16 hex digits
+  int window = 0;  // frames actually measured
+  // The machine: preset + settings, every key read once (its config and
+  // entries within), what the point's run is given.
+  MachineSpec machine;
   std::string canonical;  // the JSON the id hashes
 };
 

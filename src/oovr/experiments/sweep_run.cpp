@@ -62,7 +62,7 @@ RunRecord record_of(const Sweep& s, size_t index, const std::string& command) {
   r.aniso = p.aniso;
   // Swept values as numbers in base units where the key has a unit, so
   // that columns sort and plot as numbers.
-  const auto entries = scheme_entries(p.scheme, p.config.entries());
+  const auto entries = scheme_entries(p.scheme, p.machine.entries);
   for (const auto& [key, text] : p.swept) {
     const auto it = entries.find(key);
     r.swept[key] = it != entries.end() ? base_value(it->second) : nlohmann::ordered_json(text);
@@ -292,7 +292,7 @@ class PointPool {
       req.aniso = first.aniso;
       req.use_cache = m_options.use_cache;
       req.need_first_image = m_sweep.images;
-      g.frames = load_window(loaded, parse_frame_resolution(first.resolution), first.config, req);
+      g.frames = load_window(loaded, parse_frame_resolution(first.resolution), first.machine, req);
     } catch (const Error& e) {
       why = printable(e.what(), true);
     } catch (const std::bad_alloc&) {
@@ -316,7 +316,7 @@ class PointPool {
     flight({i}, true);
     inject_fault(p.id);
     try {
-      const SchemeResult result = run_scheme_window(p.scheme, *frames.scene, *frames.frames, p.config, p.window);
+      const SchemeResult result = run_scheme_window(find_scheme(p.scheme), *frames.scene, *frames.frames, p.machine, p.window);
       r.status = "done";
       r.result = to_json(result);
       r.metrics = metrics_of(result);

@@ -29,6 +29,41 @@ OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
   return s;
 }
 
+OOSettings OOSettings::from_config(const Config& c) {
+  OOSettings s;
+  s.parameters = OOSpec::parameters(c);
+  if (c.has("oo.predictor")) s.predictor = c.get_bool("oo.predictor", true);
+  if (c.has("oo.prealloc")) s.prealloc = c.get_bool("oo.prealloc", true);
+  if (c.has("oo.split")) s.split = c.get_bool("oo.split", true);
+  if (c.has("oo.composition"))
+    s.distributed_composition = c.get_choice("oo.composition", "distributed", {"root", "distributed"}) == "distributed";
+  return s;
+}
+
+OOSpec OOSettings::resolve(const OOSpec& m) const {
+  OOSpec s = parameters;
+  s.predictor = predictor.value_or(m.predictor);
+  s.prealloc = prealloc.value_or(m.prealloc);
+  s.split = split.value_or(m.split);
+  s.distributed_composition = distributed_composition.value_or(m.distributed_composition);
+  return s;
+}
+
+void OOSettings::record(const OOSpec& m, std::map<std::string, Config::Entry>& entries) const {
+  const OOSpec s = resolve(m);
+  const auto entry = [&](const std::string& key, const std::string& value, const std::string& fallback, const std::string& kind) {
+    const auto it = entries.find(key);  // given: its source stays
+    entries[key] = {value, fallback, it != entries.end() ? it->second.source : "default", kind, "", std::nullopt};
+  };
+  const auto flag = [](bool b) { return b ? "true" : "false"; };
+  entry("oo.predictor", flag(s.predictor), flag(m.predictor), "true or false");
+  entry("oo.prealloc", flag(s.prealloc), flag(m.prealloc), "true or false");
+  entry("oo.split", flag(s.split), flag(m.split), "true or false");
+  const auto composition = [](bool distributed) { return distributed ? "distributed" : "root"; };
+  entry("oo.composition", composition(s.distributed_composition), composition(m.distributed_composition),
+        "one of root, distributed");
+}
+
 namespace {
 
 // OO-VR's keys: the parameters with their defaults; a switch only when
@@ -39,12 +74,7 @@ const std::string kPerScheme = "per scheme: oo-app false, oo-vr true";
 const ConfigSections::Add reg(
     "oo",
     {"OO-VR's parameters (Section 5) and mechanism switches",
-     [](const Config& c) {
-       (void)OOSpec::parameters(c);
-       for (const char* k : {"oo.predictor", "oo.prealloc", "oo.split"})
-         if (c.has(k)) (void)c.get_bool(k, true);
-       if (c.has("oo.composition")) (void)c.get_choice("oo.composition", "distributed", {"root", "distributed"});
-     },
+     nullptr,  // its reader below checks it
      {{"oo.tsl_threshold", "texture sharing level above which objects join a batch (Equation 1, Section 5.1)"},
       {"oo.batch_triangles", "triangles that close a batch (Section 5.1)"},
       {"oo.warmup_batches", "batches dealt round-robin to fit the predictor's c0, c1, c2 (Section 5.2)"},
@@ -55,8 +85,10 @@ const ConfigSections::Add reg(
       {"oo.split", "idle GPMs take the leftover fragment work of large batches, their data copied", kPerScheme, "true or false"},
       {"oo.composition", "root (all colour to GPM 0) or distributed (DHC: N vertical strips, Section 5.3)",
        "per scheme: oo-app root, oo-vr distributed", "one of root, distributed"}},
-     // OO_APP's and OO-VR's own (schemes/impl/oo.cpp names it).
-     true});
+     // OO_APP's and OO-VR's own (schemes/impl/oo.cpp names it), read once
+     // into the settings they run with.
+     true,
+     [](const Config& c) { return std::any(OOSettings::from_config(c)); }});
 
 }  // namespace
 

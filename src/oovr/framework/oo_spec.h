@@ -17,6 +17,9 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
 
 #include "oovr/core/config.h"
 
@@ -39,6 +42,21 @@ struct OOSpec {
   // are declared, and checked whatever scheme runs, by this file's
   // configuration section (core/config_sections.h).
   static OOSpec parameters(const Config& c);
+};
+
+// OO-VR's section as a run reads it, once (MachineSpec::own("oo")): the
+// parameters, and each switch as given (the scheme gives the rest).
+struct OOSettings {
+  OOSpec parameters;
+  std::optional<bool> predictor, prealloc, split;
+  std::optional<bool> distributed_composition;
+
+  static OOSettings from_config(const Config& c);
+  // The spec a scheme whose switches default to `mechanisms` runs.
+  OOSpec resolve(const OOSpec& mechanisms) const;
+  // Describes the switches in `entries` as that scheme reads them: the
+  // value in force and the scheme's default, as Config::entries would.
+  void record(const OOSpec& mechanisms, std::map<std::string, Config::Entry>& entries) const;
 };
 
 }  // namespace oovr

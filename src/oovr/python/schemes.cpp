@@ -187,32 +187,24 @@ struct PySim {
     }
     return *limits;
   }
-  // Argument `param` of `fn` as one of the machine's GPMs.
-  int gpm(int64_t g, const char* fn, const char* param = "gpm") const {
-    if (g < 0 || g >= sim->gpms())
-      bad(arg(fn, param, g) + "GPM " + std::to_string(g) + " does not exist (GPMs 0 to " + std::to_string(sim->gpms() - 1) + ")");
-    return int(g);
+  // Python ints as the C++ ints FrameSim takes: what they name (a GPM, a
+  // framebuffer, a unit) FrameSim checks, as it does for a C++ scheme; here
+  // only that they fit.
+  static int index(int64_t v, const char* fn, const char* param) {
+    if (v < INT_MIN || v > INT_MAX) bad(arg(fn, param, v) + "out of range");
+    return int(v);
   }
-  int fb(int64_t f, const char* fn, const char* param = "fb") const {
-    if (f < 0 || f >= framebuffers)
-      bad(arg(fn, param, f) + "framebuffer " + std::to_string(f) + " does not exist (this FrameSim has " +
-          std::to_string(framebuffers) + ")");
-    return int(f);
-  }
-  // Units to wait for: each one added, or -1 for none.
-  template <class T>
-  std::vector<int> units(const std::vector<T>& after, const char* fn, const char* param = "after") const {
-    const int64_t n = int64_t(sim->engine().units());
+  static std::vector<int> units(const std::vector<int64_t>& after, const char* fn) {
     std::vector<int> out;
-    for (T u : after) {
-      if (u < -1 || int64_t(u) >= n)
-        bad(std::string(fn) + "(" + param + "): unit " + std::to_string(u) + " has not been added (units 0 to " +
-            std::to_string(n - 1) + "; -1 for none)");
+    for (int64_t u : after) {
+      if (u < -1 || u > INT_MAX)
+        bad(std::string(fn) + "(after): unit " + std::to_string(u) + " has not been added (-1 for none)");
       out.push_back(int(u));
     }
     return out;
   }
-  // One unit that has been added.
+  // One unit that has been added (the engine's questions, which FrameSim
+  // passes on unchecked).
   int unit(int64_t u, const char* fn, const char* param = "unit") const {
     const int64_t n = int64_t(sim->engine().units());
     if (u < 0 || u >= n)
@@ -290,22 +282,13 @@ Category category(const std::string& name) {
   bad("unknown traffic category '" + name + "' (" + names + ")");
 }
 
+// What FrameSim cannot see of a job: that it has records, and incoming
+// bytes within what a GPM's DRAM holds (its GPMs, framebuffers and units
+// FrameSim::tiles_together checks).
 void check_job(const PySim& s, const PyJob& j) {
   if (!j.token) bad("a TileJob without records");
-  s.gpm(j.job.gpm, "TileJob");
-  s.fb(j.job.fb, "TileJob");
-  s.units(j.job.after, "TileJob");
-  if (j.job.from >= s.sim->gpms() || j.job.from < -1)
-    bad(arg("TileJob", "from_gpm", j.job.from) + "GPM " + std::to_string(j.job.from) + " does not exist (GPMs 0 to " +
-        std::to_string(s.sim->gpms() - 1) + "; -1 for none)");
   if (j.job.incoming > s.dram_bytes)
     bad(arg("TileJob", "incoming", std::to_string(j.job.incoming)) + "more than " + s.dram_holds());
-  for (const auto* v : {&j.job.fbs, &j.job.depth_fbs}) {
-    if (!v->empty() && v->size() != j.job.records.size())
-      bad("TileJob: per-record framebuffers must be one per record (" + std::to_string(j.job.records.size()) + "), not " +
-          std::to_string(v->size()));
-    for (int f : *v) s.fb(f, "TileJob");
-  }
 }
 
 // A scheme written in Python, run by the library like any other.
@@ -332,12 +315,17 @@ class PythonScheme final : public Scheme {
     return int(n);
   }
 
-  void configure(Config& config) const override {
+  // A scheme written in Python edits a configuration (a copy of the one
+  // the machine was read from, its changes naming the scheme as their
+  // source); the machine is then read again from it, once.
+  void configure(MachineSpec& spec) const override {
     py::gil_scoped_acquire gil;
     if (!py::hasattr(m_obj, "configure")) return;
+    Config config = spec.config;
+    config.set_source(spec.source());
     py::object copy = py::cast(config);  // Python changes a copy; it is taken back whole
     m_obj.attr("configure")(copy);
-    config = copy.cast<Config>();
+    spec = MachineSpec::from_config(copy.cast<Config>());
   }
 
   SchemeResult run(const SchemeInput& in) const override {
@@ -518,15 +506,14 @@ void bind_schemes(py::module_& m) {
           "gpms",
           [](const PyInput& i) {
             check_alive(i.token, "a SchemeInput");
-            Config probe = i.in.config;
-            return MemorySpec::from_config(probe).gpms;
+            return i.in.spec->memory.gpms;
           },
           "GPMs of the configured machine (key gpms).")
       .def_property_readonly(
           "config",
           [](const PyInput& i) {
             check_alive(i.token, "a SchemeInput");
-            return i.in.config;
+            return i.in.spec->config;
           },
           "The machine configuration (a copy).");
 
@@ -543,7 +530,7 @@ void bind_schemes(py::module_& m) {
              s->framebuffers = int(framebuffers);
              s->frames = i->in.frames;
              s->objects = most_draws(i->in);
-             s->dram_bytes = MemorySpec::from_config(i->in.config).dram_capacity.value;
+             s->dram_bytes = i->in.spec->memory.dram_capacity.value;
              return s;
            }),
            py::arg("input").none(false), py::arg("framebuffers") = 1,
@@ -566,13 +553,12 @@ void bind_schemes(py::module_& m) {
           "command",
           [](PySim& s, int64_t gpm, const py::object& draws) {
             FrameSim& f = s.adding();
-            const int g = s.gpm(gpm, "command");
+            const int g = PySim::index(gpm, "command", "gpm");
             const uint64_t most = s.bounds().draws;
             const uint64_t n = count(draws, "command", "draws", most, [&] {
               return "this run's frames hold (" + std::to_string(most) + ": both views of " + std::to_string(s.objects) +
                      " objects in " + std::to_string(s.frames.size()) + " frames)";
             });
-            if (n < 1) bad(arg("command", "draws", 0) + "draws must be at least 1");
             return f.command(g, int(n));
           },
           py::arg("gpm"), py::arg("draws") = 1,
@@ -582,7 +568,7 @@ void bind_schemes(py::module_& m) {
           "use_draw",
           [](PySim& s, int64_t gpm, int64_t unit) {
             FrameSim& f = s.adding();
-            f.use_draw(s.gpm(gpm, "use_draw"), s.unit(unit, "use_draw", "command_unit"));
+            f.use_draw(PySim::index(gpm, "use_draw", "gpm"), PySim::index(unit, "use_draw", "command_unit"));
           },
           py::arg("gpm"), py::arg("command_unit"), "Pipeline units added on `gpm` from now on belong to that draw.")
       .def(
@@ -590,16 +576,14 @@ void bind_schemes(py::module_& m) {
           [](PySim& s, int64_t gpm, int64_t object, int64_t vertex_passes, const py::object& triangles,
              const std::vector<int64_t>& after) {
             FrameSim& f = s.adding();
-            const int g = s.gpm(gpm, "geometry");
+            const int g = PySim::index(gpm, "geometry", "gpm");
             const uint32_t o = s.object(object, "geometry");
-            if (vertex_passes < 1 || vertex_passes > 2)
-              bad(arg("geometry", "vertex_passes", vertex_passes) + "vertex_passes is 1 (SMP) or 2 (one per eye)");
             const uint64_t most = s.bounds().triangles[o];
             const uint64_t t = count(triangles, "geometry", "triangles", most, [&] {
               return "object " + std::to_string(o) + " has in this run's frames (at most " + std::to_string(most) +
                      ": set up in both eyes, or binned to its tiles)";
             });
-            return f.geometry(g, o, int(vertex_passes), t, s.units(after, "geometry"));
+            return f.geometry(g, o, PySim::index(vertex_passes, "geometry", "vertex_passes"), t, PySim::units(after, "geometry"));
           },
           py::arg("gpm"), py::arg("object"), py::arg("vertex_passes"), py::arg("triangles"),
           py::arg("after") = std::vector<int>{},
@@ -610,10 +594,10 @@ void bind_schemes(py::module_& m) {
              const py::object& incoming) {
             FrameSim& f = s.adding();
             const FrameTrace* t = s.own(records, "tiles");
-            const int g = s.gpm(gpm, "tiles");
-            const int b = s.fb(fb, "tiles");
-            std::vector<int> units = s.units(after, "tiles");
-            const int from = from_gpm == -1 ? -1 : s.gpm(from_gpm, "tiles", "from_gpm");
+            const int g = PySim::index(gpm, "tiles", "gpm");
+            const int b = PySim::index(fb, "tiles", "fb");
+            std::vector<int> units = PySim::units(after, "tiles");
+            const int from = PySim::index(from_gpm, "tiles", "from_gpm");
             const uint64_t bytes = s.bytes(incoming, "tiles", "incoming");
             return f.tiles(g, records.records, b, *t, std::move(units), from, bytes);
           },
@@ -636,8 +620,6 @@ void bind_schemes(py::module_& m) {
               t = j->trace;
               js.push_back(j->job);
             }
-            if (std::find(s.frames.begin(), s.frames.end(), t) == s.frames.end())
-              bad("tiles_together: the records are not of this run's frames");
             return f.tiles_together(js, *t);
           },
           py::arg("jobs"),
@@ -648,11 +630,11 @@ void bind_schemes(py::module_& m) {
           [](PySim& s, int64_t from_gpm, int64_t to_gpm, const py::object& bytes, const std::string& what,
              const std::vector<int64_t>& after) {
             FrameSim& f = s.adding();
-            const int from = s.gpm(from_gpm, "transfer", "from_gpm");
-            const int to = s.gpm(to_gpm, "transfer", "to_gpm");
+            const int from = PySim::index(from_gpm, "transfer", "from_gpm");
+            const int to = PySim::index(to_gpm, "transfer", "to_gpm");
             const uint64_t n = s.bytes(bytes, "transfer", "bytes");
             const Category c = category(what);
-            return f.transfer(from, to, n, c, s.units(after, "transfer"));
+            return f.transfer(from, to, n, c, PySim::units(after, "transfer"));
           },
           py::arg("from_gpm"), py::arg("to_gpm"), py::arg("bytes"), py::arg("category"), py::arg("after") = std::vector<int>{},
           "Moves bytes between GPMs over the links (category: vertex, index, texture, depth, colour, composition, "
@@ -662,13 +644,13 @@ void bind_schemes(py::module_& m) {
           [](PySim& s, int64_t gpm, const py::object& pixels, const std::vector<int64_t>& after,
              const std::optional<PyRecords>& records) {
             FrameSim& f = s.adding();
-            const int g = s.gpm(gpm, "compose");
+            const int g = PySim::index(gpm, "compose", "gpm");
             const uint64_t most = s.bounds().pixels;
             const uint64_t n = count(pixels, "compose", "pixels", most, [&] {
               return "this run's frames can compose (at most " + std::to_string(most) +
                      ": per record, its passed fragments or its tile's pixels, the more)";
             });
-            std::vector<int> units = s.units(after, "compose");
+            std::vector<int> units = PySim::units(after, "compose");
             std::vector<const TileWork*> merged;
             if (records) {
               (void)s.own(*records, "compose");
@@ -684,15 +666,14 @@ void bind_schemes(py::module_& m) {
           "declare_repeats",
           [](PySim& s, int64_t times) {
             FrameSim& f = s.adding();
-            if (times < 1 || times > 1000) bad("declare_repeats: times must be 1 to 1000, not " + std::to_string(times));
-            f.declare_repeats(int(times));
+            f.declare_repeats(PySim::index(times, "declare_repeats", "times"));
           },
           py::arg("times"), "The scheme rasterises some records up to `times` times by design (the run's check allows it).")
       .def(
           "end_draw",
           [](PySim& s, int64_t gpm) {
             FrameSim& f = s.adding();
-            f.end_draw(gpm == -1 ? -1 : s.gpm(gpm, "end_draw"));
+            f.end_draw(PySim::index(gpm, "end_draw", "gpm"));
           },
           py::arg("gpm") = -1, "GPM `gpm` (-1: every GPM) finished a draw: call it after adding the draw's units there.")
       .def(
@@ -769,8 +750,11 @@ void bind_schemes(py::module_& m) {
              std::function<int(int, int)> fn;
              const int gpms = f.gpms();
              if (as_int(owner)) {
-               const int root = sim->gpm(whole(owner, "Composer(owner)"), "Composer", "owner");
-               fn = [root](int, int) { return root; };
+               const int64_t root = whole(owner, "Composer(owner)");
+               if (root < 0 || root >= gpms)
+                 bad(arg("Composer", "owner", root) + "GPM " + std::to_string(root) + " does not exist (GPMs 0 to " +
+                     std::to_string(gpms - 1) + ")");
+               fn = [root](int, int) { return int(root); };
              } else if (PyCallable_Check(owner.ptr())) {
                // Checked on every call: the owner is the scheme's code.
                fn = [owner, gpms](int x, int y) {
@@ -782,7 +766,7 @@ void bind_schemes(py::module_& m) {
                throw py::type_error("Composer(owner): the owner is a GPM (int) or a function (tile_x, tile_y) -> GPM, not " +
                                     type_name(owner));
              }
-             return PyComposer{sim, std::make_unique<Composer>(f, CompositionSpec::from_config(f.config()), fn)};
+             return PyComposer{sim, std::make_unique<Composer>(f, f.spec().composition, fn)};
            }),
            py::arg("sim").none(false), py::arg("owner"),
            "`owner`: the GPM owning every pixel (the root), or a function (tile_x, tile_y) -> GPM. The payload and "

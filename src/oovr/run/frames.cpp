@@ -106,41 +106,49 @@ fs::path stream_folder(const TraceCache& cache, uint64_t bytes, int count) {
 
 }  // namespace
 
-int measured_window(const std::vector<SchemeRef>& schemes, const Config& config, int frames, const std::string& what) {
-  for (const auto& s : schemes) check_scheme_config(s, config);  // before any trace is rendered
+int measured_window(const std::vector<SchemeRef>& schemes, const MachineSpec& spec, int frames, const std::string& what) {
+  for (const auto& s : schemes) check_scheme_config(s, spec);  // before any trace is rendered
   if (frames > 0) {
     for (const auto& s : schemes) {
-      const int m = scheme_frames_needed(s, config);
+      const int m = scheme_frames_needed(s, spec);
       if (frames % m != 0)
         throw Error(what + " " + std::to_string(frames) + ": " + s.name + " renders " + std::to_string(m) +
                     " frames at once (one per GPM), so " + what + " must be a multiple of " + std::to_string(m));
     }
     return frames;
   }
-  int w = int(MemorySpec::from_config(config).gpms);
-  for (const auto& s : schemes) w = std::lcm(w, scheme_frames_needed(s, config));
+  int w = spec.memory.gpms;
+  for (const auto& s : schemes) w = std::lcm(w, scheme_frames_needed(s, spec));
   return w;
 }
 
-int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what) {
+int measured_window(const std::vector<std::string>& schemes, const MachineSpec& spec, int frames, const std::string& what) {
   std::vector<SchemeRef> refs;
   for (const auto& s : schemes) refs.push_back(find_scheme(s));
-  return measured_window(refs, config, frames, what);
+  return measured_window(refs, spec, frames, what);
 }
 
-PipelineSettings trace_settings(const Config& config, int aniso) {
-  Config probe = config;  // reading the line size must not mark keys used in the caller's config
-  PipelineSettings p = PipelineSettings::from_config(probe);
+int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what) {
+  return measured_window(schemes, MachineSpec::from_config(config), frames, what);
+}
+
+PipelineSettings trace_settings(const MachineSpec& spec, int aniso) {
+  PipelineSettings p = spec.pipeline;
   p.max_anisotropy = aniso;
-  p.line_bytes = uint32_t(MemorySpec::from_config(probe).line.value);
+  p.line_bytes = uint32_t(spec.memory.line.value);
   p.validate();
   return p;
 }
 
 FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const Config& config, const WindowRequest& r) {
+  return load_window(std::move(scene), rig, MachineSpec::from_config(config), r);
+}
+
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec,
+                        const WindowRequest& r) {
   if (!scene) throw Error("load_window: no scene");
   FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
-  const PipelineSettings p = trace_settings(config, r.aniso);
+  const PipelineSettings p = trace_settings(spec, r.aniso);
   const Scene& sc = *f.scene;
   const int path = int(sc.camera.frames.size());
   if (r.first < 0 || r.first >= path)

@@ -55,7 +55,8 @@ struct WindowRequest {
 // scheme, with `what` naming the setting: "--frames", "frames"); without
 // it, one per GPM, so that AFR's frames in flight and every other scheme
 // see the same frames. Checks each scheme's configuration first.
-int measured_window(const std::vector<SchemeRef>& schemes, const Config& config, int frames, const std::string& what);
+int measured_window(const std::vector<SchemeRef>& schemes, const MachineSpec& spec, int frames, const std::string& what);
+int measured_window(const std::vector<std::string>& schemes, const MachineSpec& spec, int frames, const std::string& what);
 int measured_window(const std::vector<std::string>& schemes, const Config& config, int frames, const std::string& what);
 
 // Bytes of traces held in memory: $OOVR_TRACE_MEMORY_MB megabytes (default
@@ -67,14 +68,15 @@ uint64_t trace_bytes(const FrameTrace& t);
 uint64_t window_bytes(const FrameWindow& w);
 
 // What the pipeline is told when it renders the traces a simulation with
-// `config` replays: the texture storage format it names, the memory
-// system's line size, and `aniso` taps. Reads a copy of `config`, so the
-// caller's keys are not marked used. Throws Error on a bad value.
-PipelineSettings trace_settings(const Config& config, int aniso);
+// `spec` replays: the texture storage format it names, the memory
+// system's line size, and `aniso` taps. Throws Error on a bad value.
+PipelineSettings trace_settings(const MachineSpec& spec, int aniso);
 
 // Loads the traces for `scene` (already loaded) with trace_settings(config).
 // Throws Error when `first` is off the path, when a streamed window does
 // not fit on the disk, or when memory runs out (naming the frame).
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec,
+                        const WindowRequest& r);
 FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const Config& config, const WindowRequest& r);
 
 }  // namespace oovr

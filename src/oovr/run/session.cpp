@@ -32,6 +32,11 @@ std::shared_ptr<const Scene> TraceSession::scene(const std::string& spec) {
 
 std::shared_ptr<const FrameWindow> TraceSession::window(const std::string& spec, const StereoRig& rig, const Config& config,
                                                         const WindowRequest& r) {
+  return window(spec, rig, MachineSpec::from_config(config), r);
+}
+
+std::shared_ptr<const FrameWindow> TraceSession::window(const std::string& spec, const StereoRig& rig, const MachineSpec& machine,
+                                                        const WindowRequest& r) {
   const std::shared_ptr<const Scene> sc = scene(spec);
   const int path = int(sc->camera.frames.size());
   if (r.first < 0 || r.first >= path)
@@ -39,7 +44,7 @@ std::shared_ptr<const FrameWindow> TraceSession::window(const std::string& spec,
   // Everything that decides the traces but the scene's content, which its
   // name fixes within a session.
   const std::string key =
-      spec + "\n" + TraceCache::key(0, r.first, make_stereo_view(sc->camera, r.first, rig), trace_settings(config, r.aniso));
+      spec + "\n" + TraceCache::key(0, r.first, make_stereo_view(sc->camera, r.first, rig), trace_settings(machine, r.aniso));
   if (r.use_cache) {
     std::lock_guard<std::mutex> lock(m_mutex);
     const auto it = m_windows.find(key);
@@ -54,7 +59,7 @@ std::shared_ptr<const FrameWindow> TraceSession::window(const std::string& spec,
       }
     }
   }
-  auto w = std::make_shared<const FrameWindow>(load_window(sc, rig, config, r));
+  auto w = std::make_shared<const FrameWindow>(load_window(sc, rig, machine, r));
   std::lock_guard<std::mutex> lock(m_mutex);
   m_stats.frames_from_disk += uint64_t(w->cached);
   m_stats.frames_rendered += uint64_t(r.count - w->cached);

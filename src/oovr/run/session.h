@@ -37,6 +37,8 @@ class TraceSession {
   // `r.need_first_image`), else a new one, loaded through the trace cache
   // and then held. A window with `r.use_cache` false is rendered again and
   // replaces what was held.
+  std::shared_ptr<const FrameWindow> window(const std::string& spec, const StereoRig& rig, const MachineSpec& machine,
+                                            const WindowRequest& r);
   std::shared_ptr<const FrameWindow> window(const std::string& spec, const StereoRig& rig, const Config& config,
                                             const WindowRequest& r);
   // Drops every scene and window held.

@@ -26,15 +26,10 @@
 #include <functional>
 
 #include "oovr/core/config.h"
+#include "oovr/schemes/composition_spec.h"
 #include "oovr/schemes/frame_sim.h"
 
 namespace oovr {
-
-struct CompositionSpec {
-  bool depth = false;      // colour and depth sent (else colour only)
-  bool per_pixel = false;  // per passed fragment (else per line touched)
-  static CompositionSpec from_config(const Config& c);
-};
 
 // Framebuffers of a sort-last scheme: 0 is the final frame, 1 + g GPM g's
 // own; build the FrameSim with sort_last_framebuffers(gpms).

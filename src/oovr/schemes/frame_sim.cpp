@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 
-#include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
 
@@ -48,24 +47,67 @@ std::atomic<bool> g_law_checks{true};
 void FrameSim::set_law_checks(bool on) { g_law_checks = on; }
 bool FrameSim::law_checks() { return g_law_checks; }
 
-void FrameSim::check(const Config& config) {
-  const MemorySpec memory = MemorySpec::from_config(config);
-  (void)TimingSpec::from_config(config);
-  check_config(config);
+namespace {
+
+// How a message names an argument: "transfer(from_gpm=7): ".
+std::string named(const char* fn, const char* param, int64_t value) {
+  return std::string(fn) + "(" + param + "=" + std::to_string(value) + "): ";
+}
+
+}  // namespace
+
+int FrameSim::gpm_arg(int gpm, const char* fn, const char* param) const {
+  if (gpm < 0 || gpm >= gpms())
+    throw Error(named(fn, param, gpm) + "GPM " + std::to_string(gpm) + " does not exist (GPMs 0 to " +
+                std::to_string(gpms() - 1) + ")");
+  return gpm;
+}
+
+int FrameSim::fb_arg(int fb, const char* fn, const char* param) const {
+  if (fb < 0 || size_t(fb) >= m_colour.size())
+    throw Error(named(fn, param, fb) + "framebuffer " + std::to_string(fb) + " does not exist (this FrameSim has " +
+                std::to_string(m_colour.size()) + ")");
+  return fb;
+}
+
+int FrameSim::unit_arg(int unit, const char* fn, const char* param) const {
+  const int64_t n = int64_t(m_engine.units());
+  if (unit < 0 || unit >= n)
+    throw Error(named(fn, param, unit) + "unit " + std::to_string(unit) + " has not been added (units 0 to " +
+                std::to_string(n - 1) + ")");
+  return unit;
+}
+
+const std::vector<int>& FrameSim::after_arg(const std::vector<int>& after, const char* fn) const {
+  const int64_t n = int64_t(m_engine.units());
+  for (int u : after)
+    if (u < -1 || u >= n)
+      throw Error(std::string(fn) + "(after): unit " + std::to_string(u) + " has not been added (units 0 to " +
+                  std::to_string(n - 1) + "; -1 for none)");
+  return after;
+}
+
+const FrameTrace& FrameSim::frame_arg(const FrameTrace& frame, const char* fn) const {
+  if (std::find(m_in.frames.begin(), m_in.frames.end(), &frame) == m_in.frames.end())
+    throw Error(std::string(fn) + ": the records are not of this run's frames");
+  return frame;
+}
+
+void FrameSim::check(const MachineSpec& spec) {
   // Pinned placement homes only the regions a program pins through
   // MemorySystem::pin (the memory tests do); no scheme names homes, so it
   // would fail at the first page touched.
-  if (memory.placement == "pinned")
+  if (spec.memory.placement == "pinned")
     throw Error(
         "configuration key 'memory.placement': 'pinned' homes only regions a program pins to GPMs (MemorySystem::pin) "
         "and no scheme does; use first-touch, interleaved, preallocated or replicated");
 }
 
 FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
-  if (!in.scene || in.frames.empty()) throw Error("a scheme needs a scene and at least one frame");
-  check(in.config);
-  m_memory_spec = MemorySpec::from_config(in.config);
-  m_timing_spec = TimingSpec::from_config(in.config);
+  if (!in.scene || in.frames.empty() || !in.spec) throw Error("a scheme needs a scene, a machine and at least one frame");
+  check(*in.spec);
+  m_memory_spec = in.spec->memory;
+  m_timing_spec = in.spec->timing;
   const FrameTrace& f = *in.frames[0];
   CarriedState* carried = in.carried.get();
   if (carried && carried->memory) {
@@ -108,11 +150,12 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_draw_ends.assign(size_t(gpms()), {});
   m_draws_received.assign(size_t(gpms()), 0);
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
-  m_result.config = in.config.entries();  // every key read, checked above
+  m_result.config = in.spec->entries;
   if (law_checks()) m_ledger = std::make_unique<RunLedger>(in.frames);
 }
 
 void FrameSim::declare_repeats(int times) {
+  if (times < 1 || times > 1000) throw Error(named("declare_repeats", "times", times) + "times must be 1 to 1000");
   if (m_ledger) m_ledger->allow_repeats(times);
 }
 
@@ -139,7 +182,8 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
 }
 
 int FrameSim::command(int gpm, int draws) {
-  if (gpm < 0 || gpm >= gpms()) throw Error("a draw sent to GPM " + std::to_string(gpm) + ", which does not exist");
+  gpm_arg(gpm, "command");
+  if (draws < 1) throw Error(named("command", "draws", draws) + "draws must be at least 1");
   TimingEngine::Unit u;
   u.queue = m_machine->front_queue(gpm);
   u.latency = m_machine->draw_seconds(draws);
@@ -158,12 +202,16 @@ int FrameSim::command(int gpm, int draws) {
   return id;
 }
 
+void FrameSim::use_draw(int gpm, int command_unit) {
+  m_draw[size_t(gpm_arg(gpm, "use_draw"))] = unit_arg(command_unit, "use_draw", "command_unit");
+}
+
 void FrameSim::end_draw(int gpm) {
-  if (gpm < 0) {
+  if (gpm == -1) {
     for (int g = 0; g < gpms(); ++g) end_draw(g);
     return;
   }
-  if (gpm >= gpms()) throw Error("the end of a draw on GPM " + std::to_string(gpm) + ", which does not exist");
+  gpm_arg(gpm, "end_draw");
   // The draw is over when the last unit of the pipeline (or its command,
   // when it had no work here) is.
   const int last = m_last[size_t(gpm)];
@@ -173,10 +221,16 @@ void FrameSim::end_draw(int gpm) {
 
 int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after, int frame_k) {
   if (frame_k < 0 || size_t(frame_k) >= m_in.frames.size())
-    throw Error("geometry in frame " + std::to_string(frame_k) + " of the window, which does not exist");
+    throw Error(named("geometry", "frame_k", frame_k) + "frame " + std::to_string(frame_k) + " does not exist (frames 0 to " +
+                std::to_string(m_in.frames.size() - 1) + ")");
   const std::vector<Object>& objects = draws(frame(frame_k));
-  if (object >= objects.size()) throw Error("geometry of object " + std::to_string(object) + ", which does not exist");
-  if (gpm < 0 || gpm >= gpms()) throw Error("geometry on GPM " + std::to_string(gpm) + ", which does not exist");
+  gpm_arg(gpm, "geometry");
+  if (object >= objects.size())
+    throw Error(named("geometry", "object", int64_t(object)) + "object " + std::to_string(object) +
+                " does not exist (objects 0 to " + std::to_string(int64_t(objects.size()) - 1) + ")");
+  if (vertex_passes < 1 || vertex_passes > 2)
+    throw Error(named("geometry", "vertex_passes", vertex_passes) + "vertex_passes is 1 (SMP) or 2 (one per eye)");
+  after_arg(after, "geometry");
   if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
   const Object& o = objects[object];
   const Mesh& mesh = scene().meshes[size_t(o.mesh)];
@@ -229,11 +283,34 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
 
 int FrameSim::tiles(int gpm, std::span<const TileWork* const> records, int fb, const FrameTrace& frame, std::vector<int> after,
                     int from, uint64_t incoming) {
+  frame_arg(frame, "tiles");
+  gpm_arg(gpm, "tiles");
+  fb_arg(fb, "tiles");
+  after_arg(after, "tiles");
+  if (from != -1) gpm_arg(from, "tiles", "from_gpm");
   TileJob job{gpm, {records.begin(), records.end()}, fb, std::move(after), from, incoming};
-  return tiles_together({std::move(job)}, frame).front();
+  return tiles_checked({std::move(job)}, frame).front();
 }
 
 std::vector<int> FrameSim::tiles_together(const std::vector<TileJob>& jobs, const FrameTrace& frame) {
+  if (jobs.empty()) return {};
+  frame_arg(frame, "tiles_together");
+  for (const TileJob& j : jobs) {
+    gpm_arg(j.gpm, "tiles_together", "gpm");
+    fb_arg(j.fb, "tiles_together", "fb");
+    after_arg(j.after, "tiles_together");
+    if (j.from != -1) gpm_arg(j.from, "tiles_together", "from_gpm");
+    for (const std::vector<int>* per : {&j.fbs, &j.depth_fbs}) {
+      if (!per->empty() && per->size() != j.records.size())
+        throw Error("tiles_together: per-record framebuffers must be one per record (" + std::to_string(j.records.size()) +
+                    "), not " + std::to_string(per->size()));
+      for (int f : *per) fb_arg(f, "tiles_together", "fbs");
+    }
+  }
+  return tiles_checked(jobs, frame);
+}
+
+std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const FrameTrace& frame) {
   const size_t n = jobs.size();
   std::vector<UnitTraffic> traffic(n, empty_traffic());
   std::vector<WorkCounts> work(n);
@@ -262,6 +339,9 @@ std::vector<int> FrameSim::tiles_together(const std::vector<TileJob>& jobs, cons
 }
 
 int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector<int> after) {
+  gpm_arg(from, "transfer", "from_gpm");
+  gpm_arg(to, "transfer", "to_gpm");
+  after_arg(after, "transfer");
   UnitTraffic t = empty_traffic();
   m_memory->transfer(from, to, bytes, c, t);
   // A transfer between GPMs waits for the link latency of every hop.
@@ -282,6 +362,8 @@ int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vect
 }
 
 int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vector<int> after) {
+  gpm_arg(gpm, "preallocate");
+  after_arg(after, "preallocate");
   UnitTraffic t = empty_traffic();
   m_memory->begin_batch();
   uint64_t copied = 0;
@@ -295,6 +377,8 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
 }
 
 int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after) {
+  gpm_arg(gpm, "compose");
+  after_arg(after, "compose");
   if (m_ledger)
     for (const TileWork* r : records) m_ledger->composed(*r);
   WorkCounts w;
@@ -303,6 +387,9 @@ int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_
 }
 
 SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, const std::function<void(int)>& on_finish) {
+  if (frames_in_flight < 1 || size_t(frames_in_flight) > m_in.frames.size())
+    throw Error(named("finish", "frames_in_flight", frames_in_flight) + "frames_in_flight must be 1 to the frames given (" +
+                std::to_string(m_in.frames.size()) + ")");
   const TimingEngine::Result r = m_engine.run(on_finish);
   SchemeResult& s = m_result;
   s.scheme = scheme;

@@ -38,13 +38,17 @@ struct CarriedState {
   std::map<std::string, std::vector<double>> values;
 };
 
+// Every method checks its arguments (GPMs, framebuffers, objects, frames,
+// units to wait for) and throws Error naming the method, the argument and
+// what exists: "command(gpm=4): GPM 4 does not exist (GPMs 0 to 3)". A
+// scheme in C++ and one in Python (python/schemes.cpp) get the same checks.
 class FrameSim {
  public:
   // `framebuffers`: colour + depth buffer pairs (one per GPM for schemes
-  // that render into private buffers). Checks the whole configuration.
+  // that render into private buffers).
   FrameSim(const SchemeInput& in, int framebuffers = 1);
-  // Throws the Error the constructor would for `config`.
-  static void check(const Config& config);
+  // Throws the Error the constructor would for the machine `spec`.
+  static void check(const MachineSpec& spec);
 
   int gpms() const { return m_memory_spec.gpms; }
   int sms() const { return m_memory_spec.sms_per_gpm; }
@@ -56,7 +60,8 @@ class FrameSim {
   // The draws of a frame's trace (a captured game draws other objects in
   // each frame; other scenes the same ones): what its object indices name.
   const std::vector<Object>& draws(const FrameTrace& f) const { return scene().draws(f.frame); }
-  const Config& config() const { return m_in.config; }
+  // The machine (read once at the entry point; configured by the scheme).
+  const MachineSpec& spec() const { return *m_in.spec; }
   const FrameTrace& frame(int k = 0) const { return *m_in.frames[size_t(k)]; }
   uint32_t colour(int fb) const { return m_colour[size_t(fb)]; }
   uint32_t depth(int fb) const { return m_depth[size_t(fb)]; }
@@ -71,7 +76,7 @@ class FrameSim {
   int command(int gpm, int draws = 1);
   // Pipeline units added on `gpm` from now on belong to the draw that
   // `command_unit` received (a runtime that sends draws ahead of the work).
-  void use_draw(int gpm, int command_unit) { m_draw[size_t(gpm)] = command_unit; }
+  void use_draw(int gpm, int command_unit);
   // Vertex shading and triangle setup of `object` on `gpm`: its vertex and
   // index buffers are read; `vertex_passes` is 1 with SMP (both eyes share
   // the transform) and the number of eyes without; `triangles` is the number
@@ -144,6 +149,13 @@ class FrameSim {
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
+  // Argument checks (see the class comment); each returns what it checked.
+  int gpm_arg(int gpm, const char* fn, const char* param = "gpm") const;
+  int fb_arg(int fb, const char* fn, const char* param = "fb") const;
+  int unit_arg(int unit, const char* fn, const char* param) const;
+  const std::vector<int>& after_arg(const std::vector<int>& after, const char* fn) const;
+  const FrameTrace& frame_arg(const FrameTrace& frame, const char* fn) const;
+  std::vector<int> tiles_checked(const std::vector<TileJob>& jobs, const FrameTrace& frame);
   // A unit of data movement (transfer, copy) outside every GPM's pipeline.
   int add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency);
   // Replays one record's memory accesses on `gpm` into `total` and `w`.

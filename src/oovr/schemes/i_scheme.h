@@ -20,6 +20,7 @@
 #include "oovr/memory/memory_system.h"
 #include "oovr/pipeline/frame_trace.h"
 #include "oovr/scene/scene.h"
+#include "oovr/schemes/machine_spec.h"
 
 namespace oovr {
 
@@ -34,7 +35,9 @@ struct SchemeInput {
   // Consecutive frames' traces; frames[0] is the frame simulated. Schemes
   // with frames in flight (AFR) use as many as they need.
   std::vector<const FrameTrace*> frames;
-  Config config;  // the machine (preset + --set); schemes may override keys
+  // The machine, read once at the entry point, after the scheme's own
+  // configure() (machine_spec.h).
+  std::shared_ptr<const MachineSpec> spec;
   // Shared by the frames of one sequence (null: a frame on its own, cold).
   std::shared_ptr<CarriedState> carried;
 };
@@ -91,9 +94,10 @@ class Scheme {
     (void)gpms;
     return 1;
   }
-  // Machine overrides this scheme makes to the configuration (e.g. 1 TB/s
-  // links), applied before frames_needed is asked.
-  virtual void configure(Config& config) const { (void)config; }
+  // Machine overrides this scheme makes (e.g. 1 TB/s links): it edits the
+  // typed fields and records each with MachineSpec::set_entry. Applied
+  // before frames_needed is asked.
+  virtual void configure(MachineSpec& spec) const { (void)spec; }
   virtual SchemeResult run(const SchemeInput& in) const = 0;
 };
 
@@ -138,17 +142,23 @@ SchemeRef find_scheme(const std::string& name);
 
 // Runs a scheme on `frames` (rendered with the memory system's line size),
 // continuing from `carried` when given. Throws Error for an unknown scheme.
+// The machine is `spec` after the scheme's configure(); the overloads
+// taking a Config read it first (an entry point's work).
+SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const MachineSpec& spec, std::shared_ptr<CarriedState> carried = nullptr);
 SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                         const Config& config, std::shared_ptr<CarriedState> carried = nullptr);
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
                         const Config& config, std::shared_ptr<CarriedState> carried = nullptr);
 // Frames of trace the scheme needs with this configuration (1 for unknown
 // names: run_scheme reports those).
+int scheme_frames_needed(const SchemeRef& scheme, const MachineSpec& spec);
 int scheme_frames_needed(const SchemeRef& scheme, const Config& config);
 int scheme_frames_needed(const std::string& name, const Config& config);
 // Throws the Error a run of the scheme on this configuration would, before
 // any trace is rendered: an unknown scheme, a bad key or value, a placement
 // policy schemes cannot use.
+void check_scheme_config(const SchemeRef& scheme, const MachineSpec& spec);
 void check_scheme_config(const SchemeRef& scheme, const Config& config);
 void check_scheme_config(const std::string& name, const Config& config);
 
@@ -188,6 +198,8 @@ class FramesInMemory final : public FrameSequence {
 // (frames[0]). `runs`, when given, receives every run's own result. Throws
 // Error when `window` is not a multiple of m or frames are missing.
 // Only the frames of the group being run are held at a time.
+SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
+                               int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const Config& config,
                                int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames, const Config& config,

@@ -43,35 +43,24 @@ std::map<std::string, Config::Entry> scheme_entries(const std::string& scheme,
   return out;
 }
 
-int scheme_frames_needed(const SchemeRef& scheme, const Config& config) {
-  Config c = config;
-  scheme.impl->configure(c);
-  return scheme.impl->frames_needed(int(c.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms)));
+namespace {
+
+// The machine as `scheme` runs it: `spec` after its configure(), whose
+// overrides name it as their source in the results.
+std::shared_ptr<const MachineSpec> configured(const SchemeRef& scheme, const MachineSpec& spec) {
+  auto c = std::make_shared<MachineSpec>(spec);
+  c->set_source("scheme " + scheme.name);
+  scheme.impl->configure(*c);
+  return c;
 }
 
-int scheme_frames_needed(const std::string& name, const Config& config) {
-  return Schemes::find(name) ? scheme_frames_needed(find_scheme(name), config) : 1;
-}
-
-void check_scheme_config(const SchemeRef& scheme, const Config& config) {
-  Config c = config;
-  scheme.impl->configure(c);
-  FrameSim::check(c);
-}
-
-void check_scheme_config(const std::string& name, const Config& config) { check_scheme_config(find_scheme(name), config); }
-
-SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
-                        const Config& config, std::shared_ptr<CarriedState> carried) {
+SchemeResult run_configured(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                            std::shared_ptr<const MachineSpec> spec, std::shared_ptr<CarriedState> carried) {
   SchemeInput in;
   in.scene = &scene;
   in.frames = frames;
-  in.config = config;
+  in.spec = std::move(spec);
   in.carried = std::move(carried);
-  // The scheme's own overrides name it as their source in the results.
-  in.config.set_source("scheme " + scheme.name);
-  scheme.impl->configure(in.config);
-  in.config.set_source("--set");
   SchemeResult r = scheme.impl->run(in);
   // Every run's conservation laws are checked by FrameSim::finish; a result
   // made some other way could hide a scheme that does no work.
@@ -79,6 +68,38 @@ SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::
     throw Error("scheme '" + scheme.name +
                 "' returned a result that FrameSim::finish did not make, so its conservation laws were not checked");
   return r;
+}
+
+}  // namespace
+
+int scheme_frames_needed(const SchemeRef& scheme, const MachineSpec& spec) {
+  return scheme.impl->frames_needed(configured(scheme, spec)->memory.gpms);
+}
+
+int scheme_frames_needed(const SchemeRef& scheme, const Config& config) {
+  return scheme_frames_needed(scheme, MachineSpec::from_config(config));
+}
+
+int scheme_frames_needed(const std::string& name, const Config& config) {
+  return Schemes::find(name) ? scheme_frames_needed(find_scheme(name), config) : 1;
+}
+
+void check_scheme_config(const SchemeRef& scheme, const MachineSpec& spec) { FrameSim::check(*configured(scheme, spec)); }
+
+void check_scheme_config(const SchemeRef& scheme, const Config& config) {
+  check_scheme_config(scheme, MachineSpec::from_config(config));
+}
+
+void check_scheme_config(const std::string& name, const Config& config) { check_scheme_config(find_scheme(name), config); }
+
+SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const MachineSpec& spec, std::shared_ptr<CarriedState> carried) {
+  return run_configured(scheme, scene, frames, configured(scheme, spec), std::move(carried));
+}
+
+SchemeResult run_scheme(const SchemeRef& scheme, const Scene& scene, const std::vector<const FrameTrace*>& frames,
+                        const Config& config, std::shared_ptr<CarriedState> carried) {
+  return run_scheme(scheme, scene, frames, MachineSpec::from_config(config), std::move(carried));
 }
 
 SchemeResult run_scheme(const std::string& name, const Scene& scene, const std::vector<const FrameTrace*>& frames,
@@ -98,8 +119,15 @@ SchemeResult run_scheme_window(const std::string& name, const Scene& scene, cons
 
 SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const Config& config,
                                int window, std::vector<SchemeResult>* runs) {
+  return run_scheme_window(scheme, scene, frames, MachineSpec::from_config(config), window, runs);
+}
+
+SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
+                               int window, std::vector<SchemeResult>* runs) {
   const std::string& name = scheme.name;
-  const int m = scheme_frames_needed(scheme, config);
+  // Configured once for the window's runs.
+  const std::shared_ptr<const MachineSpec> machine = configured(scheme, spec);
+  const int m = scheme.impl->frames_needed(machine->memory.gpms);
   if (window < 1 || window % m != 0)
     throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
                 std::to_string(window) + ") must be a multiple of " + std::to_string(m));
@@ -117,7 +145,7 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
       held.push_back(frames.at(i * size_t(m) + k));
       group.push_back(held.back().get());
     }
-    return run_scheme(scheme, scene, group, config, carried);
+    return run_configured(scheme, scene, group, machine, carried);
   };
   const auto carried = std::make_shared<CarriedState>();
   std::vector<SchemeResult> all;

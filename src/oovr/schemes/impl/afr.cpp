@@ -16,10 +16,13 @@ namespace {
 
 class Afr final : public Scheme {
  public:
-  void configure(Config& c) const override { c.set("memory.placement", "replicated"); }
+  void configure(MachineSpec& m) const override {
+    m.memory.placement = "replicated";
+    m.set_entry("memory.placement", m.memory.placement, std::nullopt);
+  }
   int frames_needed(int gpms) const override { return gpms; }
   SchemeResult run(const SchemeInput& in) const override {
-    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
+    const int n = in.spec->memory.gpms;
     if (int(in.frames.size()) < n)
       throw Error("afr needs " + std::to_string(n) + " frames of trace, one per GPM; got " + std::to_string(in.frames.size()));
     FrameSim sim(in, n);

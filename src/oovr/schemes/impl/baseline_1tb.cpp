@@ -9,7 +9,10 @@ namespace {
 
 class Baseline1Tb final : public Scheme {
  public:
-  void configure(Config& c) const override { c.set("link.bandwidth", "1TBps"); }
+  void configure(MachineSpec& m) const override {
+    m.memory.link_bandwidth = BytesPerSecond{1e12};
+    m.set_entry("link.bandwidth", format_bandwidth(m.memory.link_bandwidth), m.memory.link_bandwidth.value);
+  }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
     sort_first(sim, eye_groups_by_tile(sim.gpms(), sim.frame()), Geometry::shared);

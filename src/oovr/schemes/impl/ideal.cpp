@@ -3,8 +3,6 @@
 //
 // Derived from the trace: every record and object on the one big GPU, as
 // single-gpm does on one GPM. Duplicates nothing.
-#include <cstdio>
-
 #include "oovr/schemes/sort_first.h"
 
 namespace oovr {
@@ -12,25 +10,24 @@ namespace {
 
 class Ideal final : public Scheme {
  public:
-  void configure(Config& c) const override {
-    const MemorySpec d;
-    const TimingSpec t;
-    // Read in the ranges their components accept (so the products fit).
-    const int64_t n = c.get_int("gpms", d.gpms, 1, kMaxGpms);
-    const auto scale = [&](const char* key, int64_t value) { c.set(key, std::to_string(value * n)); };
-    scale("gpm.sms", c.get_int("gpm.sms", d.sms_per_gpm, 1, 1024));
-    scale("gpm.rops", c.get_int("gpm.rops", t.rops, 1, 1000000));
-    scale("gpm.raster_fragments_per_clock",
-          c.get_int("gpm.raster_fragments_per_clock", t.raster_fragments_per_clock, 1, 1000000));
-    scale("gpm.setup_triangles_per_clock", c.get_int("gpm.setup_triangles_per_clock", t.setup_triangles_per_clock, 1, 1000000));
+  void configure(MachineSpec& m) const override {
+    const int64_t n = m.memory.gpms;
+    const auto scale = [&](int& field, const char* key) {
+      field = int(field * n);
+      m.set_entry(key, std::to_string(field), double(field));
+    };
+    scale(m.memory.sms_per_gpm, "gpm.sms");
+    scale(m.timing.rops, "gpm.rops");
+    scale(m.timing.raster_fragments_per_clock, "gpm.raster_fragments_per_clock");
+    scale(m.timing.setup_triangles_per_clock, "gpm.setup_triangles_per_clock");
     // N times the L2 as N times the ways: the same sets, always valid.
-    const Bytes l2 = c.get_bytes("cache.l2.size", d.l2.size);
-    c.set("cache.l2.size", std::to_string(l2.value * uint64_t(n)));
-    scale("cache.l2.ways", c.get_int("cache.l2.ways", d.l2.ways, 1, 1024));
-    char bw[64];
-    std::snprintf(bw, sizeof bw, "%.17gBps", c.get_bandwidth("dram.bandwidth", d.dram_bandwidth).value * double(n));
-    c.set("dram.bandwidth", bw);
-    c.set("gpms", "1");
+    m.memory.l2.size = Bytes{m.memory.l2.size.value * uint64_t(n)};
+    m.set_entry("cache.l2.size", format_bytes(m.memory.l2.size), double(m.memory.l2.size.value));
+    scale(m.memory.l2.ways, "cache.l2.ways");
+    m.memory.dram_bandwidth = BytesPerSecond{m.memory.dram_bandwidth.value * double(n)};
+    m.set_entry("dram.bandwidth", format_bandwidth(m.memory.dram_bandwidth), m.memory.dram_bandwidth.value);
+    m.memory.gpms = 1;
+    m.set_entry("gpms", "1", 1.0);
   }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);

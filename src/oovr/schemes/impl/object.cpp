@@ -24,9 +24,9 @@ namespace {
 class ObjectLevel final : public Scheme {
  public:
   SchemeResult run(const SchemeInput& in) const override {
-    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
+    const int n = in.spec->memory.gpms;
     FrameSim sim(in, sort_last_framebuffers(n));
-    Composer composer(sim, CompositionSpec::from_config(sim.config()), [](int, int) { return 0; });
+    Composer composer(sim, sim.spec().composition, [](int, int) { return 0; });
     const FrameTrace& f = sim.frame();
     const std::vector<ObjectRecords> objects = records_by_object(f, sim.draws(f).size());
     for (uint32_t o = 0; o < objects.size(); ++o) {

@@ -128,16 +128,20 @@ class OO final : public Scheme {
  public:
   OO(std::string name, OOSpec mechanisms) : m_name(std::move(name)), m_mechanisms(mechanisms) {}
 
+  // The switches as this scheme reads them, given or its own defaults
+  // (oo-app all off, oo-vr all on), recorded with its results.
+  void configure(MachineSpec& m) const override { m.own<OOSettings>("oo").record(m_mechanisms, m.entries); }
+
   SchemeResult run(const SchemeInput& in) const override {
-    const OOSpec spec = OOSpec::from_config(in.config, m_mechanisms);
-    const int n = int(in.config.get_int("gpms", MemorySpec{}.gpms, 1, kMaxGpms));
+    const OOSpec spec = in.spec->own<OOSettings>("oo").resolve(m_mechanisms);
+    const int n = in.spec->memory.gpms;
     FrameSim sim(in, sort_last_framebuffers(n));
     // Copies dropped and refused during this frame (the memory system's
     // totals run on from frame to frame).
     const TrafficTotals& totals = sim.memory().totals();
     const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
     const FrameTrace& f = sim.frame();
-    Composer composer(sim, CompositionSpec::from_config(sim.config()), [&](int tile_x, int) {
+    Composer composer(sim, sim.spec().composition, [&](int tile_x, int) {
       return spec.distributed_composition ? vertical_strip_owner(tile_x, f.tiles_x, n) : 0;
     });
     Machine machine(sim, composer);

@@ -10,7 +10,10 @@ namespace {
 
 class SingleGpm final : public Scheme {
  public:
-  void configure(Config& c) const override { c.set("gpms", "1"); }
+  void configure(MachineSpec& m) const override {
+    m.memory.gpms = 1;
+    m.set_entry("gpms", "1", 1.0);
+  }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
     sort_first(

@@ -17,7 +17,10 @@ namespace {
 
 class TwoPass final : public Scheme {
  public:
-  void configure(Config& c) const override { c.set("gpms", "1"); }
+  void configure(MachineSpec& m) const override {
+    m.memory.gpms = 1;
+    m.set_entry("gpms", "1", 1.0);
+  }
   SchemeResult run(const SchemeInput& in) const override {
     FrameSim sim(in);
     const FrameTrace& f = sim.frame();
