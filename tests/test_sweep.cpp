@@ -492,6 +492,20 @@ gpms = [2, 4]
   EXPECT_EQ(failed, 8u);
 }
 
+// Every point of `s` (resolved here), run without the trace cache; the
+// records in the order they ended.
+std::vector<RunRecord> run_all(Sweep& s) {
+  resolve_all(s);
+  std::vector<RunRecord> out;
+  SweepRunOptions o;
+  o.use_cache = false;
+  o.on_record = [&](const RunRecord& r) { out.push_back(r); };
+  std::vector<size_t> all(s.points.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  run_points(s, all, o);
+  return out;
+}
+
 // A database written before version 3 hashed every key read into a run's
 // id, other schemes' own too (OO-VR's oo.* into a baseline run's). Opened to
 // write, it is migrated: each run keeps the keys its scheme reads and its
@@ -499,12 +513,7 @@ gpms = [2, 4]
 // record of version 2 (a SLURM task's) reads back the same way.
 TEST(ResultsDb, AVersion2DatabaseIsMigratedSoResumeRunsNothing) {
   Sweep s = parse("scenes = ['crowd']\nschemes = ['baseline', 'oo-vr']\nresolutions = ['96x64']\nframes = 1\n");
-  resolve_all(s);
-  std::vector<RunRecord> records;
-  SweepRunOptions o;
-  o.use_cache = false;
-  o.on_record = [&](const RunRecord& r) { records.push_back(r); };
-  run_points(s, {0, 1}, o);
+  const std::vector<RunRecord> records = run_all(s);
   ASSERT_EQ(records.size(), 2u);
   const nlohmann::ordered_json every_key = to_json(s.points[1].machine.entries);
   ASSERT_TRUE(every_key.contains("oo.tsl_threshold"));
@@ -549,12 +558,7 @@ TEST(ResultsDb, AVersion2DatabaseIsMigratedSoResumeRunsNothing) {
 
 TEST(SweepRun, AStoredResultReadsBackExactly) {
   Sweep s = parse("scenes = ['crowd']\nschemes = ['oo-vr', 'afr']\nresolutions = ['96x64']\n");
-  resolve_all(s);
-  std::vector<RunRecord> out;
-  SweepRunOptions o;
-  o.use_cache = false;
-  o.on_record = [&](const RunRecord& r) { out.push_back(r); };
-  run_points(s, {0, 1}, o);
+  const std::vector<RunRecord> out = run_all(s);
   ASSERT_EQ(out.size(), 2u);
   for (const RunRecord& r : out) {
     ASSERT_EQ(r.status, "done") << r.error;

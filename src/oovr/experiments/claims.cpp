@@ -73,6 +73,7 @@ std::vector<Claim> parse_claims(const std::string& text, const std::string& name
     claim.what = r.text(c, "what");
     claim.words = r.text(c, "words");
     claim.short_form = r.text(c, "short");
+    claim.before = r.text(c, "before", false);
     const toml::array* values = c["value"].as_array();
     if (!values || !values->is_array_of_tables() || values->empty()) r.fail(c, claim.id + " has no [[claim.value]]");
     for (const auto& vn : *values) {

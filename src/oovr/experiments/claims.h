@@ -28,6 +28,7 @@ struct ClaimValue {
 struct Claim {
   std::string id, section, figure, what, words;
   std::string short_form;  // `short`: the numbers in the form of the document's steps and workload tables
+  std::string before;      // `before`: oovr's mean at ca88d23, before issue 9's model changes, short form ("" when none)
   std::vector<ClaimValue> values;
 };
 

@@ -616,9 +616,8 @@ class Doc {
 
     for (size_t i = 0; i < steps.front().size(); ++i) {
       const std::string& id = steps.front()[i].id;
-      std::string before = "n/a";
-      for (const auto& [cid, text] : kClaimsAtCa88d23)
-        if (cid == id) before = text;
+      const std::string& was = paper_claim(id).before;
+      const std::string before = was.empty() ? "n/a" : was;
       out += "| " + id + " | " + paper_claim(id).short_form + " | " + before + " |";
       for (const auto& st : steps) out += " " + st[i].text + " |";
       out += "\n";
@@ -630,11 +629,8 @@ class Doc {
         double from = std::nan("");
         std::string from_text;
         if (k == 0) {
-          for (const auto& [cid, text] : kClaimsAtCa88d23)
-            if (cid == steps[k][i].id) {
-              from = first_value(text);
-              from_text = text;
-            }
+          from_text = paper_claim(steps[k][i].id).before;
+          if (!from_text.empty()) from = first_value(from_text);
         } else {
           from = steps[k - 1][i].value;
           from_text = steps[k - 1][i].text;

@@ -115,24 +115,6 @@ inline std::string step_variant(const ModelStep& step, const std::string& extra)
   if (step.settings.empty()) return extra;
   return extra.empty() ? step.settings : step.settings + ";" + extra;
 }
-// The claims' means at ca88d23 (docs/paper-comparison.md as generated
-// there, column "mean", 1280x1024), in the steps table's forms.
-inline const std::vector<std::pair<std::string, std::string>> kClaimsAtCa88d23 = {{"P1", "-12%"},
-                                                                                  {"P2", "1.54x"},
-                                                                                  {"P3", "+159%"},
-                                                                                  {"P4", "V +16%, H -18%"},
-                                                                                  {"P5", "V +6%, H -85%"},
-                                                                                  {"P6", "-39%"},
-                                                                                  {"P7", "-15%"},
-                                                                                  {"P8", "4.70"},
-                                                                                  {"P9", "-36%"},
-                                                                                  {"P10", "1.24x, +92%"},
-                                                                                  {"P11", "+11%"},
-                                                                                  {"P12", "0.80x; +221%"},
-                                                                                  {"P13", "+43% (+53%)"},
-                                                                                  {"P14", "4.12x, 1.77x, 5.47x"},
-                                                                                  {"P15", "0%"}};
-
 inline double geomean(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");
   double s = 0;
