@@ -456,8 +456,10 @@ void ResultsDb::scope_runs_to_schemes() {
   for (RunRecord r : runs()) {
     const std::string old = r.id;
     const auto sum = checksums.find(old);
-    // A run that is not what was written stays as it is, for verify() to name.
+    // A run that is not what was written (its checksum, or for a version 1
+    // row its id) stays as it is, for verify() to name.
     if (sum != checksums.end() && sum->second != record_checksum(r)) continue;
+    if (stable_id(canonical_setup(r)) != old) continue;
     if (!scope_to_scheme(r) || ids.count(r.id)) continue;
     Statement u(m_db, "UPDATE runs SET id = ?, config = ?, checksum = ? WHERE id = ?", m_path);
     u.bind(1, r.id).bind(2, r.config.dump());
