@@ -1,9 +1,13 @@
 // The paper's claims as data (experiments/paper-claims.toml).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
+#include <tuple>
 
 #include "oovr/experiments/claims.h"
+#include "oovr/experiments/results_db.h"
+#include "oovr/run/result_json.h"
 #include "oovr/schemes/i_scheme.h"
 #include "test_util.h"
 
@@ -53,6 +57,57 @@ TEST(Claims, BadFilesAreRefused) {
   // A setting no component takes is an error naming the claim.
   const auto bad = parse_claims(head + value + "measure = 'speedup'\nset = { 'link.bandwith' = '1TBps' }\n", "c.toml");
   EXPECT_NE(message_of([&] { (void)resolved_claims_json(bad); }).find("P1 (l)"), std::string::npos);
+}
+
+// A done run of `scheme` on `scene` with `throughput` frames per second,
+// on the paper's machine but for `set`, as a database holds it.
+RunRecord stored_run(const std::string& scene, const std::string& scheme, double throughput, const std::string& set = "",
+                     int position = 0) {
+  Config c;
+  if (!set.empty()) c.set(set);
+  RunRecord r;
+  r.sweep = "s";
+  r.position = position;
+  r.scene = scene;
+  r.scheme = scheme;
+  r.resolution = "160x128";
+  r.status = "done";
+  r.config = to_json(scheme_entries(scheme, MachineSpec::from_config(c).entries));
+  r.metrics = {{"frame", "throughput", throughput, "frames/s"}, {"frame", "latency", 1 / throughput, "s"}};
+  return r;
+}
+
+// The claims measured in stored runs (the one evaluation, which `oovr
+// report` draws): each value's ratio per scene from the runs on the paper's
+// machine with only its settings changed, against its `against` run of the
+// same scene, and their geometric mean.
+TEST(Claims, AValueIsMeasuredOnTheRunsOfItsSetupOnly) {
+  const std::vector<RunRecord> runs = {
+      stored_run("a", "baseline", 100),
+      stored_run("a", "afr", 200),
+      stored_run("a", "afr", 900, "link.bandwidth=32GBps"),  // another setup: not P2's
+      stored_run("b", "baseline", 25, "", 1),
+      stored_run("b", "afr", 50, "", 1),
+      stored_run("c", "afr", 300),  // no baseline to be relative to
+  };
+  const std::vector<Claim>& claims = paper_claims();
+  const auto measured = measure_claims(claims, runs);
+  ASSERT_EQ(measured.size(), claims.size());
+  ASSERT_EQ(claims[1].id, "P2");
+  const ClaimMeasured& p2 = measured[1][0];  // AFR's throughput over the baseline's
+  ASSERT_EQ(p2.per.size(), 2u);
+  EXPECT_EQ(p2.per[0], std::make_tuple(std::string("a"), std::string("160x128"), 2.0));
+  EXPECT_EQ(p2.per[1], std::make_tuple(std::string("b"), std::string("160x128"), 2.0));  // against b's baseline
+  EXPECT_DOUBLE_EQ(p2.mean, 2.0);
+  // P1 at 128 GB/s needs baseline runs at 128 GB/s and 1 TB/s: none here.
+  EXPECT_TRUE(measured[0][0].per.empty());
+  EXPECT_TRUE(std::isnan(measured[0][0].mean));
+  // A key the run does not read (OO-VR's own, in a baseline run) is no
+  // difference; one the value sets must be there.
+  EXPECT_TRUE(on_paper_setup(runs[0], "baseline", nlohmann::ordered_json::object()));
+  EXPECT_FALSE(on_paper_setup(runs[0], "baseline", {{"oo.batch_queue", 4}}));
+  EXPECT_FALSE(on_paper_setup(runs[2], "afr", nlohmann::ordered_json::object()));
+  EXPECT_TRUE(on_paper_setup(runs[2], "afr", {{"link.bandwidth", 32e9}}));
 }
 
 }  // namespace

@@ -2,10 +2,16 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <tuple>
+
 #include "oovr/core/config.h"
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/core/units.h"
+#include "oovr/experiments/results_db.h"
 #include "oovr/run/result_json.h"
 
 namespace oovr {
@@ -165,6 +171,116 @@ nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
   }
   j["claims"] = list;
   return j;
+}
+
+namespace {
+
+// The machine's defaults as results store them (base values).
+const nlohmann::ordered_json& default_values() {
+  static const nlohmann::ordered_json d = [] {
+    Config defaults;
+    check_config(defaults);
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
+    for (const auto& [k, e] : defaults.entries()) j[k] = base_value(e);
+    return j;
+  }();
+  return d;
+}
+
+// A stored configuration entry's value: its base number, else its text.
+const nlohmann::ordered_json* stored_value(const nlohmann::ordered_json& config, const std::string& key) {
+  const auto it = config.find(key);
+  if (it == config.end() || !it->is_object()) return nullptr;
+  if (it->contains("base")) return &it->at("base");
+  if (it->contains("value")) return &it->at("value");
+  return nullptr;
+}
+
+double metric(const RunRecord& r, const std::string& location, const std::string& name) {
+  for (const Metric& m : r.metrics)
+    if (m.location == location && m.metric == name) return m.value;
+  return std::nan("");
+}
+
+}  // namespace
+
+bool on_paper_setup(const RunRecord& r, const std::string& scheme, const nlohmann::ordered_json& settings) {
+  if (r.scheme != scheme || r.status != "done") return false;
+  for (const auto& [key, fallback] : default_values().items()) {
+    const bool set = settings.contains(key);
+    const nlohmann::ordered_json& want = set ? settings.at(key) : fallback;
+    const nlohmann::ordered_json* have = stored_value(r.config, key);
+    if (!have) {
+      if (set) return false;
+      continue;  // a key of another scheme's own section, which the run does not read
+    }
+    if (want.is_number() && have->is_number()) {
+      const double w = want.get<double>(), h = have->get<double>();
+      if (std::abs(h - w) > 1e-9 * std::max(1.0, std::abs(w))) return false;
+    } else if (*have != want) {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<std::vector<ClaimMeasured>> measure_claims(const std::vector<Claim>& claims, const std::vector<RunRecord>& runs) {
+  std::vector<const RunRecord*> done;
+  for (const RunRecord& r : runs)
+    if (r.status == "done") done.push_back(&r);
+  std::stable_sort(done.begin(), done.end(), [](const RunRecord* a, const RunRecord* b) {
+    return std::tie(a->sweep, a->position) < std::tie(b->sweep, b->position);
+  });
+  const auto group = [](const RunRecord& r) { return std::make_tuple(r.scene, r.resolution, r.frame, r.aniso); };
+  const nlohmann::ordered_json resolved = resolved_claims_json(claims)["claims"];
+  std::vector<std::vector<ClaimMeasured>> out;
+  for (size_t c = 0; c < claims.size(); ++c) {
+    out.emplace_back();
+    for (size_t k = 0; k < claims[c].values.size(); ++k) {
+      const ClaimValue& v = claims[c].values[k];
+      const nlohmann::ordered_json& set = resolved[c]["values"][k]["set"];
+      const nlohmann::ordered_json& against_set = resolved[c]["values"][k]["against_set"];
+      ClaimMeasured m;
+      std::set<std::tuple<std::string, std::string, int, int>> seen;
+      for (const RunRecord* r : done) {
+        if (!on_paper_setup(*r, v.scheme, set) || seen.count(group(*r))) continue;
+        double x = std::nan("");
+        if (v.measure == "best_to_worst") {
+          x = metric(*r, "frame", "best_to_worst");
+        } else if (v.measure == "engine_storage") {
+          x = metric(*r, r->scheme, "engine_storage");
+        } else {
+          const RunRecord* ref = nullptr;
+          for (const RunRecord* a : done)
+            if (group(*a) == group(*r) && on_paper_setup(*a, v.against, against_set)) {
+              ref = a;
+              break;
+            }
+          if (!ref) continue;
+          if (v.measure == "speedup") x = metric(*ref, "frame", "latency") / metric(*r, "frame", "latency");
+          else if (v.measure == "latency") x = metric(*r, "frame", "latency") / metric(*ref, "frame", "latency");
+          else if (v.measure == "throughput") x = metric(*r, "frame", "throughput") / metric(*ref, "frame", "throughput");
+          else if (v.measure == "traffic") {
+            const double b = metric(*ref, "frame", "inter_gpm_bytes");
+            x = b != 0 ? metric(*r, "frame", "inter_gpm_bytes") / b : std::nan("");
+          }
+        }
+        if (!std::isfinite(x)) continue;
+        seen.insert(group(*r));
+        m.per.emplace_back(r->scene, r->resolution, x);
+      }
+      double logs = 0;
+      size_t n = 0;
+      for (const auto& [scene, resolution, x] : m.per)
+        if (x > 0) {
+          logs += std::log(x);
+          ++n;
+        }
+      m.mean = n ? std::exp(logs / double(n)) : std::nan("");
+      out.back().push_back(std::move(m));
+    }
+  }
+  return out;
 }
 
 }  // namespace oovr

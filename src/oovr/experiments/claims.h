@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -39,7 +40,31 @@ const std::vector<Claim>& paper_claims();
 
 // The claims with every setting resolved to the value in base units the
 // results database stores, and the machine's defaults likewise:
-// {"defaults": {key: value}, "claims": [...]}, what the report reads.
+// {"defaults": {key: value}, "claims": [...]}.
 nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims);
+
+struct RunRecord;
+
+// One claim value measured in a results database: oovr's ratio for each
+// (scene, resolution) whose runs match the value's setup, in the order the
+// groups were found, and their geometric mean (NaN when none matched).
+struct ClaimMeasured {
+  std::vector<std::tuple<std::string, std::string, double>> per;  // (scene, resolution, ratio)
+  double mean = 0;
+};
+
+// The claims' values measured in `runs` (a database's, any order; they are
+// taken by sweep and position). A run matches a value's setup when it is
+// its scheme, done, on the paper's machine (oovr's defaults) with only the
+// value's settings changed, keys its run does not read aside; the run it is
+// relative to (`against`) is the first that matches in the same scene,
+// resolution, first frame and filtering. The one evaluation of the claims
+// over stored runs: `oovr report` writes it for its page
+// (resolved_claims_json's "measured").
+std::vector<std::vector<ClaimMeasured>> measure_claims(const std::vector<Claim>& claims, const std::vector<RunRecord>& runs);
+// Whether a run is on the paper's machine: `scheme`, done, every key at
+// oovr's default but those of `settings` (resolved as resolved_claims_json
+// writes them), keys the run does not read aside.
+bool on_paper_setup(const RunRecord& r, const std::string& scheme, const nlohmann::ordered_json& settings);
 
 }  // namespace oovr

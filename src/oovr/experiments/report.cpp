@@ -24,19 +24,34 @@ namespace fs = std::filesystem;
 std::string write_report(const ReportOptions& o) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(o.db, ec))) throw Error("no results database '" + o.db + "' (oovr sweep writes one)");
+  std::vector<RunRecord> runs;
   {
     // An oovr results database, of a schema this oovr reads, whole: the
     // script draws and divides what it holds. Opened read-only.
     const ResultsDb db(o.db, ResultsDb::Access::read_only);
     db.verify();
+    runs = db.runs(false);  // the claims need their figures, not their images
   }
   fs::create_directories(o.out, ec);
   if (ec) throw Error("cannot create the folder '" + o.out + "': " + ec.message());
   const std::string script = (fs::path(o.out) / "report.py").string();
   const std::string claims = (fs::path(o.out) / "claims.json").string();
   write_output_file(script, embedded::report_py, "report script");
-  // The claims and the order schemes are drawn in (the registered one).
+  // The claims with oovr's values measured in the database (the one
+  // evaluation, claims.h: the script draws what it is given), the runs on
+  // the paper's machine, and the order schemes are drawn in.
   nlohmann::ordered_json context = resolved_claims_json(paper_claims());
+  const auto measured = measure_claims(paper_claims(), runs);
+  for (size_t c = 0; c < measured.size(); ++c)
+    for (size_t k = 0; k < measured[c].size(); ++k) {
+      nlohmann::ordered_json per = nlohmann::ordered_json::array();
+      for (const auto& [scene, resolution, x] : measured[c][k].per) per.push_back({scene, resolution, x});
+      context["claims"][c]["values"][k]["measured"] = per;
+    }
+  nlohmann::ordered_json paper_setup = nlohmann::ordered_json::array();
+  for (const RunRecord& r : runs)
+    if (on_paper_setup(r, r.scheme, nlohmann::ordered_json::object())) paper_setup.push_back(r.id);
+  context["paper_setup"] = paper_setup;
   context["scheme_order"] = schemes_in_order();
   write_output_file(claims, context.dump(1) + "\n", "claims");
 

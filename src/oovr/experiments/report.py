@@ -2,9 +2,10 @@
 """oovr's report: plots and one HTML page from an oovr results database.
 
 `oovr report RESULTS.db --out DIR` writes this script into DIR with claims.json
-(the paper's claims, resolved to base units, and the machine's defaults) and
-runs it with Debian's Python and matplotlib; to draw the page again after
-editing it:  /usr/bin/python3 DIR/report.py RESULTS.db DIR
+(the paper's claims with oovr's values as oovr measured them in the database,
+the runs on the paper's machine, the order schemes are drawn in) and runs it
+with Debian's Python and matplotlib; to draw the page again after editing it
+(the database unchanged):  /usr/bin/python3 DIR/report.py RESULTS.db DIR
 (docs/report.md describes what it draws).
 """
 import html
@@ -116,64 +117,18 @@ def group_key(run):
     return (run["scene"], run["resolution"], run["frame"], run["aniso"])
 
 
-def matches(run, scheme, settings, defaults):
-    """The run is `scheme` on the paper's machine with `settings` changed."""
-    if run["scheme"] != scheme or run["status"] != "done":
-        return False
-    for key, default in defaults.items():
-        want = settings.get(key, default)
-        have = config_value(run, key)
-        if have is None and key not in settings:
-            continue  # a key of another scheme's own section, which the run does not read
-        if isinstance(want, (int, float)) and isinstance(have, (int, float)):
-            if abs(have - want) > 1e-9 * max(1.0, abs(want)):
-                return False
-        elif have != want:
-            return False
-    return True
-
-
 def geomean(values):
     v = [x for x in values if isinstance(x, (int, float)) and math.isfinite(x) and x > 0]
     return math.exp(sum(math.log(x) for x in v) / len(v)) if v else float("nan")
 
 
-def claim_values(runs, claims, defaults):
-    """For each claim value: oovr's ratio per (scene, resolution)."""
-    done = [r for r in runs.values() if r["status"] == "done"]
+def claim_values(claims):
+    """For each claim value: oovr's ratio per (scene, resolution), as oovr
+    measured it in the database (claims.h, measure_claims)."""
     out = []
     for claim in claims:
         for v in claim["values"]:
-            per = {}
-            for r in done:
-                if not matches(r, v["scheme"], v["set"], defaults):
-                    continue
-                g = group_key(r)
-                if g in per:
-                    continue
-                m = v["measure"]
-                x = float("nan")
-                if m == "best_to_worst":
-                    x = metric(r, "frame", "best_to_worst")
-                elif m == "engine_storage":
-                    x = metric(r, r["scheme"], "engine_storage")
-                else:
-                    ref = next((a for a in done if group_key(a) == g and matches(a, v["against"], v["against_set"], defaults)),
-                               None)
-                    if ref is None:
-                        continue
-                    if m == "speedup":
-                        x = metric(ref, "frame", "latency") / metric(r, "frame", "latency")
-                    elif m == "latency":
-                        x = metric(r, "frame", "latency") / metric(ref, "frame", "latency")
-                    elif m == "throughput":
-                        x = metric(r, "frame", "throughput") / metric(ref, "frame", "throughput")
-                    elif m == "traffic":
-                        b = metric(ref, "frame", "inter_gpm_bytes")
-                        x = metric(r, "frame", "inter_gpm_bytes") / b if b else float("nan")
-                if math.isfinite(x):
-                    per[g] = x
-            out.append((claim, v, per))
+            out.append((claim, v, {(scene, res): x for scene, res, x in v["measured"]}))
     return out
 
 
@@ -284,7 +239,7 @@ def swept_figures(sweep, runs, out):
     return made
 
 
-def image_figures(con, runs, out, defaults):
+def image_figures(con, runs, out, paper_setup):
     """GPM images with a legend, and per-tile traffic with a scale: one run
     per sweep, scene, resolution and scheme (the paper's setup where the
     sweep has it, else the sweep's first point of the scheme)."""
@@ -292,9 +247,9 @@ def image_figures(con, runs, out, defaults):
     best = {}
     for r in sorted((runs[i] for i in ids if i in runs), key=lambda r: (r["sweep"], r["position"])):
         key = (r["sweep"], r["scene"], r["resolution"], r["scheme"])
-        paper_setup = matches(r, r["scheme"], {}, defaults)
-        if key not in best or (paper_setup and not best[key][0]):
-            best[key] = (paper_setup, r)
+        on_paper = r["id"] in paper_setup
+        if key not in best or (on_paper and not best[key][0]):
+            best[key] = (on_paper, r)
     chosen = sorted((r for _, r in best.values()), key=lambda r: (r["sweep"], r["position"]))[:MAX_IMAGE_RUNS]
     made = []
     for r in chosen:
@@ -356,7 +311,7 @@ def main():
         claims = json.load(f)
     ORDER[:] = claims["scheme_order"]
     con, runs, sweeps = load(db)
-    values = claim_values(runs, claims["claims"], claims["defaults"])
+    values = claim_values(claims["claims"])
 
     body = ["<h1>oovr report</h1>",
             "<p>{} runs ({} done, {} failed) in <code>{}</code>, from {} sweep(s); oovr {}.</p>".format(
@@ -406,7 +361,7 @@ def main():
                           + ["status", "latency (ms)", "speed-up over baseline", "frames/s", "inter-GPM (MB/frame)",
                              "best/worst", "error"], rows))
 
-    imgs = image_figures(con, runs, out, claims["defaults"])
+    imgs = image_figures(con, runs, out, set(claims["paper_setup"]))
     if imgs:
         body.append("<h2>Images</h2><p>The first frame of runs stored with <code>images = true</code>, one per sweep, "
                     "scene, resolution and scheme (the paper's setup where the sweep has it; at most {}): each pixel "

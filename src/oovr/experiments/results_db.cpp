@@ -476,7 +476,7 @@ void ResultsDb::scope_runs_to_schemes() {
   }
 }
 
-std::vector<RunRecord> ResultsDb::runs() const {
+std::vector<RunRecord> ResultsDb::runs(bool images) const {
   std::vector<RunRecord> out;
   {
     Statement s(m_db, "SELECT * FROM runs ORDER BY id", m_path);
@@ -518,6 +518,7 @@ std::vector<RunRecord> ResultsDb::runs() const {
     m.bind(1, r.id);
     while (m.step()) r.metrics.push_back({m.text(0), m.text(1), m.real(2), m.text(3)});
     m.reset();
+    if (!images) continue;
     im.bind(1, r.id);
     while (im.step()) r.images.push_back({im.text(0), int(im.integer(1)), int(im.integer(2)), im.blob(3), im.text(4)});
     im.reset();

@@ -159,8 +159,9 @@ class ResultsDb {
   // Writes a run, its metrics and images in one transaction. Returns false
   // (and writes nothing) when a run with its id is there already.
   bool insert(const RunRecord& r);
-  // Every run, sorted by id (what two databases are compared by).
-  std::vector<RunRecord> runs() const;
+  // Every run, sorted by id (what two databases are compared by); without
+  // `images`, their images are left out (what a reader of figures needs).
+  std::vector<RunRecord> runs(bool images = true) const;
   // Checks the whole database before it is resumed, reported or written
   // up: SQLite's quick_check, the sweeps table, and every run
   // (check_run_record, and a sweep of its name recorded). Throws Error
