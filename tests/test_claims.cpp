@@ -42,6 +42,9 @@ TEST(Claims, TheCarriedFileHoldsP1ToP16WithKnownSchemesAndKeys) {
   EXPECT_DOUBLE_EQ(*claims[0].values[1].paper, 0.58);
   EXPECT_DOUBLE_EQ(*claims[13].values[2].paper, 6.27);
   EXPECT_FALSE(claims[7].values[0].paper);  // P8: figure only
+  // The comparison document's tolerances are the claims file's.
+  EXPECT_DOUBLE_EQ(*claims[1].values[0].tolerance, 0.25);  // P2
+  EXPECT_FALSE(claims[3].values[0].tolerance);             // P4: direction only
 }
 
 TEST(Claims, BadFilesAreRefused) {
@@ -54,6 +57,12 @@ TEST(Claims, BadFilesAreRefused) {
   EXPECT_NE(error(head + value + "measure = 'speedup'\npaper = -1\n").find("line"), std::string::npos);
   EXPECT_NE(error(head + value + "measure = 'speedup'\nset = 3\n").find("set is a table"), std::string::npos);
   EXPECT_EQ(error(head + value + "measure = 'speedup'\npaper = 1.5\n"), "<no error>");
+  // A tolerance is a positive number, and needs the paper's number it is near.
+  EXPECT_EQ(error(head + value + "measure = 'speedup'\npaper = 1.5\ntolerance = 0.2\n"), "<no error>");
+  EXPECT_NE(error(head + value + "measure = 'speedup'\npaper = 1.5\ntolerance = 0\n").find("tolerance takes a positive number"),
+            std::string::npos);
+  EXPECT_NE(error(head + value + "measure = 'speedup'\ntolerance = 0.2\n").find("tolerance without the paper's number"),
+            std::string::npos);
   // A setting no component takes is an error naming the claim.
   const auto bad = parse_claims(head + value + "measure = 'speedup'\nset = { 'link.bandwith' = '1TBps' }\n", "c.toml");
   EXPECT_NE(message_of([&] { (void)resolved_claims_json(bad); }).find("P1 (l)"), std::string::npos);

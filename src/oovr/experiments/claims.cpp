@@ -101,6 +101,12 @@ std::vector<Claim> parse_claims(const std::string& text, const std::string& name
       }
       x.form = r.text(v, "form");
       if (x.form != "percent" && x.form != "times" && x.form != "bits") r.fail(v, "form '" + x.form + "' (percent, times, bits)");
+      if (const toml::node* tn = v.get("tolerance")) {
+        const auto d = tn->value<double>();
+        if (!d || !std::isfinite(*d) || *d <= 0) r.fail(*tn, "tolerance takes a positive number");
+        if (!x.paper) r.fail(*tn, "tolerance without the paper's number");
+        x.tolerance = *d;
+      }
       if (const toml::node* a = v.get("about")) {
         if (!a->as_boolean()) r.fail(*a, "about takes true or false");
         x.about = a->as_boolean()->get();
@@ -164,6 +170,7 @@ nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
       if (v.paper) y["paper"] = *v.paper;
       y["form"] = v.form;
       y["about"] = v.about;
+      if (v.tolerance) y["tolerance"] = *v.tolerance;
       values.push_back(y);
     }
     x["values"] = values;

@@ -24,6 +24,9 @@ struct ClaimValue {
   std::optional<double> paper;  // the paper's ratio (or bits); none where it gives no number
   std::string form;             // percent, times or bits
   bool about = false;
+  // How near oovr's mean must come to `paper` for the comparison document
+  // to count it as agreeing; none where it judges the direction only.
+  std::optional<double> tolerance;
 };
 
 struct Claim {

@@ -67,6 +67,14 @@ std::string paper_text(const std::string& id, const std::string& label) {
 }
 // A frame-rate loss as a positive percentage: 0.58 -> "42%".
 double paper_loss(const std::string& id, const std::string& label) { return (1 - paper(id, label)) * 100; }
+
+// How near oovr must come to the paper's number to agree (the claims file's
+// `tolerance`).
+double tolerance(const std::string& id, const std::string& label) {
+  for (const ClaimValue& x : paper_claim(id).values)
+    if (x.label == label && x.tolerance) return *x.tolerance;
+  throw Error("the claims file gives " + id + " (" + label + ") no tolerance");
+}
 class Doc {
  public:
   Doc(const PaperResults& results, const PaperOptions& options, std::string plots_link)
@@ -990,7 +998,7 @@ class Doc {
       return t / link_seconds(s, double(get(s, "baseline").total_inter_gpm_bytes()), 64);
     });
     claim(
-        std::abs(loss("64GBps") - paper_loss("P1", "64 GB/s")) < 10,
+        std::abs(loss("64GBps") - paper_loss("P1", "64 GB/s")) < 100 * tolerance("P1", "64 GB/s"),
         fmt::format(
             "**P1, magnitude.** At 64 GB/s the baseline loses {:.0f}% of its 1 TB/s frame rate (the paper: {:.0f}%), "
             "at 32 GB/s {:.0f}% (the paper: {:.0f}%). Two things hold it back. Its front ends: every GPM receives every draw, "
@@ -1018,7 +1026,7 @@ class Doc {
                       of_n(count([&](auto& s) { return sp(s, "afr") < 1; })),
                       range(each([&](auto& s) { return 1 / sp(s, "afr"); }), true)));
     const double afr_thr = mean([&](auto& s) { return thr(s, "afr", "baseline"); });
-    claim(std::abs(afr_thr - paper("P2", "AFR throughput")) < 0.25,
+    claim(std::abs(afr_thr - paper("P2", "AFR throughput")) < tolerance("P2", "AFR throughput"),
           fmt::format("**P2, magnitude.** AFR's throughput is {} the baseline's (the paper {}). Each AFR GPM receives only its "
                       "own frame's draws, while the baseline's four front ends each receive every draw: where the draws "
                       "dominate (X9) AFR's advantage approaches 4x. For the paper's {} the baseline's front ends would have to "
@@ -1030,7 +1038,7 @@ class Doc {
                                                  return a && b ? a->throughput_fps / b->throughput_fps : std::nan("");
                                                })))
                                  : ""));
-    claim(std::abs(mean([&](auto& s) { return 1 / sp(s, "afr"); }) - paper("P3", "AFR latency")) < 0.2,
+    claim(std::abs(mean([&](auto& s) { return 1 / sp(s, "afr"); }) - paper("P3", "AFR latency")) < tolerance("P3", "AFR latency"),
           fmt::format("**P3, magnitude.** AFR's single frame takes {} longer than the baseline's (the paper: {}): one GPM "
                       "renders it, against four GPMs that are {} faster than one here (X6).",
                       pct(mean([&](auto& s) { return 1 / sp(s, "afr"); })), paper_text("P3", "AFR latency"), times(x6)));
@@ -1083,7 +1091,7 @@ class Doc {
                       range(each([&](auto& s) { return get(s, "object").best_to_worst(); }), false)));
     // P9
     claim(most([&](auto& s) { return sp(s, "oo-app") > 1 && sp(s, "oo-app", "object") > 1; }) &&
-              std::abs(mean([&](auto& s) { return sp(s, "oo-app"); }) - paper("P9", "oo-app")) < 0.3,
+              std::abs(mean([&](auto& s) { return sp(s, "oo-app"); }) - paper("P9", "oo-app")) < tolerance("P9", "oo-app"),
           fmt::format(
               "**P9.** OO_APP is {} against the baseline (mean {}, the paper {}) and {} against object-level SFR (mean {}, "
               "the paper {}). Batching by texture sharing keeps texture reads local and each object's two views are one "
@@ -1095,7 +1103,7 @@ class Doc {
               pct(mean([&](auto& s) { return sp(s, "oo-app", "object"); })), paper_text("P9", "oo-app over object"),
               shares(busiest("oo-app")), paper_text("P9", "oo-app")));
     // P10
-    claim(std::abs(mean([&](auto& s) { return sp(s, "oo-vr"); }) - paper("P10", "oo-vr")) < 0.25 &&
+    claim(std::abs(mean([&](auto& s) { return sp(s, "oo-vr"); }) - paper("P10", "oo-vr")) < tolerance("P10", "oo-vr") &&
               most([&](auto& s) { return sp(s, "oo-vr", "oo-app") > 1; }),
           fmt::format(
               "**P10.** OO-VR is {} the baseline's speed (mean {}, the paper {}), {} against object-level SFR ({}) and "
@@ -1124,8 +1132,8 @@ class Doc {
     // P12
     const double afr_lat = mean([&](auto& s) { return sp(s, "oo-vr", "afr"); });
     const double vs_afr = mean([&](auto& s) { return thr(s, "oo-vr", "afr"); });
-    claim(std::abs(vs_afr - paper("P12", "oo-vr throughput over afr")) < 0.2 &&
-              std::abs(afr_lat - paper("P12", "afr latency over oo-vr")) < 0.3,
+    claim(std::abs(vs_afr - paper("P12", "oo-vr throughput over afr")) < tolerance("P12", "oo-vr throughput over afr") &&
+              std::abs(afr_lat - paper("P12", "afr latency over oo-vr")) < tolerance("P12", "afr latency over oo-vr"),
           fmt::format("**P12.** OO-VR's throughput is {} of AFR's (the paper: similar), and AFR's single frame is {} slower than "
                       "OO-VR's (the paper: {}). AFR's frames in flight keep every GPM busy with no traffic at all, each GPM "
                       "receiving a quarter of the draws; OO-VR also divides the draws but pays composition ({}, X2) and its "
@@ -1156,7 +1164,7 @@ class Doc {
     // P14
     const auto at = [&](const std::string& scheme, int g) { return mean([&](auto& s) { return F.gpms(s, scheme, g); }); };
     const bool order = at("oo-vr", 8) > at("object", 8) && at("object", 8) > at("baseline", 8);
-    claim(order && std::abs(at("oo-vr", 8) - paper("P14", "oo-vr, 8 GPMs")) < 1,
+    claim(order && std::abs(at("oo-vr", 8) - paper("P14", "oo-vr, 8 GPMs")) < tolerance("P14", "oo-vr, 8 GPMs"),
           fmt::format(
               "**P14.** Over one GPM, at 8 GPMs OO-VR reaches {}, object-level SFR {} and the baseline {} (the paper "
               "{}, {}, {}); at 4 GPMs OO-VR {} ({}); at 16 GPMs {}, {} and {}. {}",
@@ -1178,7 +1186,7 @@ class Doc {
       vs_hi = std::max(vs_hi, r.stats.at(s).vertex_share);
     }
     const double smp = mean([&](auto& s) { return sp(s, "single-gpm", "two-pass"); });
-    claim(std::abs(smp - paper("P15", "SMP")) < 0.1,
+    claim(std::abs(smp - paper("P15", "SMP")) < tolerance("P15", "SMP"),
           fmt::format("**P15.** SMP is {} against rendering the two views in sequence (mean {}, the paper {}). Two passes issue "
                       "every draw twice and transform its vertices twice; vertex shading is {:.1f}% to {:.1f}% of these scenes' "
                       "shader work (the table at the top), so most of the difference is the second draw's front-end cost, "
