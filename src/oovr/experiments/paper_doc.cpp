@@ -75,6 +75,7 @@ double tolerance(const std::string& id, const std::string& label) {
     if (x.label == label && x.tolerance) return *x.tolerance;
   throw Error("the claims file gives " + id + " (" + label + ") no tolerance");
 }
+
 class Doc {
  public:
   Doc(const PaperResults& results, const PaperOptions& options, std::string plots_link)
