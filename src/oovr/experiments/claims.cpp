@@ -140,15 +140,23 @@ nlohmann::ordered_json resolve(const std::map<std::string, std::string>& set, co
   return out;
 }
 
+// The machine's defaults as results store them (base values).
+const nlohmann::ordered_json& default_values() {
+  static const nlohmann::ordered_json d = [] {
+    Config defaults;
+    check_config(defaults);
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
+    for (const auto& [k, e] : defaults.entries()) j[k] = base_value(e);
+    return j;
+  }();
+  return d;
+}
+
 }  // namespace
 
 nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
   nlohmann::ordered_json j;
-  Config defaults;
-  check_config(defaults);
-  nlohmann::ordered_json d = nlohmann::ordered_json::object();
-  for (const auto& [k, e] : defaults.entries()) d[k] = base_value(e);
-  j["defaults"] = d;
+  j["defaults"] = default_values();
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const Claim& c : claims) {
     nlohmann::ordered_json x;
@@ -181,18 +189,6 @@ nlohmann::ordered_json resolved_claims_json(const std::vector<Claim>& claims) {
 }
 
 namespace {
-
-// The machine's defaults as results store them (base values).
-const nlohmann::ordered_json& default_values() {
-  static const nlohmann::ordered_json d = [] {
-    Config defaults;
-    check_config(defaults);
-    nlohmann::ordered_json j = nlohmann::ordered_json::object();
-    for (const auto& [k, e] : defaults.entries()) j[k] = base_value(e);
-    return j;
-  }();
-  return d;
-}
 
 // A stored configuration entry's value: its base number, else its text.
 const nlohmann::ordered_json* stored_value(const nlohmann::ordered_json& config, const std::string& key) {

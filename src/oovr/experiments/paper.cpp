@@ -190,8 +190,7 @@ PaperResults run_paper(PaperOptions& o) {
   });
 
   // What the writers need to know of the runs.
-  o.config = o.machine;
-  o.spec = MachineSpec::from_config(o.config);
+  o.spec = MachineSpec::from_config(o.machine);
   o.resolutions.clear();
   o.sweep_resolution.clear();
   for (size_t i : which) {

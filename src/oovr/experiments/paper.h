@@ -47,8 +47,7 @@ struct PaperOptions {
   bool steps = false;
   bool copies = false;
   bool workloads = false;
-  Config config;     // the machine as the document describes it (= machine)
-  MachineSpec spec;  // and as read, once (MachineSpec::from_config of it)
+  MachineSpec spec;  // the machine as the document describes it: `machine`, read once
 };
 
 // One run: `variant` names the overrides on top of the machine ("" for none).

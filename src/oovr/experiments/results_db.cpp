@@ -447,12 +447,7 @@ void ResultsDb::scope_runs_to_schemes() {
   exec("PRAGMA defer_foreign_keys = ON");
   std::set<std::string> ids;
   for (const auto& [id, status] : run_status()) ids.insert(id);
-  std::map<std::string, std::string> checksums;
-  {
-    Statement s(m_db, "SELECT id, checksum FROM runs", m_path);
-    while (s.step())
-      if (!s.value(1).is_null()) checksums[s.text(0)] = s.text(1);
-  }
+  const std::map<std::string, std::string> checksums = stored_checksums();
   for (RunRecord r : runs()) {
     const std::string old = r.id;
     const auto sum = checksums.find(old);
@@ -474,6 +469,15 @@ void ResultsDb::scope_runs_to_schemes() {
     ids.erase(old);
     ids.insert(r.id);
   }
+}
+
+std::map<std::string, std::string> ResultsDb::stored_checksums() const {
+  std::map<std::string, std::string> out;
+  if (!has_column("runs", "checksum")) return out;  // version 1, read as it is
+  Statement s(m_db, "SELECT id, checksum FROM runs", m_path);
+  while (s.step())
+    if (!s.value(1).is_null()) out[s.text(0)] = s.text(1);
+  return out;
 }
 
 std::vector<RunRecord> ResultsDb::runs(bool images) const {
@@ -572,12 +576,7 @@ void ResultsDb::verify() const {
   }
   for (const InFlight& f : in_flight())
     if (!is_run_id(f.id) || f.deaths < 0 || f.pid < 0) damaged("a point marked in flight that is not one of oovr's");
-  std::map<std::string, std::string> checksums;
-  if (has_column("runs", "checksum")) {
-    Statement s(m_db, "SELECT id, checksum FROM runs", m_path);
-    while (s.step())
-      if (!s.value(1).is_null()) checksums[s.text(0)] = s.text(1);
-  }
+  const std::map<std::string, std::string> checksums = stored_checksums();
   try {
     for (const RunRecord& r : runs()) {
       if (const auto c = checksums.find(r.id); c != checksums.end() && c->second != record_checksum(r))

@@ -186,6 +186,8 @@ class ResultsDb {
   std::set<std::string> columns() const;
   bool has_table(const std::string& name) const;
   bool has_column(const std::string& table, const std::string& column) const;
+  // Each run's stored checksum, for the runs that have one.
+  std::map<std::string, std::string> stored_checksums() const;
   std::unique_ptr<DatabaseLock> m_lock;  // the writer's own lock, released after SQLite closes the file
   std::string m_path;
   sqlite3* m_db = nullptr;

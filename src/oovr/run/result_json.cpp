@@ -101,10 +101,8 @@ void stats_from_memory_json(const nlohmann::ordered_json& mem, int gpms, Stats& 
   for (size_t g = 0; g < dram.size(); ++g) out.count(gpm(g) + ".dram", "bytes", json_count(dram[g], "DRAM bytes"), "B");
   for (const auto& l : mem.at("links")) {
     const std::string name = l.at("link").get<std::string>();
-    const auto arrow = name.find("->");
-    if (arrow == std::string::npos) throw Error("a run's result with a link named '" + name + "'");
-    const auto node = [](std::string x) { return x.rfind("gpm", 0) == 0 ? x.substr(3) : x; };
-    const std::string at = "link[" + node(name.substr(0, arrow)) + "->" + node(name.substr(arrow + 2)) + "]";
+    const std::string at = link_location_of(name);
+    if (at.empty()) throw Error("a run's result with a link named '" + name + "'");
     out.count(at, "bytes", json_count(l.at("bytes"), "bytes"), "B");
     out.add(at, "utilisation", json_finite(l.at("utilisation"), "a link's utilisation"));
   }

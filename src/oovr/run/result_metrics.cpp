@@ -32,6 +32,13 @@ std::string link_name_at(const std::string& location) {
   return node(location.substr(5, arrow - 5)) + "->" + node(location.substr(arrow + 2, location.size() - arrow - 3));
 }
 
+std::string link_location_of(const std::string& name) {
+  const auto arrow = name.find("->");
+  if (arrow == std::string::npos) return "";
+  const auto node = [](const std::string& n) { return n.rfind("gpm", 0) == 0 ? n.substr(3) : n; };
+  return "link[" + node(name.substr(0, arrow)) + "->" + node(name.substr(arrow + 2)) + "]";
+}
+
 std::vector<Metric> metrics_of(const SchemeResult& r) {
   std::vector<Metric> out;
   const auto add = [&](const std::string& location, const std::string& metric, double value, const std::string& unit) {

@@ -39,5 +39,8 @@ double utilisation_of(const SchemeResult& r, const std::string& location);
 // "link[0->1]" -> "gpm0->gpm1", "link[2->switch0]" -> "gpm2->switch0": the
 // topology's name of the link at a statistics location (JSON's `links`).
 std::string link_name_at(const std::string& location);
+// Its inverse: the statistics location of a link the topology names
+// ("gpm0->gpm1" -> "link[0->1]"); empty for a name without "->".
+std::string link_location_of(const std::string& name);
 
 }  // namespace oovr
