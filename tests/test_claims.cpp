@@ -45,6 +45,10 @@ TEST(Claims, TheCarriedFileHoldsP1ToP16WithKnownSchemesAndKeys) {
   // The comparison document's tolerances are the claims file's.
   EXPECT_DOUBLE_EQ(*claims[1].values[0].tolerance, 0.25);  // P2
   EXPECT_FALSE(claims[3].values[0].tolerance);             // P4: direction only
+  // Each claim says what oovr must show to agree with it.
+  for (const Claim& c : claims) EXPECT_FALSE(c.checks.empty()) << c.id;
+  EXPECT_EQ(claims[0].checks[0].part, "direction");
+  EXPECT_EQ(claims[0].checks[0].when[0].rising.size(), 5u);
 }
 
 TEST(Claims, BadFilesAreRefused) {
@@ -66,6 +70,117 @@ TEST(Claims, BadFilesAreRefused) {
   // A setting no component takes is an error naming the claim.
   const auto bad = parse_claims(head + value + "measure = 'speedup'\nset = { 'link.bandwith' = '1TBps' }\n", "c.toml");
   EXPECT_NE(message_of([&] { (void)resolved_claims_json(bad); }).find("P1 (l)"), std::string::npos);
+}
+
+// The checks' vocabulary, read: each mistake named.
+TEST(Claims, BadChecksAreRefused) {
+  const auto error = [](const std::string& checks) {
+    const std::string text =
+        "[[claim]]\nid = 'P1'\nsection = '1'\nfigure = 'f'\nwhat = 'w'\nwords = 'x'\nshort = 's'\n"
+        "[[claim.value]]\nlabel = 'a'\nscheme = 'baseline'\nform = 'times'\nmeasure = 'speedup'\npaper = 1.5\ntolerance = 0.2\n"
+        "[[claim.value]]\nlabel = 'b'\nscheme = 'afr'\nform = 'times'\nmeasure = 'speedup'\n" +
+        checks;
+    return message_of([&] { (void)parse_claims(text, "c.toml"); });
+  };
+  const std::string check = "[[claim.check]]\nsays = 's'\n";
+  EXPECT_EQ(error(check + "over = 'all'\nwhen = [ { value = 'a', above = 'b' } ]\n"), "<no error>");
+  EXPECT_EQ(error(check + "over = 'mean'\nwhen = [ { value = 'b', below = 'a', gain = 0.5 }, { value = 'a', near = true } ]\n"),
+            "<no error>");
+  EXPECT_EQ(error(check + "over = 'most'\nwhen = [ { rising = ['a', 'b'] } ]\n"), "<no error>");
+  EXPECT_NE(error(check + "over = 'some'\nwhen = [ { value = 'a', above = 1 } ]\n").find("over 'some' (all, most or mean)"),
+            std::string::npos);
+  EXPECT_NE(error("[[claim.check]]\nover = 'all'\nwhen = [ { value = 'a', above = 1 } ]\n").find("missing says"),
+            std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\n").find("needs when = [ conditions ]"), std::string::npos);
+  EXPECT_NE(
+      error(check + "over = 'all'\nwhen = [ { value = 'c', above = 1 } ]\n").find("P1 has no value 'c' (its values: 'a', 'b')"),
+      std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a', above = 'c' } ]\n").find("has no value 'c'"), std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a', beyond = 1 } ]\n").find("no key 'beyond'"), std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a', above = 1, below = 2 } ]\n").find("compares one way"),
+            std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a' } ]\n").find("needs one of above"), std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'b', near = true } ]\n").find("near needs the value's tolerance"),
+            std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a', above = 1, gain = 2 } ]\n").find("gain compares with another"),
+            std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a', above = 'b', gain = -1 } ]\n").find("gain takes a positive"),
+            std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { rising = ['a'] } ]\n").find("rising takes two or more"), std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ 1 ]\n").find("a condition is a table"), std::string::npos);
+  EXPECT_NE(error(check + "over = 'all'\nwhen = [ { value = 'a', above = 1 } ]\ncolour = 'red'\n").find("no key 'colour'"),
+            std::string::npos);
+}
+
+// The one judgement of the claims: each check on the values measured, over
+// every scene, most of them, or the means.
+TEST(Claims, ChecksAreJudgedOnTheMeasuredValues) {
+  const std::string values =
+      "[[claim]]\nid = 'T'\nsection = '1'\nfigure = 'f'\nwhat = 'w'\nwords = 'x'\nshort = 's'\n"
+      "[[claim.value]]\nlabel = 'a'\nscheme = 'baseline'\nform = 'times'\nmeasure = 'speedup'\npaper = 1.5\ntolerance = 0.2\n"
+      "[[claim.value]]\nlabel = 'b'\nscheme = 'afr'\nform = 'times'\nmeasure = 'speedup'\n"
+      "[[claim.value]]\nlabel = 'c'\nscheme = 'object'\nform = 'times'\nmeasure = 'speedup'\n"
+      "[[claim.value]]\nlabel = 'never'\nscheme = 'oo-vr'\nform = 'times'\nmeasure = 'speedup'\n";
+  const auto check = [](const std::string& over, const std::string& when) {
+    return "[[claim.check]]\nsays = 's'\nover = '" + over + "'\nwhen = [ " + when + " ]\n";
+  };
+  const auto claims = parse_claims(values + check("all", "{ value = 'a', above = 1 }") +                             // 0
+                                       check("most", "{ value = 'a', above = 'b' }") +                               // 1
+                                       check("mean", "{ value = 'a', near = true }") +                               // 2
+                                       check("all", "{ rising = ['c', 'b', 'a'] }") +                                // 3
+                                       check("mean", "{ value = 'b', below = 'a', gain = 0.5 }") +                   // 4
+                                       check("all", "{ value = 'never', above = 1 }") +                              // 5
+                                       check("mean", "{ value = 'c', at_most = 1 }") +                               // 6
+                                       check("all", "{ value = 'a', above = 1 }, { value = 'b', above = 0.6 }") +    // 7
+                                       check("most", "{ value = 'c', below = 'a' }, { value = 'a', above = 1.5 }"),  // 8
+                                   "t.toml");
+  const auto per = [](std::vector<std::pair<std::string, double>> xs, double mean) {
+    ClaimMeasured m;
+    for (const auto& [scene, x] : xs) m.per.emplace_back(scene, "160x128", x);
+    m.mean = mean;
+    return m;
+  };
+  std::vector<std::vector<ClaimMeasured>> measured = {{
+      per({{"s1", 1.4}, {"s2", 1.6}, {"s3", 0.9}}, 1.4),
+      per({{"s1", 1.1}, {"s2", 1.7}, {"s3", 0.5}}, 1.15),
+      per({{"s1", 1.0}, {"s2", 1.0}}, 1.0 + 1e-12),  // not measured on s3; its mean 1 but for rounding
+      per({}, std::nan("")),
+  }};
+  auto v = judge_claims(claims, measured)[0];
+  ASSERT_EQ(v.size(), 9u);
+  EXPECT_TRUE(v[0].measured);
+  EXPECT_FALSE(v[0].holds);  // s3: 0.9
+  EXPECT_EQ(v[0].met, 2);
+  EXPECT_EQ(v[0].of, 3);
+  EXPECT_TRUE(v[1].holds);  // s1 and s3 of three
+  EXPECT_EQ(v[1].met, 2);
+  EXPECT_TRUE(v[2].holds);  // 1.4 within 0.2 of 1.5
+  EXPECT_EQ(v[2].of, 1);
+  EXPECT_FALSE(v[3].holds);  // s2: b 1.7 above a 1.6; s3 has no c, so is not counted
+  EXPECT_EQ(v[3].met, 1);
+  EXPECT_EQ(v[3].of, 2);
+  EXPECT_TRUE(v[4].holds);  // b's gain 0.15 below half a's 0.4
+  EXPECT_FALSE(v[5].measured);
+  EXPECT_FALSE(v[5].holds);
+  EXPECT_TRUE(v[6].holds);   // at most 1 within rounding
+  EXPECT_FALSE(v[7].holds);  // every condition on the same scene: s3 fails both
+  EXPECT_EQ(v[7].met, 2);
+  EXPECT_FALSE(v[8].holds);  // half the scenes is not most
+  EXPECT_EQ(v[8].met, 1);
+  EXPECT_EQ(v[8].of, 2);
+  // Each verdict moves with what it judges.
+  measured[0][0].mean = 1.75;
+  measured[0][1].mean = 1.5;
+  measured[0][2].mean = 1.01;
+  measured[0][1].per[1] = {"s2", "160x128", 1.5};
+  measured[0][0].per[2] = {"s3", "160x128", 1.2};
+  v = judge_claims(claims, measured)[0];
+  EXPECT_TRUE(v[0].holds);
+  EXPECT_EQ(v[1].met, 3);
+  EXPECT_FALSE(v[2].holds);  // 1.75 is 0.25 from 1.5
+  EXPECT_TRUE(v[3].holds);
+  EXPECT_FALSE(v[4].holds);  // b's gain 0.5 above half a's 0.75
+  EXPECT_FALSE(v[6].holds);
 }
 
 // A done run of `scheme` on `scene` with `throughput` frames per second,

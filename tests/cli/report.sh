@@ -52,6 +52,10 @@ grep -q "<h2>Sweep small</h2>" rep/index.html || exit 1
 # The object-level P7 claim matches the 4-GPM runs; the 8-GPM P14 ones need single-gpm, absent here.
 grep -q "<td>P7</td><td>object</td>" rep/index.html || exit 1
 grep -q "no matching runs" rep/index.html || exit 1
+# Each claim's checks judged on the same runs: P7's on the means of the
+# 4-GPM runs; P14's need single-gpm, so they are not measured.
+grep -Eq "<tr><td>P7, direction</td>.*<td>(agrees|differs)</td><td></td></tr>" rep/index.html || { echo "P7 not judged"; exit 1; }
+grep -q "<tr><td>P14, direction</td>.*<td>not measured</td>" rep/index.html || { echo "P14 judged without its runs"; exit 1; }
 # A database that is not one: one clear error.
 echo "not a database" > bad.db
 if "$oovr" report bad.db --out bad > bad.log 2>&1; then echo "reported a bad database"; exit 1; fi

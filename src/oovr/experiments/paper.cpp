@@ -160,6 +160,10 @@ PaperResults run_paper(PaperOptions& o) {
     }
     const std::string canonical = differences(config, machine);
     read.push_back({p->second, {r.scene, r.resolution, r.scheme, canonical, std::move(result)}});
+    RunRecord kept = r;  // for the claims (measure_claims), without what they do not read
+    kept.result = nullptr;
+    kept.images.clear();
+    res.records.push_back(std::move(kept));
     done_scenes.push_back(r.scene);
   }
   // In the sweep file's order (the database's is its ids'), so that tables

@@ -73,6 +73,7 @@ struct PaperResults {
   std::map<std::string, PaperSceneStats> stats;
   std::vector<std::string> skipped;  // "scene: reason"
   std::vector<PaperRun> runs;        // `variant`: the run's settings that differ from the machine, canonical
+  std::vector<RunRecord> records;    // the same runs as stored (without their images): what the claims are measured on
   double seconds = 0;
   size_t ran = 0;  // points run now (the others were in the database)
   // The run of `scheme` on `scene` at `resolution` with the settings

@@ -48,6 +48,16 @@ std::string write_report(const ReportOptions& o) {
       for (const auto& [scene, resolution, x] : measured[c][k].per) per.push_back({scene, resolution, x});
       context["claims"][c]["values"][k]["measured"] = per;
     }
+  // ... and each claim's checks judged on them (every scene and resolution measured).
+  const auto verdicts = judge_claims(paper_claims(), measured);
+  for (size_t c = 0; c < verdicts.size(); ++c)
+    for (size_t k = 0; k < verdicts[c].size(); ++k) {
+      const CheckVerdict& v = verdicts[c][k];
+      nlohmann::ordered_json& j = context["claims"][c]["checks"][k];
+      j["verdict"] = !v.measured ? "not measured" : v.holds ? "agrees" : "differs";
+      j["met"] = v.met;
+      j["of"] = v.of;
+    }
   nlohmann::ordered_json paper_setup = nlohmann::ordered_json::array();
   for (const RunRecord& r : runs)
     if (on_paper_setup(r, r.scheme, nlohmann::ordered_json::object())) paper_setup.push_back(r.id);

@@ -136,7 +136,8 @@ def form(value, how):
     if not isinstance(value, (int, float)) or not math.isfinite(value):
         return "n/a"
     if how == "percent":
-        return "{:+.0f}%".format((value - 1) * 100)
+        p = (value - 1) * 100
+        return "0%" if abs(p) < 0.5 else "{:+.0f}%".format(p)  # as the comparison document writes it
     if how == "bits":
         return "{:.0f} bits".format(value)
     return "{:.2f}x".format(value)
@@ -333,6 +334,16 @@ def main():
                 "and resolutions; a claim without matching runs needs another sweep "
                 "(<code>experiments/paper.toml</code> runs them all).</p>")
     body.append(table(["claim", "value", "the paper's words", "paper", "oovr (mean)", "per scene and resolution"], rows))
+    checks = []
+    for claim in claims["claims"]:
+        for k in claim["checks"]:
+            on = "{} of {}".format(k["met"], k["of"]) if k["over"] != "mean" and k["verdict"] != "not measured" else ""
+            checks.append([claim["id"] + (", " + k["part"] if k["part"] else ""), k["says"],
+                           {"all": "every scene", "most": "most scenes", "mean": "the means"}[k["over"]],
+                           k["verdict"], on])
+    body.append("<p>What oovr must show to agree with each claim (<code>experiments/paper-claims.toml</code>), "
+                "judged on the same runs; where the database holds several resolutions each counts as a scene.</p>")
+    body.append(table(["claim", "check", "over", "oovr", "scenes it held on"], checks))
     for title, name in claim_figures(values, out):
         body.append(figure(name, title + ": oovr's value per scene and resolution (bars) and the paper's (diamonds)"))
 
