@@ -562,15 +562,32 @@ TEST(SweepRun, AStoredResultReadsBackExactly) {
   ASSERT_EQ(out.size(), 2u);
   for (const RunRecord& r : out) {
     ASSERT_EQ(r.status, "done") << r.error;
-    const SchemeResult back = scheme_result_from_json(r.result);
-    // Everything the JSON holds comes back: writing it again gives the same text.
-    EXPECT_EQ(to_json(back).dump(), r.result.dump()) << r.scheme;
+    // Each figure is stored once: the statistics are the metrics rows, the
+    // result the rest.
+    EXPECT_FALSE(r.result.contains("stats")) << r.scheme;
+    EXPECT_FALSE(r.result.contains("memory")) << r.scheme;
+    const SchemeResult back = scheme_result_from_stored(r.result, r.metrics);
+    // Everything comes back: writing it again gives the same text and the
+    // same rows, in the same order.
+    EXPECT_EQ(stored_result_json(back).dump(), r.result.dump()) << r.scheme;
+    const std::vector<Metric> rows = metrics_of(back);
+    ASSERT_EQ(rows.size(), r.metrics.size());
+    for (size_t i = 0; i < rows.size(); ++i) {
+      EXPECT_EQ(rows[i].location, r.metrics[i].location);
+      EXPECT_EQ(rows[i].metric, r.metrics[i].metric);
+      EXPECT_EQ(rows[i].value, r.metrics[i].value) << rows[i].location << " " << rows[i].metric;
+      EXPECT_EQ(rows[i].unit, r.metrics[i].unit);
+    }
     EXPECT_EQ(back.frame_latency_s, r.result["frame_latency_s"].get<double>());
     EXPECT_GT(back.best_to_worst(), 0);
+    // A result that carries its statistics (as databases before version 4
+    // stored it) reads back from itself, whatever the rows.
+    const nlohmann::ordered_json whole = to_json(back);
+    EXPECT_EQ(to_json(scheme_result_from_stored(whole, {})).dump(), whole.dump()) << r.scheme;
     // A result written before results carried their statistics ("stats")
     // reads back from its memory section and scheme figures: the same
     // document, and the rows it gave then, each as today's.
-    nlohmann::ordered_json old = r.result;
+    nlohmann::ordered_json old = whole;
     old.erase("stats");
     const SchemeResult legacy = scheme_result_from_json(old);
     nlohmann::ordered_json again = to_json(legacy);
@@ -591,6 +608,58 @@ TEST(SweepRun, AStoredResultReadsBackExactly) {
               (void)scheme_result_from_json(nlohmann::ordered_json{{"scheme", "x"}});
             }).find("not oovr's"),
             std::string::npos);
+
+  // Through a database: the rows come back in the order they were written,
+  // and with them the run, exactly.
+  test::TempDir dir;
+  const std::string path = dir.file("r.db");
+  {
+    ResultsDb db(path);
+    begin_sweep(s, plan_sweep(s, db, false, false), db, "oovr sweep t.toml");
+    for (const RunRecord& r : out) ASSERT_TRUE(db.insert(r));
+  }
+  const auto same_run = [&](const std::vector<RunRecord>& stored) {
+    ASSERT_EQ(stored.size(), out.size());
+    for (const RunRecord& x : stored) {
+      const RunRecord& r = x.id == out[0].id ? out[0] : out[1];
+      ASSERT_EQ(x.id, r.id);
+      EXPECT_EQ(to_json(scheme_result_from_stored(x.result, x.metrics)).dump(),
+                to_json(scheme_result_from_stored(r.result, r.metrics)).dump())
+          << r.scheme;
+    }
+  };
+  {
+    ResultsDb db(path);
+    db.verify();
+    const auto stored = db.runs();
+    same_run(stored);
+    for (const RunRecord& x : stored) {
+      const RunRecord& r = x.id == out[0].id ? out[0] : out[1];
+      ASSERT_EQ(x.metrics.size(), r.metrics.size());
+      for (size_t i = 0; i < x.metrics.size(); ++i)
+        EXPECT_EQ(x.metrics[i].location + " " + x.metrics[i].metric, r.metrics[i].location + " " + r.metrics[i].metric);
+    }
+  }
+  // A version 3 database (whole results, rows without their order) reads
+  // the same, opened to read, and to write once migrated.
+  {
+    ResultsDb db(path);
+    for (const RunRecord& r : out) db.remove(r.id);
+    for (RunRecord r : out) {
+      r.result = to_json(scheme_result_from_stored(r.result, r.metrics));
+      ASSERT_TRUE(db.insert(r));
+    }
+  }
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(raw, "ALTER TABLE metrics DROP COLUMN ordinal; PRAGMA user_version = 3", nullptr, nullptr, nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(raw);
+  sqlite3_close(raw);
+  same_run(ResultsDb(path, ResultsDb::Access::read_only).runs());
+  ResultsDb migrated(path);
+  migrated.verify();
+  same_run(migrated.runs());
 }
 
 }  // namespace

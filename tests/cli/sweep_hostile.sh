@@ -86,12 +86,12 @@ done
 [ $refused -ge 10 ] || fail "only $refused of 40 bit flips refused"
 
 # A database of schema version 1 (no checksums) is read as it is and given
-# the columns (and version 3's scoped ids) when next written.
+# the columns (and version 3's scoped ids, version 4's ordinals) when next written.
 cp good.db v1.db
 sqlite3 v1.db "ALTER TABLE runs DROP COLUMN checksum; ALTER TABLE sweeps DROP COLUMN checksum; PRAGMA user_version = 1"
 "$oovr" report v1.db --out v1-report > v1r.log 2>&1 || { cat v1r.log; fail "a version 1 database was not reported"; }
 "$oovr" sweep s.toml --db v1.db --resume > v1s.log 2>&1 || { cat v1s.log; fail "a version 1 database was not resumed"; }
-[ "$(sqlite3 v1.db "PRAGMA user_version")" = 3 ] || fail "version 1 not brought to 3"
+[ "$(sqlite3 v1.db "PRAGMA user_version")" = 4 ] || fail "version 1 not brought to 4"
 [ "$(sqlite3 v1.db "SELECT count(*) FROM runs WHERE checksum IS NULL")" = 4 ] || fail "version 1 rows given checksums"
 
 # A second writer while the first runs is refused.

@@ -150,7 +150,7 @@ PaperResults run_paper(PaperOptions& o) {
       failed.emplace(r.scene, r.error);
       continue;
     }
-    SchemeResult result = scheme_result_from_json(r.result);
+    SchemeResult result = scheme_result_from_stored(r.result, r.metrics);
     std::map<std::string, Config::Entry> config;
     for (const auto& [key, e] : r.config.items()) {
       Config::Entry x;

@@ -216,7 +216,11 @@ ResultsDb::ResultsDb(const std::string& path, Access access, const DatabaseLock*
     }
     exec(
         "CREATE TABLE IF NOT EXISTS metrics(run TEXT NOT NULL REFERENCES runs(id) ON DELETE CASCADE, location TEXT NOT NULL, "
-        "metric TEXT NOT NULL, value REAL NOT NULL, unit TEXT NOT NULL, PRIMARY KEY (run, location, metric)) WITHOUT ROWID");
+        "metric TEXT NOT NULL, value REAL NOT NULL, unit TEXT NOT NULL, ordinal INTEGER, PRIMARY KEY (run, location, metric)) "
+        "WITHOUT ROWID");
+    // Before version 4 a run's result carried its statistics as well as its
+    // rows, so the rows' order was not kept; their ordinal is NULL.
+    if (version >= 1 && version < 4 && !has_column("metrics", "ordinal")) exec("ALTER TABLE metrics ADD COLUMN ordinal INTEGER");
     exec("CREATE INDEX IF NOT EXISTS metrics_by_name ON metrics(metric, location)");
     // Points being run, and the processes that died running them
     // (sweep_supervise.h); a stored run clears its row.
@@ -372,9 +376,10 @@ bool ResultsDb::insert(const RunRecord& r) {
     int i = 21;
     for (const auto& [key, v] : r.swept) s.bind(i++, v);
     s.step();
-    Statement m(m_db, "INSERT INTO metrics VALUES (?, ?, ?, ?, ?)", m_path);
+    Statement m(m_db, "INSERT INTO metrics (run, location, metric, value, unit, ordinal) VALUES (?, ?, ?, ?, ?, ?)", m_path);
+    int64_t ordinal = 0;
     for (const Metric& x : r.metrics) {
-      m.bind(1, r.id).bind(2, x.location).bind(3, x.metric).bind(4, x.value).bind(5, x.unit);
+      m.bind(1, r.id).bind(2, x.location).bind(3, x.metric).bind(4, x.value).bind(5, x.unit).bind(6, ordinal++);
       m.step();
       m.reset();
     }
@@ -516,7 +521,12 @@ std::vector<RunRecord> ResultsDb::runs(bool images) const {
       out.push_back(std::move(r));
     }
   }
-  Statement m(m_db, "SELECT location, metric, value, unit FROM metrics WHERE run = ? ORDER BY location, metric", m_path);
+  // In the order they were written (a stored result's statistics are read
+  // back from them in it); rows of version 3 and before by name.
+  Statement m(m_db,
+              std::string("SELECT location, metric, value, unit FROM metrics WHERE run = ? ORDER BY ") +
+                  (has_column("metrics", "ordinal") ? "ordinal, " : "") + "location, metric",
+              m_path);
   Statement im(m_db, "SELECT kind, width, height, data, legend FROM images WHERE run = ? ORDER BY kind", m_path);
   for (RunRecord& r : out) {
     m.bind(1, r.id);
@@ -698,7 +708,7 @@ void check_run_record(const RunRecord& r) {
     if (!r.result.is_object()) bad("done without a result");
     std::vector<Metric> expected;
     try {
-      expected = metrics_of(scheme_result_from_json(r.result));
+      expected = metrics_of(scheme_result_from_stored(r.result, r.metrics));
     } catch (const Error& e) {
       bad(e.what());
     }

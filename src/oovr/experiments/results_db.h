@@ -28,8 +28,11 @@ namespace oovr {
 // given the columns when opened to write; its older rows have none). 3: a
 // run's configuration and id hold only the keys its run reads, the
 // machine's and its scheme's own (scheme_entries); a database of an older
-// version is migrated when opened to write (scope_to_scheme).
-inline constexpr int kResultsDbVersion = 3;
+// version is migrated when opened to write (scope_to_scheme). 4: a run's
+// statistics are stored once, as its metrics rows, which keep the order
+// they were written in (`ordinal`); its `result` holds the rest
+// (stored_result_json). Older rows keep their whole result and no ordinal.
+inline constexpr int kResultsDbVersion = 4;
 
 struct RunImage {
   std::string kind;  // "gpm": PNG of the first frame coloured by GPM; "tile_traffic": JSON array of bytes per tile

@@ -318,7 +318,7 @@ class PointPool {
     try {
       const SchemeResult result = run_scheme_window(find_scheme(p.scheme), *frames.scene, *frames.frames, p.machine, p.window);
       r.status = "done";
-      r.result = to_json(result);
+      r.result = stored_result_json(result);  // its statistics are its metrics rows
       r.metrics = metrics_of(result);
       if (m_sweep.images && !frames.outputs.empty() && !frames.outputs.front().colour.rgba.empty())
         r.images = images_of(frames.outputs.front(), result);

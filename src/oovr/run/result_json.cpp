@@ -242,6 +242,24 @@ SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j) {
   }
 }
 
+nlohmann::ordered_json stored_result_json(const SchemeResult& r) {
+  nlohmann::ordered_json j = to_json(r);
+  j.erase("stats");
+  j.erase("memory");
+  j.erase("scheme_metrics");
+  return j;
+}
+
+SchemeResult scheme_result_from_stored(const nlohmann::ordered_json& result, const std::vector<Metric>& rows) {
+  if (!result.is_object() || result.contains("stats") || result.contains("memory")) return scheme_result_from_json(result);
+  nlohmann::ordered_json j = result;
+  nlohmann::ordered_json stats = nlohmann::ordered_json::array();
+  for (const Metric& m : rows)
+    if (is_stat_row(m)) stats.push_back({m.location, m.metric, m.value, m.unit});
+  j["stats"] = std::move(stats);
+  return scheme_result_from_json(j);
+}
+
 void check_scheme_result(const SchemeResult& r) {
   const auto bad = [](const std::string& what) { throw Error("a run's result that cannot be: " + what); };
   const auto positive = [&](double v, const std::string& what) {

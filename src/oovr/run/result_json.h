@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "oovr/core/config.h"
+#include "oovr/run/result_metrics.h"
 #include "oovr/scene/stereo.h"
 #include "oovr/schemes/i_scheme.h"
 
@@ -50,6 +51,18 @@ double json_finite(const nlohmann::ordered_json& v, const std::string& what);
 
 // The result is checked as check_scheme_result does.
 SchemeResult scheme_result_from_json(const nlohmann::ordered_json& j);
+
+// A run as a results database stores it (`runs.result`): to_json without
+// its statistics and what is derived from them (`stats`, `memory`,
+// `scheme_metrics`), which the run's metrics rows hold, so that each
+// figure is stored once.
+nlohmann::ordered_json stored_result_json(const SchemeResult& r);
+// A stored run back from its result and its metrics rows, in the order
+// they were written (metrics_of's): the statistics are the rows that are
+// statistics (is_stat_row). A result that carries its statistics (written
+// before the database stored them once) is read from itself. Throws Error
+// as scheme_result_from_json does.
+SchemeResult scheme_result_from_stored(const nlohmann::ordered_json& result, const std::vector<Metric>& rows);
 // Throws Error when a result read back cannot be one of oovr's: GPMs out
 // of range, latencies, frequency or throughput not positive and finite,
 // per-GPM figures of the wrong count (what is divided or drawn later).

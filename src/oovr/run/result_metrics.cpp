@@ -73,4 +73,12 @@ std::vector<Metric> metrics_of(const SchemeResult& r) {
   return out;
 }
 
+bool is_stat_row(const Metric& m) {
+  if (m.location == "frame" || m.location.rfind("frame[", 0) == 0) return false;
+  if (m.metric == "served_share" || m.metric == "utilisation") return false;
+  const bool gpm_itself = m.location.rfind("gpm[", 0) == 0 && m.location.back() == ']' &&
+                          m.location.find_first_not_of("0123456789", 4) == m.location.size() - 1;
+  return !(gpm_itself && m.metric == "busy");
+}
+
 }  // namespace oovr

@@ -27,6 +27,11 @@ struct Metric {
 // each resource's `capacity`, its `utilisation` (utilisation_of). Bytes
 // and counts are per frame (the window's mean).
 std::vector<Metric> metrics_of(const SchemeResult& r);
+// Whether a row of metrics_of is one of the run's statistics, not a figure
+// of the frame (location "frame" or "frame[k]", a GPM's "busy") or a
+// formula (`served_share`, `utilisation`): the rows a stored result's
+// statistics are read back from (scheme_result_from_stored).
+bool is_stat_row(const Metric& m);
 
 // A resource's use per frame at the run's frame rate over its capacity:
 // of a link or a DRAM, the bytes the memory system counted (exact) at the
