@@ -492,6 +492,29 @@ TEST(Schemes, TheDistributionEngineBalancesBetterThanRoundRobin) {
   EXPECT_LT(vr.frame_latency_s, app.frame_latency_s);
 }
 
+// The split (Section 5.2's fine-grained split) moves oo.split_share of the
+// busiest GPM's unstarted chunks to an idle GPM: half unless set, nothing
+// without the split, and another share moves other work.
+TEST(Schemes, TheSplitMovesItsShareOfTheBusiestGpmsLeftovers) {
+  const Rendered& r = courtyard();
+  const auto moved = [&](std::initializer_list<const char*> settings) {
+    Config c;
+    for (const char* s : settings) c.set(s);
+    const SchemeResult x = run_scheme_window("oo-vr", r.scene, r.traces, c, 4);
+    return std::make_pair(x.stats.at("oo-vr", "moved_chunks"), x.frame_latency_s);
+  };
+  const auto plain = moved({});
+  EXPECT_GT(plain.first, 0) << "the courtyard's GPMs fall idle and take work";
+  EXPECT_EQ(moved({"oo.split_share=0.5"}), plain);
+  EXPECT_EQ(moved({"oo.split=false"}).first, 0);
+  const auto all = moved({"oo.split_share=1"});
+  EXPECT_NE(all.first, plain.first);
+  Config bad;
+  bad.set("oo.split_share=1.5");
+  EXPECT_NE(test::message_of([&] { (void)run_scheme_window("oo-vr", r.scene, r.traces, bad, 4); }).find("oo.split_share"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace oovr
 

@@ -16,6 +16,7 @@ OOSpec OOSpec::parameters(const Config& c) {
   s.warmup_batches = positive("oo.warmup_batches", d.warmup_batches, 1 << 20);
   s.batch_queue = positive("oo.batch_queue", d.batch_queue, 1 << 20);
   s.tiles_per_unit = positive("oo.tiles_per_unit", d.tiles_per_unit, 1 << 20);
+  s.split_share = c.get_double("oo.split_share", d.split_share, 0, 1);
   return s;
 }
 
@@ -80,6 +81,7 @@ const ConfigSections::Add reg(
       {"oo.warmup_batches", "batches dealt round-robin to fit the predictor's c0, c1, c2 (Section 5.2)"},
       {"oo.batch_queue", "batches the distribution engine holds assigned but not started (Section 5.2)"},
       {"oo.tiles_per_unit", "screen tiles of a batch's fragment work per unit, the grain the split moves (assumed)"},
+      {"oo.split_share", "share of the busiest GPM's movable leftover units an idle GPM takes when it splits (assumed)"},
       {"oo.predictor", "batches go to the GPM predicted free first (Equation 3), else round-robin", kPerScheme, "true or false"},
       {"oo.prealloc", "pre-allocation units copy a batch's data into its GPM's DRAM ahead of use", kPerScheme, "true or false"},
       {"oo.split", "idle GPMs take the leftover fragment work of large batches, their data copied", kPerScheme, "true or false"},

@@ -7,6 +7,8 @@
 //   oo.batch_queue     batches the engine holds assigned but not started (4)
 //   oo.tiles_per_unit  screen tiles of a batch's fragment work per work unit,
 //                      the grain the fine-grained split moves (32, assumed)
+//   oo.split_share     share of the busiest GPM's movable leftovers an idle
+//                      GPM takes when it splits (0.5, assumed)
 // Mechanisms, each a switch so that ablations can measure it (the scheme
 // sets its own defaults: oo-app all off, oo-vr all on):
 //   oo.predictor   batches go to the GPM predicted free first (else round-robin)
@@ -31,6 +33,7 @@ struct OOSpec {
   int warmup_batches = 8;
   int batch_queue = 4;
   int tiles_per_unit = 32;
+  double split_share = 0.5;
   bool predictor = true;
   bool prealloc = true;
   bool split = true;

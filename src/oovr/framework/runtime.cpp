@@ -154,7 +154,8 @@ bool OORuntime::steal(int g) {
   }
   if (victim < 0) return false;
   auto& from = m_gpm[size_t(victim)].todo;
-  size_t take = most / 2;
+  // The later oo.split_share of them (half by default), at least one.
+  size_t take = std::max<size_t>(1, size_t(double(most) * m_spec.split_share));
   std::vector<Item*> moved;
   for (auto it = from.end(); it != from.begin() && take > 0;) {
     --it;
