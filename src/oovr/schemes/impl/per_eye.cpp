@@ -5,8 +5,9 @@
 // GPMs renders the left eye, the rest the right (one GPM renders both when
 // there is one; with an odd count the right eye has the larger half).
 //
-// Every GPM receives every draw (the command stream is broadcast to the
-// GPUs of the mask) and transforms every draw's vertices for its own eye:
+// A draw goes to the GPMs of its mask: every GPM when the halves split
+// their eyes by tiles, the GPM rendering it in each eye when they split
+// them by objects. Each transforms the draw's vertices for its own eye:
 // a GPU cannot know that a draw misses its view before transforming it, and
 // the eyes are on different GPMs, so SMP shares nothing between them (the
 // vertex work of two sequential views, spread over the machine). The eyes
@@ -21,8 +22,8 @@
 //            transforms and sets up every draw for the eye (primitive
 //            duplication, as SLI's split-frame rendering) and renders its
 //            tiles. No composition.
-//   objects  the eye's objects dealt round-robin over its half, each
-//            transformed once on its GPM; the half's first GPM owns the
+//   objects  the eye's objects dealt round-robin over its half, each sent
+//            to and transformed once on its GPM; the half's first GPM owns the
 //            eye's final image and the others send it what they wrote after
 //            each object (sort-last, schemes/composition.h, as object-level
 //            SFR composes on its root).
@@ -69,19 +70,22 @@ class PerEye final : public Scheme {
       const int right_tiles = (f.frame_width / 2) / f.tile_size;
       Composer composer(sim, sim.spec().composition, [&](int tx, int) { return half_of(n, tx < right_tiles ? 0 : 1).first; });
       for (uint32_t o = 0; o < records.size(); ++o) {
-        for (int g = 0; g < n; ++g) sim.command(g);
+        // The draw's mask: the GPM rendering it in each eye.
+        int at[2];
+        for (int e = 0; e < 2; ++e) at[e] = half_of(n, e).first + int(o % uint32_t(half_of(n, e).size));
+        sim.command(at[0]);
+        if (at[1] != at[0]) sim.command(at[1]);
         std::vector<FrameSim::TileJob> jobs;
         for (int e = 0; e < 2; ++e) {
-          const Half h = half_of(n, e);
-          const int g = h.first + int(o % uint32_t(h.size));
-          const int geo = sim.geometry(g, o, 1, f.objects[o].setup[e]);
+          const int geo = sim.geometry(at[e], o, 1, f.objects[o].setup[e]);
           if (records[o].eye[e].empty()) continue;
-          jobs.push_back({g, records[o].eye[e], 0, {geo}});
+          jobs.push_back({at[e], records[o].eye[e], 0, {geo}});
           composer.target(jobs.back());
         }
         const std::vector<int> units = sim.tiles_together(jobs, f);
         for (size_t k = 0; k < jobs.size(); ++k) composer.send(jobs[k], units[k]);
-        sim.end_draw();
+        sim.end_draw(at[0]);
+        if (at[1] != at[0]) sim.end_draw(at[1]);
       }
     } else {
       const TileOwner owner = eye_groups_by_tile(n, f);
