@@ -58,7 +58,9 @@ TEST(SfrLb, TheBoundaryMovesToWhereHalfTheTimeFallsDamped) {
     EXPECT_EQ(bounds[0], 0);
     EXPECT_NEAR(bounds[1], keep * 20 + (1 - keep) * target, 1e-9) << damping;
     EXPECT_EQ(bounds[2], 40);
-    if (keep < 1) EXPECT_NE(bounds[1], 20) << "the courtyard's eyes cost unevenly";
+    if (keep < 1) {
+      EXPECT_NE(bounds[1], 20) << "the courtyard's eyes cost unevenly";
+    }
     const SchemeResult second = run_scheme("sfr-lb", r.scene, {r.traces[1]}, d, carried);
     EXPECT_EQ(second.stats.at("sfr-lb", "bound.1"), bounds[1]);
   }

@@ -6,6 +6,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/units.h"
 
 namespace oovr {
 
@@ -245,6 +246,40 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
   WorkCounts w;
   w.vertices = uint64_t(vertex_passes) * mesh.vertices.size();
+  w.triangles = triangles;
+  return add(gpm, w, t, std::move(after));
+}
+
+int FrameSim::geometry_part(int gpm, uint32_t object, double begin, double end, double vertex_cost, uint64_t triangles,
+                            std::vector<int> after) {
+  const std::vector<Object>& objects = draws(frame());
+  gpm_arg(gpm, "geometry_part");
+  if (object >= objects.size())
+    throw Error(named("geometry_part", "object", int64_t(object)) + "object " + std::to_string(object) +
+                " does not exist (objects 0 to " + std::to_string(int64_t(objects.size()) - 1) + ")");
+  if (!(begin >= 0 && begin <= end && end <= 1))
+    throw Error("geometry_part(begin=" + format_number(begin) + ", end=" + format_number(end) +
+                "): a share of the object's vertices is 0 <= begin <= end <= 1");
+  if (!(vertex_cost >= 0 && vertex_cost <= 1))
+    throw Error("geometry_part(vertex_cost=" + format_number(vertex_cost) +
+                "): the share of the vertex shader run is from 0 to 1");
+  after_arg(after, "geometry_part");
+  if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
+  const Object& o = objects[object];
+  const Mesh& mesh = scene().meshes[size_t(o.mesh)];
+  m_scratch.clear();
+  const uint64_t line = m_memory_spec.line.value;
+  // The lines holding bytes [begin, end) of a buffer of `bytes`.
+  const auto lines = [&](uint64_t base, uint64_t bytes, Category c) {
+    const uint64_t from = uint64_t(std::floor(begin * double(bytes))), to = uint64_t(std::ceil(end * double(bytes)));
+    for (uint64_t a = from / line * line; a < to; a += line) m_scratch.push_back({base + a, c, false});
+  };
+  lines(m_map->region(m_layout->vertex_region(o.mesh)).base, mesh.vertex_bytes(), Category::vertex);
+  lines(m_map->region(m_layout->index_region(o.mesh)).base, mesh.indices.size() * sizeof(uint32_t), Category::index);
+  UnitTraffic t = empty_traffic();
+  m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
+  WorkCounts w;
+  w.vertices = uint64_t(std::llround((end - begin) * vertex_cost * double(mesh.vertices.size())));
   w.triangles = triangles;
   return add(gpm, w, t, std::move(after));
 }

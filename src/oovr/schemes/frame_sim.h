@@ -84,6 +84,13 @@ class FrameSim {
   // `frame_k`: which of the input's frames the object is drawn in (AFR's
   // frames in flight).
   int geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after = {}, int frame_k = 0);
+  // Part of `object`'s geometry on `gpm` (GPUpd's cooperative projection,
+  // the primitives a GPM received): the share [begin, end) of its vertices
+  // (fractions, rounded to whole vertices), each running `vertex_cost` of
+  // the vertex shader (1: all of it), reading that share of its vertex and
+  // index buffers' lines; `triangles` set up.
+  int geometry_part(int gpm, uint32_t object, double begin, double end, double vertex_cost, uint64_t triangles,
+                    std::vector<int> after = {});
   // Rasterisation, shading, texturing and ROP work of `records` on `gpm`,
   // writing framebuffer pair `fb`; `incoming` bytes of set-up triangles
   // arrive from GPM `from` first (when from != gpm).
