@@ -224,39 +224,19 @@ int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t tri
   if (frame_k < 0 || size_t(frame_k) >= m_in.frames.size())
     throw Error(named("geometry", "frame_k", frame_k) + "frame " + std::to_string(frame_k) + " does not exist (frames 0 to " +
                 std::to_string(m_in.frames.size() - 1) + ")");
-  const std::vector<Object>& objects = draws(frame(frame_k));
   gpm_arg(gpm, "geometry");
-  if (object >= objects.size())
-    throw Error(named("geometry", "object", int64_t(object)) + "object " + std::to_string(object) +
-                " does not exist (objects 0 to " + std::to_string(int64_t(objects.size()) - 1) + ")");
+  const Object& o = object_arg(object, frame(frame_k), "geometry");
   if (vertex_passes < 1 || vertex_passes > 2)
     throw Error(named("geometry", "vertex_passes", vertex_passes) + "vertex_passes is 1 (SMP) or 2 (one per eye)");
   after_arg(after, "geometry");
-  if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
-  const Object& o = objects[object];
-  const Mesh& mesh = scene().meshes[size_t(o.mesh)];
-  m_scratch.clear();
-  const uint64_t line = m_memory_spec.line.value;
-  const Region& vb = m_map->region(m_layout->vertex_region(o.mesh));
-  const Region& ib = m_map->region(m_layout->index_region(o.mesh));
-  for (uint64_t a = 0; a < mesh.vertex_bytes(); a += line) m_scratch.push_back({vb.base + a, Category::vertex, false});
-  for (uint64_t a = 0; a < mesh.indices.size() * sizeof(uint32_t); a += line)
-    m_scratch.push_back({ib.base + a, Category::index, false});
-  UnitTraffic t = empty_traffic();
-  m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
-  WorkCounts w;
-  w.vertices = uint64_t(vertex_passes) * mesh.vertices.size();
-  w.triangles = triangles;
-  return add(gpm, w, t, std::move(after));
+  const uint64_t vertices = uint64_t(vertex_passes) * scene().meshes[size_t(o.mesh)].vertices.size();
+  return geometry_unit(gpm, object, o, 0, 1, vertices, triangles, std::move(after));
 }
 
 int FrameSim::geometry_part(int gpm, uint32_t object, double begin, double end, double vertex_cost, uint64_t triangles,
                             std::vector<int> after) {
-  const std::vector<Object>& objects = draws(frame());
   gpm_arg(gpm, "geometry_part");
-  if (object >= objects.size())
-    throw Error(named("geometry_part", "object", int64_t(object)) + "object " + std::to_string(object) +
-                " does not exist (objects 0 to " + std::to_string(int64_t(objects.size()) - 1) + ")");
+  const Object& o = object_arg(object, frame(), "geometry_part");
   if (!(begin >= 0 && begin <= end && end <= 1))
     throw Error("geometry_part(begin=" + format_number(begin) + ", end=" + format_number(end) +
                 "): a share of the object's vertices is 0 <= begin <= end <= 1");
@@ -264,8 +244,21 @@ int FrameSim::geometry_part(int gpm, uint32_t object, double begin, double end, 
     throw Error("geometry_part(vertex_cost=" + format_number(vertex_cost) +
                 "): the share of the vertex shader run is from 0 to 1");
   after_arg(after, "geometry_part");
+  const double vertices = (end - begin) * vertex_cost * double(scene().meshes[size_t(o.mesh)].vertices.size());
+  return geometry_unit(gpm, object, o, begin, end, uint64_t(std::llround(vertices)), triangles, std::move(after));
+}
+
+const Object& FrameSim::object_arg(uint32_t object, const FrameTrace& f, const char* fn) const {
+  const std::vector<Object>& objects = draws(f);
+  if (object >= objects.size())
+    throw Error(named(fn, "object", int64_t(object)) + "object " + std::to_string(object) + " does not exist (objects 0 to " +
+                std::to_string(int64_t(objects.size()) - 1) + ")");
+  return objects[object];
+}
+
+int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double begin, double end, uint64_t vertices,
+                            uint64_t triangles, std::vector<int> after) {
   if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
-  const Object& o = objects[object];
   const Mesh& mesh = scene().meshes[size_t(o.mesh)];
   m_scratch.clear();
   const uint64_t line = m_memory_spec.line.value;
@@ -279,7 +272,7 @@ int FrameSim::geometry_part(int gpm, uint32_t object, double begin, double end, 
   UnitTraffic t = empty_traffic();
   m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
   WorkCounts w;
-  w.vertices = uint64_t(std::llround((end - begin) * vertex_cost * double(mesh.vertices.size())));
+  w.vertices = vertices;
   w.triangles = triangles;
   return add(gpm, w, t, std::move(after));
 }

@@ -156,12 +156,18 @@ class FrameSim {
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
+  // The geometry unit of geometry() and geometry_part(): `vertices` shaded,
+  // `triangles` set up, reading bytes [begin, end) (shares) of the object's
+  // vertex and index buffers.
+  int geometry_unit(int gpm, uint32_t object, const Object& o, double begin, double end, uint64_t vertices, uint64_t triangles,
+                    std::vector<int> after);
   // Argument checks (see the class comment); each returns what it checked.
   int gpm_arg(int gpm, const char* fn, const char* param = "gpm") const;
   int fb_arg(int fb, const char* fn, const char* param = "fb") const;
   int unit_arg(int unit, const char* fn, const char* param) const;
   const std::vector<int>& after_arg(const std::vector<int>& after, const char* fn) const;
   const FrameTrace& frame_arg(const FrameTrace& frame, const char* fn) const;
+  const Object& object_arg(uint32_t object, const FrameTrace& frame, const char* fn) const;
   std::vector<int> tiles_checked(const std::vector<TileJob>& jobs, const FrameTrace& frame);
   // A unit of data movement (transfer, copy) outside every GPM's pipeline.
   int add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency);
