@@ -328,6 +328,8 @@ SPECS = [
     in_run("use_draw", lambda c, **a: c.sim.use_draw(**a), dict(gpm=0, command_unit=UNIT)),
     in_run("geometry", lambda c, **a: c.sim.geometry(**a), dict(gpm=0, object=0, vertex_passes=1, triangles=0, after=[]),
            {"after": {"list": OK}}),
+    in_run("geometry_part", lambda c, **a: c.sim.geometry_part(**a),
+           dict(gpm=0, object=0, begin=0.25, end=0.5, vertex_cost=0.5, triangles=0, after=[]), {"after": {"list": OK}}),
     in_run("tiles", lambda c, **a: c.sim.tiles(**a), dict(gpm=0, records=RECORDS, fb=0, after=[], from_gpm=-1, incoming=0),
            {"after": {"list": OK}, "from_gpm": {"negative": OK}}),
     in_run("tiles_together", lambda c, jobs: c.sim.tiles_together(jobs), dict(jobs=From(lambda c: [JOB.make(c)]))),

@@ -589,6 +589,24 @@ void bind_schemes(py::module_& m) {
           py::arg("after") = std::vector<int>{},
           "Vertex shading and set-up of `object` on `gpm` (vertex_passes 1 with SMP, 2 without); returns the unit.")
       .def(
+          "geometry_part",
+          [](PySim& s, int64_t gpm, int64_t object, double begin, double end, double vertex_cost, const py::object& triangles,
+             const std::vector<int64_t>& after) {
+            FrameSim& f = s.adding();
+            const int g = PySim::index(gpm, "geometry_part", "gpm");
+            const uint32_t o = s.object(object, "geometry_part");
+            const uint64_t most = s.bounds().triangles[o];
+            const uint64_t t = count(triangles, "geometry_part", "triangles", most, [&] {
+              return "object " + std::to_string(o) + " has in this run's frames (at most " + std::to_string(most) +
+                     ": set up in both eyes, or binned to its tiles)";
+            });
+            return f.geometry_part(g, o, begin, end, vertex_cost, t, PySim::units(after, "geometry_part"));
+          },
+          py::arg("gpm"), py::arg("object"), py::arg("begin"), py::arg("end"), py::arg("vertex_cost"), py::arg("triangles"),
+          py::arg("after") = std::vector<int>{},
+          "A share [begin, end) of `object`'s vertices shaded on `gpm` at `vertex_cost` of the vertex shader (GPUpd's "
+          "projection), `triangles` set up; returns the unit.")
+      .def(
           "tiles",
           [](PySim& s, int64_t gpm, const PyRecords& records, int64_t fb, const std::vector<int64_t>& after, int64_t from_gpm,
              const py::object& incoming) {
