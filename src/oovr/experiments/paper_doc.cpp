@@ -57,14 +57,17 @@ double paper(const std::string& id, const std::string& label) {
     if (v.label == label && v.paper) return *v.paper;
   throw Error("experiments/paper-claims.toml has no number for " + id + " (" + label + ")");
 }
-// The same as the paper writes it: "+28%", "1.67x", "960 bits".
+// A claim value in its form: "+28%", "1.67x", "960 bits".
+std::string in_form(const ClaimValue& v, double x) {
+  if (v.form == "percent") return pct(x);
+  if (v.form == "bits") return std::isfinite(x) ? fmt::format("{:.0f} bits", x) : "n/a";
+  return times(x);
+}
+// The same as the paper writes it.
 std::string paper_text(const std::string& id, const std::string& label) {
   const double v = paper(id, label);
   for (const ClaimValue& x : paper_claim(id).values)
-    if (x.label == label) {
-      if (x.form == "percent") return pct(v);
-      if (x.form == "bits") return fmt::format("{:.0f} bits", v);
-    }
+    if (x.label == label) return in_form(x, v);
   return times(v);
 }
 // A frame-rate loss as a positive percentage: 0.58 -> "42%".
@@ -266,12 +269,6 @@ class Doc {
     out += "\n";
   }
 
-  // A claim value as the claims table writes it (its form).
-  static std::string in_form(const ClaimValue& v, double x) {
-    if (v.form == "percent") return pct(x);
-    if (v.form == "bits") return std::isfinite(x) ? fmt::format("{:.0f} bits", x) : "n/a";
-    return times(x);
-  }
   // A claims table row of claim `id` from its measured values: `text`
   // writes the cell from a value lookup (the mean, or one scene's).
   void claim_row(const std::string& id, const std::string& what,

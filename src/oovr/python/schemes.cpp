@@ -230,6 +230,16 @@ struct PySim {
   }
 };
 
+// The triangles a geometry call sets up: a count up to what object `o` has
+// in the run's frames (geometry and geometry_part check it alike).
+uint64_t triangles_of(PySim& s, uint32_t o, const py::handle& triangles, const char* fn) {
+  const uint64_t most = s.bounds().triangles[o];
+  return count(triangles, fn, "triangles", most, [&] {
+    return "object " + std::to_string(o) + " has in this run's frames (at most " + std::to_string(most) +
+           ": set up in both eyes, or binned to its tiles)";
+  });
+}
+
 struct PyJob {
   Token token;  // of the records, once set
   const FrameTrace* trace = nullptr;
@@ -578,11 +588,7 @@ void bind_schemes(py::module_& m) {
             FrameSim& f = s.adding();
             const int g = PySim::index(gpm, "geometry", "gpm");
             const uint32_t o = s.object(object, "geometry");
-            const uint64_t most = s.bounds().triangles[o];
-            const uint64_t t = count(triangles, "geometry", "triangles", most, [&] {
-              return "object " + std::to_string(o) + " has in this run's frames (at most " + std::to_string(most) +
-                     ": set up in both eyes, or binned to its tiles)";
-            });
+            const uint64_t t = triangles_of(s, o, triangles, "geometry");
             return f.geometry(g, o, PySim::index(vertex_passes, "geometry", "vertex_passes"), t, PySim::units(after, "geometry"));
           },
           py::arg("gpm"), py::arg("object"), py::arg("vertex_passes"), py::arg("triangles"),
@@ -595,11 +601,7 @@ void bind_schemes(py::module_& m) {
             FrameSim& f = s.adding();
             const int g = PySim::index(gpm, "geometry_part", "gpm");
             const uint32_t o = s.object(object, "geometry_part");
-            const uint64_t most = s.bounds().triangles[o];
-            const uint64_t t = count(triangles, "geometry_part", "triangles", most, [&] {
-              return "object " + std::to_string(o) + " has in this run's frames (at most " + std::to_string(most) +
-                     ": set up in both eyes, or binned to its tiles)";
-            });
+            const uint64_t t = triangles_of(s, o, triangles, "geometry_part");
             return f.geometry_part(g, o, begin, end, vertex_cost, t, PySim::units(after, "geometry_part"));
           },
           py::arg("gpm"), py::arg("object"), py::arg("begin"), py::arg("end"), py::arg("vertex_cost"), py::arg("triangles"),

@@ -108,18 +108,20 @@ class Gpupd final : public Scheme {
           const uint64_t share = uint64_t(std::llround(double(f.objects[o].triangles) / n));
           projected[size_t(g)].push_back(sim.geometry_part(g, o, double(g) / n, double(g + 1) / n, set.projection_cost, share));
         }
+      // Each sender's share (1/N) of the batch's primitives in each region.
+      std::vector<uint64_t> bytes(size_t(n), 0);
+      for (int g = 0; g < n; ++g) {
+        double ids = 0;
+        for (uint32_t o = batches[b].first; o < batches[b].second; ++o) ids += double(prims[o][size_t(g)]) / n;
+        bytes[size_t(g)] = uint64_t(std::llround(ids)) * kPrimitiveIdBytes;
+      }
       std::vector<int> step;  // the previous sender's transfers (or what it waited for)
       for (int p = 0; p < n; ++p) {
         std::vector<int> after = step;
         after.insert(after.end(), projected[size_t(p)].begin(), projected[size_t(p)].end());
         std::vector<int> sent;
-        for (int g = 0; g < n; ++g) {
-          if (g == p) continue;
-          double ids = 0;  // p's share of the batch's primitives in g's region
-          for (uint32_t o = batches[b].first; o < batches[b].second; ++o) ids += double(prims[o][size_t(g)]) / n;
-          const uint64_t bytes = uint64_t(std::llround(ids)) * kPrimitiveIdBytes;
-          if (bytes) sent.push_back(sim.transfer(p, g, bytes, Category::command, after));
-        }
+        for (int g = 0; g < n; ++g)
+          if (g != p && bytes[size_t(g)]) sent.push_back(sim.transfer(p, g, bytes[size_t(g)], Category::command, after));
         step = sent.empty() ? after : sent;
       }
       for (const auto& units : projected) step.insert(step.end(), units.begin(), units.end());

@@ -72,7 +72,10 @@ class PerEye final : public Scheme {
       for (uint32_t o = 0; o < records.size(); ++o) {
         // The draw's mask: the GPM rendering it in each eye.
         int at[2];
-        for (int e = 0; e < 2; ++e) at[e] = half_of(n, e).first + int(o % uint32_t(half_of(n, e).size));
+        for (int e = 0; e < 2; ++e) {
+          const Half h = half_of(n, e);
+          at[e] = h.first + int(o % uint32_t(h.size));
+        }
         sim.command(at[0]);
         if (at[1] != at[0]) sim.command(at[1]);
         std::vector<FrameSim::TileJob> jobs;
