@@ -118,7 +118,8 @@ TEST(Sweep, IdsDependOnWhatDeterminesTheResultOnly) {
 // own changes no stored id, so `--resume` re-runs nothing. A key added to
 // a scheme's own section changes the ids of that scheme's points only:
 // OO-VR's was 5c7dc1f515043f62 before its section gained oo.split_share,
-// the baseline's is what it was. (Every id changes when the machine gains
+// and d761a8da547c6e41 before it took the sort_last section's
+// sort_last.composition; the baseline's is what it was. (Every id changes when the machine gains
 // a key, as it must: its runs could differ.)
 TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
   Sweep s = parse("scenes = ['crowd']\nschemes = ['baseline', 'oo-vr']\nresolutions = ['96x64']\nframes = 1\n");
@@ -129,7 +130,7 @@ TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
   EXPECT_EQ(s.points[0].canonical.find("oo.tsl_threshold"), std::string::npos);  // OO-VR's, not the baseline's
   EXPECT_NE(s.points[1].canonical.find("oo.tsl_threshold"), std::string::npos);
   EXPECT_EQ(s.points[0].id, "6bd0ffd58f119c57");
-  EXPECT_EQ(s.points[1].id, "d761a8da547c6e41");
+  EXPECT_EQ(s.points[1].id, "69d86cf59776c8c1");
   // A point cannot set a key its scheme does not read: points differing in
   // it alone would be one run.
   Sweep bad = parse("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'oo.batch_queue' = 8\n");
@@ -137,6 +138,10 @@ TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
   EXPECT_NE(why.find("'oo.batch_queue' is a setting of the schemes with the 'oo' section (oo-app, oo-vr), not of baseline"),
             std::string::npos)
       << why;
+  // The composition algorithm is a setting of the sort-last schemes.
+  Sweep per_eye = parse("scenes = ['crowd']\nschemes = ['per-eye']\n[set]\n'sort_last.composition' = 'binary-swap'\n");
+  const std::string no = message_of([&] { resolve_all(per_eye); });
+  EXPECT_NE(no.find("'sort_last.composition' is a setting of the schemes with the 'sort_last' section"), std::string::npos) << no;
 }
 
 TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {

@@ -32,6 +32,7 @@ OORuntime::OORuntime(const OOSpec& spec, int gpms, std::vector<Batch> batches,
       }
     }
     r.items_left = int(r.items.size());
+    m_items += r.items.size();
     m_batches.push_back(std::move(r));
   }
   m_geo_unit.assign(records.size(), -1);
@@ -192,6 +193,7 @@ void OORuntime::issue(int g, Item& it) {
   }
   s.running = unit;
   s.item = &it;
+  ++m_issued;
   if (size_t(unit) >= m_unit_gpm.size()) m_unit_gpm.resize(size_t(unit) + 1, -1);
   m_unit_gpm[size_t(unit)] = g;
 }

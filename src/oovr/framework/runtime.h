@@ -83,6 +83,9 @@ class OORuntime {
   // Rates fitted in this run, when the warm-up batches ended.
   const std::optional<Rates>& fitted() const { return m_fitted; }
   int moved_chunks() const { return m_moved; }
+  // Whether every piece of work has been given to a GPM: nothing more will
+  // be added but what follows it (a deferred composition).
+  bool all_issued() const { return m_issued == m_items; }
 
  private:
   struct Item {
@@ -136,6 +139,7 @@ class OORuntime {
   int m_next = 0;
   int m_rr = 0;
   int m_moved = 0;
+  size_t m_items = 0, m_issued = 0;  // items in all batches, and issued
 };
 
 }  // namespace oovr

@@ -155,6 +155,8 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   if (law_checks()) m_ledger = std::make_unique<RunLedger>(in.frames);
 }
 
+int FrameSim::last_unit(int gpm) const { return m_last[size_t(gpm_arg(gpm, "last_unit"))]; }
+
 void FrameSim::declare_repeats(int times) {
   if (times < 1 || times > 1000) throw Error(named("declare_repeats", "times", times) + "times must be 1 to 1000");
   if (m_ledger) m_ledger->allow_repeats(times);

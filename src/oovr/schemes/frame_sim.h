@@ -130,6 +130,9 @@ class FrameSim {
   // works asynchronously with shading, paper Section 5.3), sharing its ROPs
   // with whatever the GPM is rendering; it counts as busy time of the GPM.
   int compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after = {});
+  // GPM `gpm`'s pipeline's last unit so far (-1: none yet): where work that
+  // must follow everything the GPM was given starts (composition rounds).
+  int last_unit(int gpm) const;
   // The scheme renders some records up to `times` times by design (the
   // conservation check allows it; schemes/conservation.h).
   void declare_repeats(int times);

@@ -10,7 +10,8 @@
 // root, GPM 0, whose ROPs merge it while the root goes on rendering its own
 // objects (Section 5.3: the colour output runs asynchronously with shading,
 // but one GPM's ROPs limit the pixel rate). The root's own objects are
-// drawn straight into the final frame.
+// drawn straight into the final frame. That is the gather algorithm;
+// composition.algorithm picks another (schemes/composition.h).
 //
 // Derived from the trace: per object and view, its tile records (work,
 // texture lines, depth and colour lines) and its set-up triangles; the
@@ -26,7 +27,7 @@ class ObjectLevel final : public Scheme {
   SchemeResult run(const SchemeInput& in) const override {
     const int n = in.spec->memory.gpms;
     FrameSim sim(in, sort_last_framebuffers(n));
-    Composer composer(sim, sim.spec().composition, [](int, int) { return 0; });
+    Composer composer(sim, sim.spec().composition, CompositionAlgorithm::gather);
     const FrameTrace& f = sim.frame();
     const std::vector<ObjectRecords> objects = records_by_object(f, sim.draws(f).size());
     for (uint32_t o = 0; o < objects.size(); ++o) {
@@ -42,12 +43,15 @@ class ObjectLevel final : public Scheme {
         sim.end_draw(g);
       }
     }
+    composer.close();
     return sim.finish("object");
   }
 };
 
 const Schemes::Add reg("object", {"object-level SFR: objects round-robin, eyes separate, root composition",
-                                  [] { return std::make_unique<ObjectLevel>(); }, 70});
+                                  [] { return std::make_unique<ObjectLevel>(); },
+                                  70,
+                                  {"sort_last"}});
 
 }  // namespace
 }  // namespace oovr

@@ -27,7 +27,8 @@
 // GPM; geometry is not split, and a moved chunk receives its set-up
 // triangles from the GPM that did the geometry. Pixels reach the final
 // frame through sort-last composition (schemes/composition.h) to their
-// owner: with DHC the owner of their strip, else the root. Every covered
+// owner: with DHC the owner of their strip (direct send), else the root
+// (gather), unless composition.algorithm names another. Every covered
 // fragment is rendered once; nothing is duplicated but the data the split
 // copies.
 #include <algorithm>
@@ -36,7 +37,6 @@
 #include "oovr/framework/oo_application.h"
 #include "oovr/framework/runtime.h"
 #include "oovr/schemes/composition.h"
-#include "oovr/schemes/sort_first.h"
 
 namespace oovr {
 namespace {
@@ -141,9 +141,10 @@ class OO final : public Scheme {
     const TrafficTotals& totals = sim.memory().totals();
     const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
     const FrameTrace& f = sim.frame();
-    Composer composer(sim, sim.spec().composition, [&](int tile_x, int) {
-      return spec.distributed_composition ? vertical_strip_owner(tile_x, f.tiles_x, n) : 0;
-    });
+    // DHC is direct send to vertical strips; composition.algorithm, when
+    // configured, overrides the switch.
+    Composer composer(sim, sim.spec().composition,
+                      spec.distributed_composition ? CompositionAlgorithm::direct_send : CompositionAlgorithm::gather);
     Machine machine(sim, composer);
 
     const size_t draws = sim.draws(f).size();
@@ -166,13 +167,26 @@ class OO final : public Scheme {
     OORuntime runtime(spec, n, make_batches(app, {spec.tsl_threshold, uint64_t(spec.batch_triangles)}), records, vertices,
                       machine, rates);
     runtime.start();
-    SchemeResult r = sim.finish(m_name, 1, [&](int unit) { runtime.on_finish(unit); });
+    // A deferred composition starts once the runtime has given out every
+    // piece of work: each GPM's rounds then follow its last one.
+    bool closed = false;
+    const auto close = [&] {
+      if (!closed && runtime.all_issued()) {
+        composer.close();
+        closed = true;
+      }
+    };
+    close();
+    SchemeResult r = sim.finish(m_name, 1, [&](int unit) {
+      runtime.on_finish(unit);
+      close();
+    });
     copies(r, sim, totals.copies_evicted - evicted, totals.copies_refused - refused);
     if (carried && runtime.fitted()) {
       const Rates& x = *runtime.fitted();
       carried->values[kRatesKey] = {x.c0, x.c1, x.c2};
     }
-    notes(r, spec, n, sim, runtime);
+    notes(r, spec, composer.algorithm(), n, sim, runtime);
     return r;
   }
 
@@ -190,7 +204,8 @@ class OO final : public Scheme {
                         " not copied for want of it (" + format_bytes(Bytes{peak}) + " held at most on one GPM)");
   }
 
-  static void notes(SchemeResult& r, const OOSpec& spec, int n, const FrameSim& sim, const OORuntime& runtime) {
+  static void notes(SchemeResult& r, const OOSpec& spec, CompositionAlgorithm composition, int n, const FrameSim& sim,
+                    const OORuntime& runtime) {
     uint64_t tris = 0;
     const auto& batches = runtime.batches();
     for (const auto& b : batches) tris += b.triangles;
@@ -201,8 +216,7 @@ class OO final : public Scheme {
     r.notes.push_back(std::to_string(batches.size()) + " batches of " + std::to_string(objects) + " objects (mean " +
                       std::to_string(batches.empty() ? 0 : tris / batches.size()) + " triangles); " +
                       (spec.predictor ? "predictor" : "round-robin") + ", pre-allocation " + (spec.prealloc ? "on" : "off") +
-                      ", split " + (spec.split ? "on" : "off") + ", " + (spec.distributed_composition ? "distributed" : "root") +
-                      " composition");
+                      ", split " + (spec.split ? "on" : "off") + ", composition " + composition_algorithm_name(composition));
     if (const DistributionEngine* engine = runtime.engine()) {
       const Rates& x = engine->rates();
       char buf[160];
@@ -238,11 +252,11 @@ OOSpec mechanisms(bool on) {
 const Schemes::Add reg_app("oo-app", {"OO_APP: multi-view objects batched by texture sharing, round-robin, root composition",
                                       [] { return std::make_unique<OO>("oo-app", mechanisms(false)); },
                                       80,
-                                      {"oo"}});
+                                      {"oo", "sort_last"}});
 const Schemes::Add reg_vr("oo-vr", {"OO-VR: OO_APP + distribution engine (predictor, pre-allocation, split) + DHC",
                                     [] { return std::make_unique<OO>("oo-vr", mechanisms(true)); },
                                     90,
-                                    {"oo"}});
+                                    {"oo", "sort_last"}});
 
 }  // namespace
 }  // namespace oovr
