@@ -128,7 +128,7 @@ uint64_t per_record(const FrameTrace& f, const SchemeResult& r, const std::vecto
 
 TEST(Composition, EachAlgorithmSendsTheLinesItsDefinitionSays) {
   const FrameTrace& f = *crowd().traces[0];
-  for (const char* scheme : {"object", "oo-app", "oo-vr"})
+  for (const char* scheme : {"object", "oo-app", "oo-vr", "chopin"})
     for (int n : {2, 3, 4}) {
       SCOPED_TRACE(std::string(scheme) + " at " + std::to_string(n) + " GPMs");
       const SchemeResult gather = run(scheme, n, "gather");
@@ -151,7 +151,8 @@ TEST(Composition, EachAlgorithmSendsTheLinesItsDefinitionSays) {
 // Each scheme's own: object-level and OO_APP gather to the root, OO-VR
 // sends directly to its strips (DHC).
 TEST(Composition, TheSchemesOwnAlgorithmIsTheDefault) {
-  for (const auto& [scheme, algorithm] : {std::pair{"object", "gather"}, {"oo-app", "gather"}, {"oo-vr", "direct-send"}}) {
+  for (const auto& [scheme, algorithm] :
+       {std::pair{"object", "gather"}, {"oo-app", "gather"}, {"oo-vr", "direct-send"}, {"chopin", "pairwise"}}) {
     const SchemeResult own = run(scheme, 4, nullptr), named = run(scheme, 4, algorithm);
     EXPECT_EQ(composition_bytes(own), composition_bytes(named)) << scheme;
     EXPECT_EQ(own.frame_latency_s, named.frame_latency_s) << scheme;
