@@ -11,7 +11,7 @@
 // objects (Section 5.3: the colour output runs asynchronously with shading,
 // but one GPM's ROPs limit the pixel rate). The root's own objects are
 // drawn straight into the final frame. That is the gather algorithm;
-// composition.algorithm picks another (schemes/composition.h).
+// sort_last.composition picks another (schemes/composition.h).
 //
 // Derived from the trace: per object and view, its tile records (work,
 // texture lines, depth and colour lines) and its set-up triangles; the

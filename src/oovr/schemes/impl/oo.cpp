@@ -28,7 +28,7 @@
 // triangles from the GPM that did the geometry. Pixels reach the final
 // frame through sort-last composition (schemes/composition.h) to their
 // owner: with DHC the owner of their strip (direct send), else the root
-// (gather), unless composition.algorithm names another. Every covered
+// (gather), unless sort_last.composition names another. Every covered
 // fragment is rendered once; nothing is duplicated but the data the split
 // copies.
 #include <algorithm>
@@ -141,7 +141,7 @@ class OO final : public Scheme {
     const TrafficTotals& totals = sim.memory().totals();
     const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
     const FrameTrace& f = sim.frame();
-    // DHC is direct send to vertical strips; composition.algorithm, when
+    // DHC is direct send to vertical strips; sort_last.composition, when
     // configured, overrides the switch.
     Composer composer(sim, sim.spec().composition,
                       spec.distributed_composition ? CompositionAlgorithm::direct_send : CompositionAlgorithm::gather);
