@@ -59,8 +59,9 @@ const ConfigSections::Add sort_last(
                     "once the GPMs have rendered"}},
                   true,
                   [](const Config& c) {
-                    const std::string a = c.get_choice("sort_last.composition", "scheme",
-                                                       {"scheme", "gather", "direct-send", "binary-swap", "pairwise"});
+                    std::vector<std::string> names;
+                    for (const AlgorithmName& n : kAlgorithms) names.push_back(n.name);
+                    const std::string a = c.get_choice("sort_last.composition", "scheme", names);
                     for (const AlgorithmName& n : kAlgorithms)
                       if (a == n.name) return std::any(n.algorithm);
                     return std::any(CompositionAlgorithm::scheme);
@@ -153,41 +154,38 @@ void Composer::target(FrameSim::TileJob& job) const {
   }
 }
 
-uint64_t Composer::bytes(const TileWork& r) const {
-  const uint64_t payloads = m_spec.depth ? 2 : 1;
-  if (m_spec.per_pixel) return uint64_t(r.passed) * 4 * payloads;
-  return uint64_t(std::popcount(r.colour_write_mask)) * m_sim.frame().line_bytes * payloads;
+uint64_t Composer::pixels(uint32_t lines, uint64_t passed) const {
+  if (m_spec.per_pixel) return passed;
+  return uint64_t(std::popcount(lines)) * (m_sim.frame().line_bytes / 4);
 }
 
-uint64_t Composer::pixels(const TileWork& r) const {
-  if (m_spec.per_pixel) return r.passed;
-  return uint64_t(std::popcount(r.colour_write_mask)) * (m_sim.frame().line_bytes / 4);
+// 4 bytes a pixel, twice with depth.
+uint64_t Composer::bytes(uint32_t lines, uint64_t passed) const { return pixels(lines, passed) * 4 * (m_spec.depth ? 2 : 1); }
+
+uint64_t Composer::bytes(const TileWork& r) const { return bytes(r.colour_write_mask, r.passed); }
+uint64_t Composer::pixels(const TileWork& r) const { return pixels(r.colour_write_mask, r.passed); }
+
+void Composer::Held::add(uint32_t more_lines, uint64_t more_passed, std::span<const TileWork* const> more, uint64_t tile_pixels) {
+  lines |= more_lines;
+  passed = std::min(tile_pixels, passed + more_passed);
+  records.insert(records.end(), more.begin(), more.end());
 }
 
-uint64_t Composer::held_bytes(const Held& h) const {
-  const uint64_t payloads = m_spec.depth ? 2 : 1;
-  if (m_spec.per_pixel) return h.passed * 4 * payloads;
-  return uint64_t(std::popcount(h.lines)) * m_sim.frame().line_bytes * payloads;
+int Composer::owner_of_tile(uint32_t tile) const {
+  const uint32_t tiles_x = uint32_t(m_sim.frame().tiles_x);
+  return m_owner(int(tile % tiles_x), int(tile / tiles_x));
 }
 
-uint64_t Composer::held_pixels(const Held& h) const {
-  if (m_spec.per_pixel) return h.passed;
-  return uint64_t(std::popcount(h.lines)) * (m_sim.frame().line_bytes / 4);
-}
+uint64_t Composer::tile_pixels() const { return uint64_t(m_sim.frame().tile_size) * uint64_t(m_sim.frame().tile_size); }
 
 void Composer::send(const FrameSim::TileJob& job, int unit) {
   const int n = m_sim.gpms();
   if (deferred()) {
-    const FrameTrace& f = m_sim.frame();
-    const uint64_t tile_pixels = uint64_t(f.tile_size) * uint64_t(f.tile_size);
+    const uint32_t tiles_x = uint32_t(m_sim.frame().tiles_x);
     HeldTiles& held = m_held[size_t(job.gpm)];
-    for (const TileWork* r : job.records) {
-      if (owner(*r) == job.gpm) continue;
-      Held& h = held[uint32_t(r->tile_y) * uint32_t(f.tiles_x) + uint32_t(r->tile_x)];
-      h.lines |= r->colour_write_mask;
-      h.passed = std::min(tile_pixels, h.passed + r->passed);
-      h.records.push_back(r);
-    }
+    for (const TileWork* r : job.records)
+      if (owner(*r) != job.gpm)
+        held[uint32_t(r->tile_y) * tiles_x + uint32_t(r->tile_x)].add(r->colour_write_mask, r->passed, {&r, 1}, tile_pixels());
     return;
   }
   std::vector<uint64_t> bytes(size_t(n), 0), pixels(size_t(n), 0);
@@ -208,22 +206,14 @@ void Composer::send(const FrameSim::TileJob& job, int unit) {
 }
 
 std::pair<int, int> Composer::move(int from, int to, HeldTiles tiles, std::vector<int> after, std::vector<int> merge_after) {
-  const FrameTrace& f = m_sim.frame();
-  const uint64_t tile_pixels = uint64_t(f.tile_size) * uint64_t(f.tile_size);
   uint64_t bytes = 0, pixels = 0;
   std::vector<const TileWork*> composed;
   HeldTiles& dest = m_held[size_t(to)];
   for (auto& [tile, h] : tiles) {
-    bytes += held_bytes(h);
-    pixels += held_pixels(h);
-    if (m_owner(int(tile % uint32_t(f.tiles_x)), int(tile / uint32_t(f.tiles_x))) == to) {
-      composed.insert(composed.end(), h.records.begin(), h.records.end());
-      continue;
-    }
-    Held& d = dest[tile];
-    d.lines |= h.lines;
-    d.passed = std::min(tile_pixels, d.passed + h.passed);
-    d.records.insert(d.records.end(), h.records.begin(), h.records.end());
+    bytes += this->bytes(h.lines, h.passed);
+    pixels += this->pixels(h.lines, h.passed);
+    if (owner_of_tile(tile) == to) composed.insert(composed.end(), h.records.begin(), h.records.end());
+    else dest[tile].add(h.lines, h.passed, h.records, tile_pixels());
   }
   if (tiles.empty()) return {-1, -1};
   // A record with nothing written (no line, no fragment passed) sends no
@@ -238,11 +228,10 @@ std::pair<int, int> Composer::move(int from, int to, HeldTiles tiles, std::vecto
 }
 
 Composer::HeldTiles Composer::take(int gpm, const std::function<bool(int owner)>& pick) {
-  const int tiles_x = m_sim.frame().tiles_x;
   HeldTiles out;
   HeldTiles& held = m_held[size_t(gpm)];
   for (auto it = held.begin(); it != held.end();)
-    if (pick(m_owner(int(it->first % uint32_t(tiles_x)), int(it->first / uint32_t(tiles_x))))) {
+    if (pick(owner_of_tile(it->first))) {
       out.insert(std::move(*it));
       it = held.erase(it);
     } else {
@@ -256,8 +245,7 @@ void Composer::binary_swap(const std::vector<int>& ready_in) {
   std::vector<int> ready = ready_in;
   // The fold: GPMs p .. n-1 own no region and hand everything to g - p.
   for (int g = p; g < n; ++g) {
-    const auto [sent, merged] = move(g, g - p, std::exchange(m_held[size_t(g)], {}), {ready[size_t(g)]}, {ready[size_t(g - p)]});
-    (void)sent;
+    const int merged = move(g, g - p, std::exchange(m_held[size_t(g)], {}), {ready[size_t(g)]}, {ready[size_t(g - p)]}).second;
     if (merged >= 0) ready[size_t(g - p)] = merged;
   }
   for (int bit = p / 2; bit >= 1; bit /= 2) {
@@ -267,8 +255,7 @@ void Composer::binary_swap(const std::vector<int>& ready_in) {
     std::vector<int> next = ready;
     for (int g = 0; g < p; ++g) {
       const int partner = g ^ bit;
-      const auto [sent, merged] = move(g, partner, std::move(out[size_t(g)]), {ready[size_t(g)]}, {ready[size_t(partner)]});
-      (void)sent;
+      const int merged = move(g, partner, std::move(out[size_t(g)]), {ready[size_t(g)]}, {ready[size_t(partner)]}).second;
       if (merged >= 0) next[size_t(partner)] = merged;
     }
     ready = std::move(next);
@@ -281,9 +268,9 @@ void Composer::pairwise(const std::vector<int>& ready) {
   for (int k = 1; k < n; ++k)
     for (int g = 0; g < n; ++g) {
       const int to = (g + k) % n;
-      const auto [sent, merged] = move(g, to, take(g, [to](int o) { return o == to; }),
-                                       {ready[size_t(g)], last_send[size_t(g)], last_receive[size_t(to)]}, {});
-      (void)merged;
+      const int sent = move(g, to, take(g, [to](int o) { return o == to; }),
+                            {ready[size_t(g)], last_send[size_t(g)], last_receive[size_t(to)]}, {})
+                           .first;
       if (sent >= 0) last_send[size_t(g)] = last_receive[size_t(to)] = sent;
     }
 }

@@ -49,6 +49,7 @@
 
 #include <functional>
 #include <map>
+#include <span>
 
 #include "oovr/core/config.h"
 #include "oovr/schemes/composition_spec.h"
@@ -106,13 +107,18 @@ class Composer {
     uint32_t lines = 0;
     uint64_t passed = 0;
     std::vector<const TileWork*> records;
+    void add(uint32_t more_lines, uint64_t more_passed, std::span<const TileWork* const> more, uint64_t tile_pixels);
   };
   using HeldTiles = std::map<uint32_t, Held>;  // by ty * tiles_x + tx
 
   void place_final_frame();
   int owner(const TileWork& r) const { return m_owner(r.tile_x, r.tile_y); }
-  uint64_t held_bytes(const Held& h) const;
-  uint64_t held_pixels(const Held& h) const;
+  // Pixels and bytes sent for `lines` written and `passed` fragments (a
+  // record's, or what a GPM holds of a tile).
+  uint64_t pixels(uint32_t lines, uint64_t passed) const;
+  uint64_t bytes(uint32_t lines, uint64_t passed) const;
+  int owner_of_tile(uint32_t tile) const;  // tile = ty * tiles_x + tx
+  uint64_t tile_pixels() const;
   // Moves `tiles` from GPM `from` to GPM `to`: a transfer after `after`,
   // then `to`'s ROPs merge them after the transfer and `merge_after`;
   // records reaching their owner are composed. Returns {transfer, merge}

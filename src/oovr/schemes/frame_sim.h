@@ -208,6 +208,12 @@ class FrameSim {
 // The tile records of one object, grouped by eye (in trace order).
 struct ObjectRecords {
   std::vector<const TileWork*> eye[2];
+  // Both eyes' records, the left eye's first (a multi-view draw's).
+  std::vector<const TileWork*> both() const {
+    std::vector<const TileWork*> all = eye[0];
+    all.insert(all.end(), eye[1].begin(), eye[1].end());
+    return all;
+  }
 };
 std::vector<ObjectRecords> records_by_object(const FrameTrace& t, size_t objects);
 

@@ -41,8 +41,7 @@ class Afr final : public Scheme {
       for (int g = 0; g < n; ++g) {
         const FrameTrace& f = sim.frame(g);
         if (o >= records[size_t(g)].size()) continue;
-        std::vector<const TileWork*> all = records[size_t(g)][o].eye[0];
-        all.insert(all.end(), records[size_t(g)][o].eye[1].begin(), records[size_t(g)][o].eye[1].end());
+        std::vector<const TileWork*> all = records[size_t(g)][o].both();
         sim.command(g);
         const int geo = sim.geometry(g, o, 1, uint64_t(f.objects[o].setup[0]) + f.objects[o].setup[1], {}, g);
         if (!all.empty()) sim.tiles(g, all, g, f, {geo});

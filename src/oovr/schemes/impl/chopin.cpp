@@ -195,8 +195,7 @@ class Scheduler {
     const ObjectWork& ow = m_f.objects[o];
     m_sim.command(gpm);
     int last = m_sim.geometry(gpm, o, 1, uint64_t(ow.setup[0]) + ow.setup[1]);
-    std::vector<const TileWork*> records = m_records[o].eye[0];
-    records.insert(records.end(), m_records[o].eye[1].begin(), m_records[o].eye[1].end());
+    std::vector<const TileWork*> records = m_records[o].both();
     if (!records.empty()) {
       FrameSim::TileJob job{gpm, std::move(records), 0, {last}};
       m_composer.target(job);

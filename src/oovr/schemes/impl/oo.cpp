@@ -153,8 +153,7 @@ class OO final : public Scheme {
     std::vector<uint64_t> vertices(draws);
     const std::vector<ObjectRecords> by_object = records_by_object(f, draws);
     for (size_t o = 0; o < records.size(); ++o) {
-      records[o] = by_object[o].eye[0];
-      records[o].insert(records[o].end(), by_object[o].eye[1].begin(), by_object[o].eye[1].end());
+      records[o] = by_object[o].both();
       vertices[o] = app.objects()[o].vertices;
     }
     // The predictor's rates, when an earlier frame fitted them.
