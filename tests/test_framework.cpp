@@ -11,6 +11,7 @@
 #include "oovr/framework/middleware.h"
 #include "oovr/framework/oo_application.h"
 #include "oovr/framework/oo_spec.h"
+#include "oovr/framework/runtime.h"
 #include "oovr/scene/builtin.h"
 
 namespace oovr {
@@ -174,6 +175,84 @@ TEST(Framework, TheEnginePicksTheGpmPredictedFreeFirst) {
   e.finish(2);
   EXPECT_EQ(e.remaining(2), 0.0);
   EXPECT_EQ(e.earliest_free(), 2);
+}
+
+TEST(Framework, TheEngineWeighsExtraCostsAgainstPredictedFreeTimes) {
+  DistributionEngine e(2, Rates{1e-9, 1e-9, 0});
+  e.assign(0, 0, 1000);  // GPM 0 free in 1000 ns
+  e.assign(1, 1, 1500);  // GPM 1 in 1500 ns
+  const std::vector<double> none;
+  EXPECT_EQ(e.cheapest(none), 0);
+  // 1000 + 800 > 1500 + 0: the batch waits for GPM 1.
+  EXPECT_EQ(e.cheapest(std::vector<double>{800e-9, 0}), 1);
+  // 1000 + 400 < 1500: GPM 0 still.
+  EXPECT_EQ(e.cheapest(std::vector<double>{400e-9, 0}), 0);
+  // An equal sum: the GPM holding fewer batches, then the lower id.
+  EXPECT_EQ(e.cheapest(std::vector<double>{500e-9, 0}), 0);
+  EXPECT_THROW((void)e.cheapest(std::vector<double>{0, 0, 0}), Error);
+}
+
+namespace {
+
+// Records where the runtime sends each batch: with pre-allocation on, the
+// pre-allocation unit of the batch's GPM is asked first, in assignment
+// order. Time stands still, so every prediction is the engine's own.
+class Recorder final : public RuntimeExecutor {
+ public:
+  std::vector<std::pair<int, std::vector<uint32_t>>> copies;
+  double now() const override { return 0; }
+  double progress(int) const override { return 0; }
+  int preallocate(int gpm, const std::vector<uint32_t>& objects, bool geometry, int) override {
+    if (geometry) copies.push_back({gpm, objects});
+    return -1;
+  }
+  void start_batch(int, const std::vector<uint32_t>&) override {}
+  int geometry(int, uint32_t, int) override { return m_unit++; }
+  int chunk(int, uint32_t, std::span<const TileWork* const>, int, int, int, int) override { return m_unit++; }
+
+ private:
+  int m_unit = 0;
+};
+
+// The GPM each of three one-object batches (1000, 2000 and 1000 triangles)
+// goes to on 2 GPMs, the engine's rates given: 1 ns a triangle.
+std::vector<int> placements(double affinity, std::vector<std::vector<double>> link_seconds) {
+  OOSpec spec;
+  spec.affinity = affinity;
+  spec.split = false;
+  std::vector<Batch> batches;
+  for (uint32_t o = 0; o < 3; ++o) batches.push_back({{o}, o == 1 ? 2000u : 1000u, 1000, {}});
+  const std::vector<std::vector<const TileWork*>> records(3);
+  const std::vector<uint64_t> vertices(3, 1000);
+  Recorder exec;
+  OORuntime rt(spec, 2, batches, records, vertices, exec, Rates{1e-9, 1e-9, 0}, std::move(link_seconds));
+  rt.start();
+  std::vector<int> gpm(3, -1);
+  for (const auto& [g, objects] : exec.copies) gpm[objects.at(0)] = g;
+  return gpm;
+}
+
+}  // namespace
+
+TEST(Framework, ScreenAffinityTradesPredictedWaitForLinkTime) {
+  // Object 0 costs 2000 ns of links on GPM 0 and none on 1, object 1 500 ns
+  // on GPM 1, object 2 2000 ns on GPM 1.
+  const std::vector<std::vector<double>> cost = {{2000e-9, 0}, {0, 500e-9}, {0, 2000e-9}};
+  // Off (the paper's engine): batch 0 to GPM 0 (both free: the lower id),
+  // batch 1 to the free GPM 1, batch 2 to GPM 0 (free in 1000 ns against
+  // 2000).
+  EXPECT_EQ(placements(0, cost), (std::vector<int>{0, 1, 0}));
+  // Weight 1: batch 0 to GPM 1 (0 + 0 against 0 + 2000); batch 1 to GPM 0
+  // (0 + 0 against 1000 + 500); batch 2 to GPM 0 (2000 + 0 against
+  // 1000 + 2000).
+  EXPECT_EQ(placements(1, cost), (std::vector<int>{1, 0, 0}));
+  // Weight 0.25: batch 2 now waits less on GPM 1 (1000 + 500 against 2000).
+  EXPECT_EQ(placements(0.25, cost), (std::vector<int>{1, 0, 1}));
+  // Unknown objects cost nothing anywhere: the paper's choices.
+  EXPECT_EQ(placements(1, {{}, {}, {}}), (std::vector<int>{0, 1, 0}));
+  // Costs that do not fit the frame or the machine are refused.
+  EXPECT_THROW(placements(1, {{0, 0}}), Error);
+  EXPECT_THROW(placements(1, {{0, 0, 0}, {}, {}}), Error);
 }
 
 TEST(Framework, EngineStorageIs960BitsForThePapersMachine) {

@@ -135,8 +135,10 @@ TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
   // it alone would be one run.
   Sweep bad = parse("scenes = ['crowd']\nschemes = ['baseline']\n[set]\n'oo.batch_queue' = 8\n");
   const std::string why = message_of([&] { resolve_all(bad); });
-  EXPECT_NE(why.find("'oo.batch_queue' is a setting of the schemes with the 'oo' section (oo-app, oo-vr), not of baseline"),
-            std::string::npos)
+  EXPECT_NE(
+      why.find(
+          "'oo.batch_queue' is a setting of the schemes with the 'oo' section (oo-app, oo-vr, oo-vr-affinity), not of baseline"),
+      std::string::npos)
       << why;
   // The composition algorithm is a setting of the sort-last schemes.
   Sweep per_eye = parse("scenes = ['crowd']\nschemes = ['per-eye']\n[set]\n'sort_last.composition' = 'binary-swap'\n");

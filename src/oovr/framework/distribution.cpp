@@ -75,13 +75,19 @@ double DistributionEngine::remaining(int gpm) const {
   return holds ? std::max(0.0, total - m_elapsed[size_t(gpm)]) : 0.0;
 }
 
-int DistributionEngine::earliest_free() const {
+int DistributionEngine::earliest_free() const { return cheapest({}); }
+
+int DistributionEngine::cheapest(std::span<const double> extra) const {
+  if (!extra.empty() && extra.size() != m_elapsed.size())
+    throw Error("distribution engine: " + std::to_string(extra.size()) + " extra costs for " + std::to_string(m_elapsed.size()) +
+                " GPMs");
   // Ties (two GPMs predicted free now) go to the one holding fewer batches,
   // then to the lower id.
   const auto held = [&](int g) { return std::count_if(m_held.begin(), m_held.end(), [&](const Held& h) { return h.gpm == g; }); };
+  const auto cost = [&](int g) { return remaining(g) + (extra.empty() ? 0.0 : extra[size_t(g)]); };
   int best = 0;
   for (int g = 1; g < int(m_elapsed.size()); ++g) {
-    const double r = remaining(g), b = remaining(best);
+    const double r = cost(g), b = cost(best);
     if (r < b || (r == b && held(g) < held(best))) best = g;
   }
   return best;

@@ -50,6 +50,10 @@ class DistributionEngine {
   // The GPM predicted to be free first (ties: the one holding fewer
   // batches, then the lowest id).
   int earliest_free() const;
+  // The GPM for which remaining(g) + extra[g] is least (ties as above):
+  // `extra` is a cost in seconds the batch has on each GPM beyond its
+  // work, e.g. the link time of its pixels composed elsewhere (empty: none).
+  int cheapest(std::span<const double> extra) const;
   const Rates& rates() const { return m_rates; }
 
  private:

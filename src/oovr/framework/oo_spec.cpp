@@ -4,8 +4,15 @@
 
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
+#include "oovr/core/units.h"
 
 namespace oovr {
+
+namespace {
+// A weight on link time; beyond this it would only say "never off the owner".
+constexpr double kMaxAffinity = 1000;
+constexpr const char* kAffinityKind = "a number from 0 to 1000";
+}  // namespace
 
 OOSpec OOSpec::parameters(const Config& c) {
   OOSpec s;
@@ -27,6 +34,7 @@ OOSpec OOSpec::from_config(const Config& c, const OOSpec& m) {
   s.split = c.get_bool("oo.split", m.split);
   s.distributed_composition = c.get_choice("oo.composition", m.distributed_composition ? "distributed" : "root",
                                            {"root", "distributed"}) == "distributed";
+  s.affinity = c.get_double("oo.affinity", m.affinity, 0, kMaxAffinity);
   return s;
 }
 
@@ -38,6 +46,7 @@ OOSettings OOSettings::from_config(const Config& c) {
   if (c.has("oo.split")) s.split = c.get_bool("oo.split", true);
   if (c.has("oo.composition"))
     s.distributed_composition = c.get_choice("oo.composition", "distributed", {"root", "distributed"}) == "distributed";
+  if (c.has("oo.affinity")) s.affinity = c.get_double("oo.affinity", 0, 0, kMaxAffinity);
   return s;
 }
 
@@ -47,6 +56,7 @@ OOSpec OOSettings::resolve(const OOSpec& m) const {
   s.prealloc = prealloc.value_or(m.prealloc);
   s.split = split.value_or(m.split);
   s.distributed_composition = distributed_composition.value_or(m.distributed_composition);
+  s.affinity = affinity.value_or(m.affinity);
   return s;
 }
 
@@ -63,6 +73,7 @@ void OOSettings::record(const OOSpec& m, std::map<std::string, Config::Entry>& e
   const auto composition = [](bool distributed) { return distributed ? "distributed" : "root"; };
   entry("oo.composition", composition(s.distributed_composition), composition(m.distributed_composition),
         "one of root, distributed");
+  entry("oo.affinity", format_number(s.affinity), format_number(m.affinity), kAffinityKind);
 }
 
 namespace {
@@ -86,7 +97,11 @@ const ConfigSections::Add reg(
       {"oo.prealloc", "pre-allocation units copy a batch's data into its GPM's DRAM ahead of use", kPerScheme, "true or false"},
       {"oo.split", "idle GPMs take the leftover fragment work of large batches, their data copied", kPerScheme, "true or false"},
       {"oo.composition", "root (all colour to GPM 0) or distributed (DHC: N vertical strips, Section 5.3)",
-       "per scheme: oo-app root, oo-vr distributed", "one of root, distributed"}},
+       "per scheme: oo-app root, oo-vr distributed", "one of root, distributed"},
+      {"oo.affinity",
+       "screen affinity (oovr's, not the paper's): weight of the link time of a batch's pixels owned by other GPMs when the "
+       "engine picks its GPM (0: off)",
+       "per scheme: oo-vr-affinity 1, the others 0", kAffinityKind}},
      // OO_APP's and OO-VR's own (schemes/impl/oo.cpp names it), read once
      // into the settings they run with.
      true,

@@ -16,6 +16,12 @@
 //   oo.split       leftover work of large batches is split over idle GPMs
 //   oo.composition "root" (all colour to GPM 0) or "distributed" (DHC: N
 //                  vertical strips, each composed by its owner's ROPs)
+//   oo.affinity    screen affinity, oovr's own and not the paper's (0: off,
+//                  the paper's engine): the engine sends a batch to the GPM
+//                  for which its predicted free time plus this weight times
+//                  the link time of the batch's pixels owned by other GPMs
+//                  (as its objects' pixels fell in the previous frame) is
+//                  least (framework/runtime.h)
 #pragma once
 
 #include <cstdint>
@@ -38,6 +44,7 @@ struct OOSpec {
   bool prealloc = true;
   bool split = true;
   bool distributed_composition = true;
+  double affinity = 0;
 
   // `mechanisms` gives the switches' defaults (the scheme's own).
   static OOSpec from_config(const Config& c, const OOSpec& mechanisms);
@@ -53,6 +60,7 @@ struct OOSettings {
   OOSpec parameters;
   std::optional<bool> predictor, prealloc, split;
   std::optional<bool> distributed_composition;
+  std::optional<double> affinity;
 
   static OOSettings from_config(const Config& c);
   // The spec a scheme whose switches default to `mechanisms` runs.

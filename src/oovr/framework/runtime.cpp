@@ -1,6 +1,7 @@
 #include "oovr/framework/runtime.h"
 
 #include <algorithm>
+#include <string>
 
 #include "oovr/core/error.h"
 
@@ -8,8 +9,15 @@ namespace oovr {
 
 OORuntime::OORuntime(const OOSpec& spec, int gpms, std::vector<Batch> batches,
                      const std::vector<std::vector<const TileWork*>>& records, const std::vector<uint64_t>& vertices,
-                     RuntimeExecutor& executor, std::optional<Rates> rates)
-    : m_spec(spec), m_n(gpms), m_exec(executor), m_batches_in(std::move(batches)) {
+                     RuntimeExecutor& executor, std::optional<Rates> rates, std::vector<std::vector<double>> link_seconds)
+    : m_spec(spec), m_n(gpms), m_exec(executor), m_batches_in(std::move(batches)), m_link_seconds(std::move(link_seconds)) {
+  if (!m_link_seconds.empty() && m_link_seconds.size() != records.size())
+    throw Error("OO runtime: link costs for " + std::to_string(m_link_seconds.size()) + " objects, the frame has " +
+                std::to_string(records.size()));
+  for (const auto& row : m_link_seconds)
+    if (!row.empty() && row.size() != size_t(gpms))
+      throw Error("OO runtime: an object's link costs name " + std::to_string(row.size()) + " GPMs, the machine has " +
+                  std::to_string(gpms));
   for (size_t b = 0; b < m_batches_in.size(); ++b) {
     BatchRun r;
     for (uint32_t o : m_batches_in[b].objects) {
@@ -76,7 +84,14 @@ int OORuntime::choose(int b) {
     }
     m_engine->set_elapsed(g, v, p);
   }
-  return m_engine->earliest_free();
+  if (m_spec.affinity <= 0 || m_link_seconds.empty()) return m_engine->earliest_free();
+  std::vector<double> extra(size_t(m_n), 0.0);
+  for (uint32_t o : m_batches_in[size_t(b)].objects)
+    if (!m_link_seconds[o].empty())
+      for (int g = 0; g < m_n; ++g) extra[size_t(g)] += m_spec.affinity * m_link_seconds[o][size_t(g)];
+  const int g = m_engine->cheapest(extra);
+  if (g != m_engine->earliest_free()) ++m_affine;
+  return g;
 }
 
 void OORuntime::assign(int b, int g) {

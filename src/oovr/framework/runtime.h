@@ -14,6 +14,14 @@
 // been issued) of the GPM with the most, and its pre-allocation unit copies
 // the textures they sample.
 //
+// Screen affinity (oo.affinity > 0; oovr's own idea, not the paper's):
+// with the predictor running, a batch goes to the GPM for which its
+// predicted free time plus the batch's link cost there is least, the cost
+// being oo.affinity times the seconds its objects' pixels owned by other
+// GPMs take on a link (given per object and GPM; an object without one
+// costs nothing anywhere). A GPM with nothing to do still takes the next
+// batch at once, whatever it costs: affinity never leaves a GPM idle.
+//
 // Without the predictor (OO_APP, Section 6.1: software only) there is no
 // hardware engine and so no batch queue: the application deals every batch
 // round-robin at once.
@@ -66,9 +74,12 @@ class OORuntime {
  public:
   // `records[o]`: object o's tile records, both views, in trace order;
   // `vertices[o]`: its vertices. `rates`: a fit carried from an earlier
-  // frame (used only with the predictor).
+  // frame (used only with the predictor). `link_seconds[o][g]`: what object
+  // o's pixels cost the links when it is rendered on GPM g (screen
+  // affinity; `link_seconds` or its row for o empty: nothing).
   OORuntime(const OOSpec& spec, int gpms, std::vector<Batch> batches, const std::vector<std::vector<const TileWork*>>& records,
-            const std::vector<uint64_t>& vertices, RuntimeExecutor& executor, std::optional<Rates> rates);
+            const std::vector<uint64_t>& vertices, RuntimeExecutor& executor, std::optional<Rates> rates,
+            std::vector<std::vector<double>> link_seconds = {});
   OORuntime(const OORuntime&) = delete;
   OORuntime& operator=(const OORuntime&) = delete;
 
@@ -83,6 +94,9 @@ class OORuntime {
   // Rates fitted in this run, when the warm-up batches ended.
   const std::optional<Rates>& fitted() const { return m_fitted; }
   int moved_chunks() const { return m_moved; }
+  // Batches screen affinity sent to another GPM than the one predicted free
+  // first.
+  int affine_batches() const { return m_affine; }
   // Whether every piece of work has been given to a GPM: nothing more will
   // be added but what follows it (a deferred composition).
   bool all_issued() const { return m_issued == m_items; }
@@ -136,9 +150,11 @@ class OORuntime {
   std::unique_ptr<DistributionEngine> m_engine;
   std::optional<Rates> m_fitted;
   std::vector<BatchSample> m_samples;
+  std::vector<std::vector<double>> m_link_seconds;
   int m_next = 0;
   int m_rr = 0;
   int m_moved = 0;
+  int m_affine = 0;
   size_t m_items = 0, m_issued = 0;  // items in all batches, and issued
 };
 

@@ -95,9 +95,18 @@ class Composer {
   // whatever the algorithm: what must end before the group is composed.
   std::vector<int> close();
 
-  // Bytes and pixels one record sends to its owner (0 when owned locally).
+  // Bytes and pixels one record sends to its owner when it is rendered
+  // elsewhere.
   uint64_t bytes(const TileWork& r) const;
   uint64_t pixels(const TileWork& r) const;
+  // The GPM owning a record's pixels.
+  int owner_of(const TileWork& r) const { return owner(r); }
+  // What rendering `r` on `gpm` puts on the links, 0 when `gpm` owns its
+  // pixels: its colour sent to the owner, and with a colour-only payload
+  // the depth test's reads and writes in the owner's depth buffer, counted
+  // as two more of its lines (an estimate: the test reads the lines it
+  // covers, which may be more).
+  uint64_t remote_bytes(const TileWork& r, int gpm) const { return owner(r) == gpm ? 0 : bytes(r) * (m_spec.depth ? 1 : 3); }
 
  private:
   // What a GPM holds of one tile it does not own, written by itself or

@@ -31,9 +31,26 @@
 // (gather), unless sort_last.composition names another. Every covered
 // fragment is rendered once; nothing is duplicated but the data the split
 // copies.
+//
+// oo-vr-affinity is OO-VR with screen affinity (oo.affinity = 1; oovr's own
+// idea, not the paper's; framework/runtime.h). What oovr measures of OO-VR
+// is that, its texture reads made local, its links carry the pixels a GPM
+// renders outside its own strip: their colour to the strip's owner and
+// their depth tests in the owner's depth buffer (docs/paper-comparison.md,
+// P11). So the engine weighs each GPM's predicted free time with the link
+// time those pixels would take if the batch ran there. Where a batch's
+// pixels fall is known once its geometry is done, too late to choose; the
+// engine uses where its objects' pixels fell in the previous frame (a table
+// keyed by the draw: mesh, material, pass, view and placement), which a VR
+// frame rate keeps close. A draw not in the table costs nothing anywhere.
 #include <algorithm>
 #include <cstdio>
+#include <map>
+#include <string>
+#include <utility>
 
+#include "oovr/core/hash.h"
+#include "oovr/core/units.h"
 #include "oovr/framework/oo_application.h"
 #include "oovr/framework/runtime.h"
 #include "oovr/schemes/composition.h"
@@ -42,6 +59,40 @@ namespace oovr {
 namespace {
 
 constexpr const char* kRatesKey = "oo.rates";
+constexpr const char* kFootprintKey = "oo.footprint";
+
+// A draw as screen affinity knows it from one frame to the next: a checksum
+// of its mesh, material, pass, view and placement, as two exact halves (the
+// carried values are doubles).
+using Signature = std::pair<double, double>;
+Signature signature(const Object& o) {
+  std::string b;
+  const auto put = [&](const void* p, size_t n) { b.append(static_cast<const char*>(p), n); };
+  put(&o.mesh, sizeof o.mesh);
+  put(&o.material, sizeof o.material);
+  put(&o.pass, sizeof o.pass);
+  const auto view = uint8_t(o.view);
+  put(&view, 1);
+  put(&o.world_from_object.m, sizeof o.world_from_object.m);
+  const uint64_t h = checksum64(b);
+  return {double(h >> 32), double(h & 0xffffffffu)};
+}
+
+// Screen affinity's table: per draw signature, the link bytes its pixels
+// cost on each GPM, carried from frame to frame as rows of 2 + gpms values.
+std::map<Signature, std::vector<double>> read_footprints(const CarriedState* carried, int gpms) {
+  std::map<Signature, std::vector<double>> table;
+  if (!carried) return table;
+  const auto it = carried->values.find(kFootprintKey);
+  if (it == carried->values.end()) return table;
+  const std::vector<double>& v = it->second;
+  const size_t row = 2 + size_t(gpms);
+  if (v.size() % row != 0) return table;  // another machine's table: start afresh
+  for (size_t k = 0; k < v.size(); k += row)
+    table.emplace(Signature{v[k], v[k + 1]},
+                  std::vector<double>(v.begin() + std::ptrdiff_t(k + 2), v.begin() + std::ptrdiff_t(k + row)));
+  return table;
+}
 
 // The runtime's decisions as units on the simulated machine.
 class Machine final : public RuntimeExecutor {
@@ -163,8 +214,30 @@ class OO final : public Scheme {
       const auto it = carried->values.find(kRatesKey);
       if (it != carried->values.end() && it->second.size() == 3) rates = Rates{it->second[0], it->second[1], it->second[2]};
     }
+    // Screen affinity: where each object's pixels fell in the previous
+    // frame, priced at one link's bandwidth; this frame's for the next.
+    std::vector<std::vector<double>> link_seconds;
+    if (spec.affinity > 0) {
+      const std::map<Signature, std::vector<double>> last = read_footprints(carried, n);
+      const double per_byte = 1.0 / sim.spec().memory.link_bandwidth.value;
+      std::vector<double> next;
+      link_seconds.resize(draws);
+      for (size_t o = 0; o < draws; ++o) {
+        const Signature key = signature(sim.draws(f)[o]);
+        if (const auto it = last.find(key); it != last.end())
+          for (double bytes : it->second) link_seconds[o].push_back(bytes * per_byte);
+        next.push_back(key.first);
+        next.push_back(key.second);
+        for (int g = 0; g < n; ++g) {
+          uint64_t bytes = 0;
+          for (const TileWork* r : records[o]) bytes += composer.remote_bytes(*r, g);
+          next.push_back(double(bytes));
+        }
+      }
+      if (carried) carried->values[kFootprintKey] = std::move(next);
+    }
     OORuntime runtime(spec, n, make_batches(app, {spec.tsl_threshold, uint64_t(spec.batch_triangles)}), records, vertices,
-                      machine, rates);
+                      machine, rates, std::move(link_seconds));
     runtime.start();
     // A deferred composition starts once the runtime has given out every
     // piece of work: each GPM's rounds then follow its last one.
@@ -234,6 +307,11 @@ class OO final : public Scheme {
                         std::to_string(st.register_bits) + "; the paper: 960)");
     }
     r.add_own("moved_chunks", double(runtime.moved_chunks()), "");
+    if (spec.affinity > 0) {
+      r.add_own("affine_batches", double(runtime.affine_batches()), "");
+      r.notes.push_back("screen affinity (weight " + format_number(spec.affinity) + "): " +
+                        std::to_string(runtime.affine_batches()) + " batches sent elsewhere than the GPM predicted free first");
+    }
     if (runtime.moved_chunks())
       r.notes.push_back(std::to_string(runtime.moved_chunks()) + " chunks of fragment work moved to idle GPMs");
   }
@@ -256,6 +334,15 @@ const Schemes::Add reg_vr("oo-vr", {"OO-VR: OO_APP + distribution engine (predic
                                     [] { return std::make_unique<OO>("oo-vr", mechanisms(true)); },
                                     90,
                                     {"oo", "sort_last"}});
+OOSpec with_affinity(OOSpec s) {
+  s.affinity = 1;
+  return s;
+}
+const Schemes::Add reg_affinity(
+    "oo-vr-affinity", {"OO-VR with screen affinity (oovr's): batches weigh the link time of pixels outside their GPM's strip",
+                       [] { return std::make_unique<OO>("oo-vr-affinity", with_affinity(mechanisms(true))); },
+                       95,
+                       {"oo", "sort_last"}});
 
 }  // namespace
 }  // namespace oovr
