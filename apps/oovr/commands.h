@@ -84,6 +84,7 @@ Config machine_config(const std::string& file, const std::vector<std::string>& s
 int simulate(const SimulateArgs& a);
 int compare(const SimulateArgs& a, const std::vector<std::string>& schemes);
 int paper(const PaperArgs& a);
+int beyond(const PaperArgs& a);  // the same arguments; --out defaults to out/beyond
 int correlate(const CorrelateArgs& a);
 int sweep(const SweepArgs& a);
 int check_capture(const CheckCaptureArgs& a);  // capture.cpp

@@ -324,6 +324,19 @@ int main(int argc, char** argv) {
   paper_cmd->add_flag("--resume", paper.resume, "Keep the database in --out and run only the points it lacks");
   paper_cmd->add_option("--jobs", paper.jobs, "Points run at once (0 = every core)")->capture_default_str();
 
+  cli::PaperArgs beyond;
+  beyond.out = "out/beyond";
+  auto* beyond_cmd = app.add_subcommand(
+      "beyond",
+      "Run the study beyond the paper (per-eye, sfr-lb, GPUpd, CHOPIN, OO-VR with screen affinity; a sweep) and write its "
+      "document from its database");
+  beyond_cmd->add_option("--sweep", beyond.sweep, "The study's sweep file (default: experiments/beyond.toml, carried by oovr)");
+  beyond_cmd->add_option("--scenes", beyond.scenes, "Comma-separated: only these scenes of the sweep (default: all)");
+  beyond_cmd->add_option("--out", beyond.out, "Folder for the database, CSV, plots and beyond-paper.md")->capture_default_str();
+  beyond_cmd->add_option("--doc", beyond.doc, "Also write the document here, plots beside it (e.g. docs/beyond-paper.md)");
+  beyond_cmd->add_flag("--resume", beyond.resume, "Keep the database in --out and run only the points it lacks");
+  beyond_cmd->add_option("--jobs", beyond.jobs, "Points run at once (0 = every core)")->capture_default_str();
+
   cli::CorrelateArgs corr;
   auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");
   corr_cmd->add_option("--hardware", corr.hardware, "CSV of measured frames (oovr-reference --time; docs/data/hardware/)")
@@ -406,7 +419,8 @@ int main(int argc, char** argv) {
     // The command line results record, with the program as "oovr".
     std::vector<const char*> words(argv, argv + argc);
     words[0] = "oovr";
-    sim.command = cmp.command = paper.command = corr.command = sweep.command = shell_command_line(argc, words.data());
+    sim.command = cmp.command = paper.command = beyond.command = corr.command = sweep.command =
+        shell_command_line(argc, words.data());
     const auto run = [&]() -> int {
       if (app.got_subcommand("scenes")) return cmd_scenes();
       if (app.got_subcommand("schemes")) return cmd_schemes();
@@ -428,6 +442,7 @@ int main(int argc, char** argv) {
       }
       if (app.got_subcommand(corr_cmd)) return cli::correlate(corr);
       if (app.got_subcommand(paper_cmd)) return cli::paper(paper);
+      if (app.got_subcommand(beyond_cmd)) return cli::beyond(beyond);
       if (app.got_subcommand(sweep_cmd)) return cli::sweep(sweep);
       if (app.got_subcommand(report_cmd)) {
         fmt::print("report: {}\n", write_report(report));

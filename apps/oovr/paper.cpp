@@ -1,6 +1,7 @@
-// oovr paper: the paper's evaluation as a sweep (experiments/paper.toml),
-// run into a database in --out, and the comparison with the paper written
-// from it (docs/paper-comparison.md when asked with --doc).
+// oovr paper and oovr beyond: an evaluation as a sweep (experiments/
+// paper.toml, experiments/beyond.toml), run into a database in --out, and
+// its document written from it (docs/paper-comparison.md,
+// docs/beyond-paper.md when asked with --doc).
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/text.h"
+#include "oovr/experiments/beyond.h"
 #include "oovr/experiments/paper.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
@@ -18,9 +20,24 @@ namespace oovr::cli {
 
 namespace fs = std::filesystem;
 
-int paper(const PaperArgs& a) {
+namespace {
+
+// What differs between the evaluations: the sweep oovr carries, the
+// writers, and the names of the document and of its plots' folder.
+struct Evaluation {
+  std::string command;  // "paper", "beyond"
+  std::string title;    // "the paper", "the study", as messages name it
+  Sweep (*sweep)();
+  std::string doc;    // the document's file name in --out
+  std::string plots;  // the plots' folder under img/
+  void (*outputs)(const PaperResults&, const PaperOptions&, const std::string& dir);
+  void (*plot)(const PaperResults&, const PaperOptions&, const std::string& dir);
+  void (*write_doc)(const PaperResults&, const PaperOptions&, const std::string& path, const std::string& plots_dir);
+};
+
+int evaluate(const PaperArgs& a, const Evaluation& e) {
   PaperOptions o;
-  o.sweep = a.sweep.empty() ? paper_sweep() : read_sweep(a.sweep);
+  o.sweep = a.sweep.empty() ? e.sweep() : read_sweep(a.sweep);
   o.machine = resolve_all(o.sweep);
   o.only_scenes = split_list(a.scenes);
   o.jobs = a.jobs;
@@ -42,15 +59,15 @@ int paper(const PaperArgs& a) {
       for (const auto& [name, definition] : earlier.sweep_definitions())
         if (name != o.sweep.name) others += (others.empty() ? "'" : ", '") + name + "'";
       if (!others.empty())
-        throw Error("the database '" + o.db + "' holds other sweeps (" + others +
-                    "), which a new run of the paper would delete: move it away, or give --resume to add to it");
+        throw Error("the database '" + o.db + "' holds other sweeps (" + others + "), which a new run of " + e.title +
+                    " would delete: move it away, or give --resume to add to it");
     }
     fs::remove(o.db, ec);
     if (ec) throw Error("cannot remove the earlier database '" + o.db + "': " + ec.message());
   }
   Progress progress(0);
   o.on_plan = [&](size_t points) {
-    fmt::print("paper: sweep '{}': {} points to run into {}\n", o.sweep.name, points, o.db);
+    fmt::print("{}: sweep '{}': {} points to run into {}\n", e.command, o.sweep.name, points, o.db);
     std::fflush(stdout);
     progress.set_total(points);
   };
@@ -58,22 +75,34 @@ int paper(const PaperArgs& a) {
   o.on_record = [&](const RunRecord& r) { progress.point(r); };
   const PaperResults r = run_paper(o);
   progress.finish();
-  write_paper_outputs(r, o, a.out);
+  e.outputs(r, o, a.out);
   // The document and its plots in --out; with --doc, also there, its plots
   // beside it, so that it can be committed without the raw results.
-  const std::string out_doc = (fs::path(a.out) / "paper-comparison.md").string();
-  write_paper_plots(r, o, (fs::path(a.out) / "img" / "paper").string());
-  write_paper_doc(r, o, out_doc, (fs::path(a.out) / "img" / "paper").string());
+  const std::string out_plots = (fs::path(a.out) / "img" / e.plots).string();
+  e.plot(r, o, out_plots);
+  e.write_doc(r, o, (fs::path(a.out) / e.doc).string(), out_plots);
   if (!a.doc.empty()) {
-    const std::string plots = (fs::absolute(a.doc).parent_path() / "img" / "paper").string();
-    write_paper_plots(r, o, plots);
-    write_paper_doc(r, o, a.doc, plots);
+    const std::string plots = (fs::absolute(a.doc).parent_path() / "img" / e.plots).string();
+    e.plot(r, o, plots);
+    e.write_doc(r, o, a.doc, plots);
   }
   fmt::print("{} scenes ({} skipped), {} runs ({} run now) in {:.0f} s; database, results, CSV, plots and {} in {}{}\n",
-             r.scenes.size(), r.skipped.size(), r.runs.size(), r.ran, r.seconds, "paper-comparison.md", a.out,
-             a.doc.empty() ? "" : "; comparison also in " + a.doc);
+             r.scenes.size(), r.skipped.size(), r.runs.size(), r.ran, r.seconds, e.doc, a.out,
+             a.doc.empty() ? "" : "; document also in " + a.doc);
   for (const auto& s : r.skipped) fmt::print("  skipped: {}\n", s);
   return 0;
+}
+
+}  // namespace
+
+int paper(const PaperArgs& a) {
+  return evaluate(a, {"paper", "the paper", paper_sweep, "paper-comparison.md", "paper", write_paper_outputs, write_paper_plots,
+                      write_paper_doc});
+}
+
+int beyond(const PaperArgs& a) {
+  return evaluate(a, {"beyond", "the study", beyond_sweep, "beyond-paper.md", "beyond", write_beyond_outputs, write_beyond_plots,
+                      write_beyond_doc});
 }
 
 }  // namespace oovr::cli

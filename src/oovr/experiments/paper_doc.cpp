@@ -1257,16 +1257,17 @@ class Doc {
 
 }  // namespace
 
+std::string paper::plots_link(const std::string& doc, const std::string& plots_dir) {
+  if (plots_dir.empty()) return "";
+  std::error_code ec;
+  const fs::path doc_dir = fs::absolute(fs::path(doc)).parent_path();
+  const std::string link = fs::relative(fs::absolute(plots_dir), doc_dir, ec).generic_string();
+  return ec || link.empty() ? fs::absolute(plots_dir).generic_string() : link;
+}
+
 void write_paper_doc(const PaperResults& results, const PaperOptions& options, const std::string& path,
                      const std::string& plots_dir) {
-  std::string link;
-  if (!plots_dir.empty()) {
-    std::error_code ec;
-    const fs::path doc_dir = fs::absolute(fs::path(path)).parent_path();
-    link = fs::relative(fs::absolute(plots_dir), doc_dir, ec).generic_string();
-    if (ec || link.empty()) link = fs::absolute(plots_dir).generic_string();
-  }
-  Doc d(results, options, link);
+  Doc d(results, options, plots_link(path, plots_dir));
   const std::string text = d.write();
   write_output_file(path, text, "comparison document");
 }

@@ -115,6 +115,10 @@ inline std::string step_variant(const ModelStep& step, const std::string& extra)
   if (step.settings.empty()) return extra;
   return extra.empty() ? step.settings : step.settings + ";" + extra;
 }
+// How a document at `doc` links the plots in `plots_dir` (empty: none):
+// relative to the document's folder, else absolute.
+std::string plots_link(const std::string& doc, const std::string& plots_dir);
+
 inline double geomean(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");
   double s = 0;
