@@ -21,7 +21,8 @@
 //                            the memory system; "pixel": 4 bytes per passed
 //                            fragment and payload (a lower bound).
 // How it is sent is a setting of the schemes that take an algorithm
-// (object-level SFR, OO_APP, OO-VR, CHOPIN; their own section, sort_last):
+// (object-level SFR, OO_APP, OO-VR with or without screen affinity, CHOPIN;
+// their own section, sort_last):
 //   sort_last.composition    "scheme" (default): the scheme's own (object
 //                            and OO_APP gather, OO-VR direct send, CHOPIN
 //                            pairwise). The others:

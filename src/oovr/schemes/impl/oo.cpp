@@ -87,7 +87,7 @@ std::map<Signature, std::vector<double>> read_footprints(const CarriedState* car
   if (it == carried->values.end()) return table;
   const std::vector<double>& v = it->second;
   const size_t row = 2 + size_t(gpms);
-  if (v.size() % row != 0) return table;  // another machine's table: start afresh
+  if (v.size() % row != 0) return table;  // not this machine's rows (a window runs on one): none
   for (size_t k = 0; k < v.size(); k += row)
     table.emplace(Signature{v[k], v[k + 1]},
                   std::vector<double>(v.begin() + std::ptrdiff_t(k + 2), v.begin() + std::ptrdiff_t(k + row)));
