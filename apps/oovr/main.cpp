@@ -206,6 +206,18 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
+// A whole number from 0 (CLI11's NonNegativeNumber names its bound as a
+// 309-digit double).
+const CLI::Validator kWhole(
+    [](std::string& text) {
+      long long v = 0;
+      const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < 0)
+        return std::string("'" + text + "' is not a whole number from 0");
+      return std::string();
+    },
+    "WHOLE >= 0");
+
 // An option given with an empty value ("--config ''") is an error, never
 // the default.
 void check_no_empty_values(const CLI::App& cmd) {
@@ -243,7 +255,7 @@ int main(int argc, char** argv) {
   cli::SimulateArgs sim;
   auto add_machine_options = [](CLI::App* cmd, cli::SimulateArgs& a) {
     cmd->add_option("--scene", a.scene, "Scene name or model file")->required();
-    cmd->add_option("--frame", a.frame, "First frame of the camera path")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--frame", a.frame, "First frame of the camera path")->check(kWhole);
     cmd->add_option("--resolution", a.resolution, "Whole stereo frame WxH")->capture_default_str();
     cmd->add_option("--eye-resolution", a.eye_resolution, "Resolution of one eye WxH (instead of --resolution)");
     cmd->add_option("--aniso", a.aniso, "Maximum anisotropic filtering taps")->capture_default_str()->check(CLI::Range(1, 16));
@@ -360,7 +372,7 @@ int main(int argc, char** argv) {
   auto* cut_cmd = app.add_subcommand("trace-cut", "Keep an apitrace capture's frames up to one (scripts/capture-frames.sh)");
   cut_cmd->add_option("--in", cut_in, "The capture (an apitrace file)")->required();
   cut_cmd->add_option("--out", cut_out, "The file to write")->required();
-  cut_cmd->add_option("--last-frame", cut_last, "The last frame kept (from 0)")->required()->check(CLI::NonNegativeNumber);
+  cut_cmd->add_option("--last-frame", cut_last, "The last frame kept (from 0)")->required()->check(kWhole);
 
   cli::CheckCaptureArgs check;
   auto* check_cmd = app.add_subcommand("check-capture",
@@ -375,7 +387,7 @@ int main(int argc, char** argv) {
   check_cmd->add_option("--min-psnr", check.min_psnr, "PSNR (dB) a frame must reach")->capture_default_str()->check(kFinite);
   check_cmd->add_option("--min-frames", check.min_frames, "With --snapshots: frames that must reach it")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kWhole);
   check_cmd
       ->add_option("--max-fragment-diff", check.max_fragment_diff,
                    "With --against: most a frame's covered or passed fragments may differ (%)")
@@ -385,7 +397,7 @@ int main(int argc, char** argv) {
 
   auto* render_cmd = app.add_subcommand("render", "Render one stereo frame to an image");
   render_cmd->add_option("--scene", render.scene, "Scene name or model file")->required();
-  render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(CLI::NonNegativeNumber);
+  render_cmd->add_option("--frame", render.frame, "Frame of the camera path")->check(kWhole);
   render_cmd->add_option("--resolution", render.resolution, "Whole stereo frame WxH (both eyes side by side)")
       ->capture_default_str();
   render_cmd->add_option("--eye-resolution", render.eye_resolution, "Resolution of one eye WxH (instead of --resolution)");
