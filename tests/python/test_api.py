@@ -140,3 +140,15 @@ def test_the_stubs_declare_exactly_the_public_names():
         obj = getattr(oovr, n)
         if callable(obj):
             assert (obj.__doc__ or "").strip(), n
+    # What a scheme written in Python overrides says what it is for.
+    for m in ("run", "configure", "frames_needed"):
+        assert (getattr(oovr.Scheme, m).__doc__ or "").strip(), m
+
+
+def test_the_package_exports_its_public_names_alone():
+    # No module or typing name it uses leaks out (oovr.os, oovr.sqlite3, oovr.Any).
+    exported = {n for n in vars(oovr) if not n.startswith("_")}
+    assert exported == set(oovr.__all__), sorted(exported - set(oovr.__all__))
+    for leaked in ("os", "sqlite3", "threading", "numbers", "Any", "Optional", "annotations"):
+        assert not hasattr(oovr, leaked), leaked
+    assert oovr.Scheme.__module__ == "oovr" and oovr.compare.__module__ == "oovr"

@@ -2,7 +2,7 @@
 // binding of the library. What the CLI does through its commands, Python
 // does here through the same library calls (run_simulation, the sweep
 // engine, the results document), so the two give the same numbers; the
-// pure-Python package oovr/__init__.py wraps these into result objects and
+// pure-Python package (oovr/_api.py, exported by oovr/__init__.py) wraps these into result objects and
 // DataFrames.
 //
 // Scenes and traces are held by one TraceSession for the interpreter's
