@@ -1,6 +1,7 @@
 // The progress of a sweep's points (oovr sweep, oovr paper): points done,
 // failed, time left. On a terminal, one line redrawn in place; otherwise (a
-// log, a pipe, a CI job) one plain line per event.
+// log, a pipe, a CI job) one plain line per event. And StatusLine: what a
+// single simulation is doing (oovr simulate, oovr compare).
 #pragma once
 
 #include <fmt/core.h>
@@ -85,6 +86,41 @@ class Progress {
   size_t m_total, m_done = 0, m_failed = 0;
   bool m_tty;
   std::string m_status;
+  std::mutex m_mutex;
+  std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
+};
+
+// What `oovr simulate` or `oovr compare` is doing while it works (loading a
+// level, rendering traces, simulating the schemes), on a terminal only: one
+// line redrawn in place with the time elapsed, cleared before the results
+// are printed. Nothing when stderr is not a terminal, so that logs and
+// scripts see the results alone.
+class StatusLine {
+ public:
+  StatusLine() : m_tty(isatty(fileno(stderr)) != 0) {}
+  ~StatusLine() { clear(); }
+  StatusLine(const StatusLine&) = delete;
+  StatusLine& operator=(const StatusLine&) = delete;
+
+  bool on() const { return m_tty; }
+  void show(const std::string& what) {
+    if (!m_tty) return;
+    std::lock_guard<std::mutex> lock(m_mutex);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    fmt::print(stderr, "\r\033[K  {}", (printable(what) + " (" + clock_time(s) + ")").substr(0, 150));
+    std::fflush(stderr);
+    m_shown = true;
+  }
+  void clear() {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (!m_shown) return;
+    fmt::print(stderr, "\r\033[K");
+    std::fflush(stderr);
+    m_shown = false;
+  }
+
+ private:
+  bool m_tty, m_shown = false;
   std::mutex m_mutex;
   std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
 };

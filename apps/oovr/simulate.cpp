@@ -11,6 +11,7 @@
 #include "oovr/run/result_json.h"
 #include "oovr/run/result_text.h"
 #include "oovr/run/simulation.h"
+#include "progress.h"
 
 namespace oovr::cli {
 namespace {
@@ -60,7 +61,10 @@ int simulate(const SimulateArgs& a) {
   const Config config = machine_config(a.config, a.settings);
   SimulationRequest r = request_of(a);
   r.need_first_image = !a.gpm_image.empty() || !a.traffic_image.empty();
+  StatusLine status;
+  if (status.on()) r.progress = [&](const std::string& what) { status.show(what); };
   const Simulation s = run_simulation(r, {find_scheme(a.scheme)}, config);
+  status.clear();
   fmt::print("{}{}", simulation_text(s), timing_text(s));
   if (!a.json.empty()) write_json(a.json, document(a, s, config));
   const FrameOutput& first = s.window->outputs.front();
@@ -74,7 +78,11 @@ int compare(const SimulateArgs& a, const std::vector<std::string>& schemes) {
   const Config config = machine_config(a.config, a.settings);
   std::vector<SchemeRef> refs;
   for (const auto& n : schemes) refs.push_back(find_scheme(n));
-  const Simulation s = run_simulation(request_of(a), refs, config);
+  SimulationRequest r = request_of(a);
+  StatusLine status;
+  if (status.on()) r.progress = [&](const std::string& what) { status.show(what); };
+  const Simulation s = run_simulation(r, refs, config);
+  status.clear();
   fmt::print("{}{}", comparison_text(s), timing_text(s));
   if (!a.json.empty()) write_json(a.json, document(a, s, config));
   return 0;

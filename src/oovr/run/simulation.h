@@ -5,6 +5,7 @@
 // what this returns (result_text.h); the Python module hands it over.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct SimulationRequest {
   bool need_first_image = false;           // the first frame's picture, for GPM and traffic images
   unsigned jobs = 0;                       // schemes run at once (0: every core)
   std::string frames_option = "--frames";  // how messages name `frames`
+  // What the simulation is doing, as it moves on (loading, traces, each
+  // scheme done); called from the schemes' threads too. Empty: nothing.
+  std::function<void(const std::string&)> progress;
 };
 
 struct Simulation {
