@@ -50,8 +50,9 @@ struct CorrelateArgs {
 };
 
 struct SweepArgs {
-  std::string file;  // the sweep definition
-  std::string db;    // "": FILE's stem + ".db" in the current folder
+  std::string file;                   // the sweep definition
+  std::vector<std::string> settings;  // --set: overrides of the file's [set] (sweep_with_settings)
+  std::string db;                     // "": FILE's stem + ".db" in the current folder
   bool resume = false;
   bool retry_failed = false;
   bool reconcile = false;  // the database holds this sweep from an edited file: keep what the file still has

@@ -289,6 +289,8 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--db", sweep.db, "Results database (default: the sweep file's name with .db, here)");
   sweep_cmd->add_flag("--resume", sweep.resume, "Run only the points the database does not hold yet");
   sweep_cmd->add_flag("--retry-failed", sweep.retry_failed, "Run again the points that failed (and those missing)");
+  sweep_cmd->add_option("--set", sweep.settings,
+                        "Override a key of the file's [set] for every point (repeatable; not a key it sweeps)");
   sweep_cmd->add_flag("--reconcile", sweep.reconcile,
                       "The database holds this sweep from an edited file: keep the runs the file still has, delete the others");
   sweep_cmd->add_option("--jobs", sweep.jobs, "Points run at once (0 = every core)")->capture_default_str();

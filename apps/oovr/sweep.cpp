@@ -57,7 +57,7 @@ int sweep(const SweepArgs& a) {
   }
   if (a.file.empty()) throw Error("give the sweep file: oovr sweep FILE.toml");
   if (a.backend != "local" && a.backend != "slurm") throw Error("--backend " + a.backend + ": use local or slurm");
-  Sweep s = read_sweep(a.file);
+  Sweep s = read_sweep(a.file, a.settings);
   resolve_all(s);
   if (a.list) {
     for (size_t i = 0; i < s.points.size(); ++i) {

@@ -108,8 +108,8 @@ class Reader {
   }
 
   // A table of configuration keys, nested tables read as dotted keys.
-  void flatten(const toml::table& t, const std::string& prefix,
-               std::vector<std::pair<std::string, const toml::node*>>& out) const {
+  static void flatten(const toml::table& t, const std::string& prefix,
+                      std::vector<std::pair<std::string, const toml::node*>>& out) {
     for (const auto& [k, node] : t) {
       const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
       if (const auto* sub = node.as_table()) flatten(*sub, key, out);
@@ -435,9 +435,68 @@ std::string sweep_toml(const nlohmann::json& definition) {
   return out.str();
 }
 
-Sweep read_sweep(const std::string& path) {
+Sweep read_sweep(const std::string& path) { return read_sweep(path, {}); }
+
+Sweep read_sweep(const std::string& path, const std::vector<std::string>& settings) {
   const std::string text = read_input_file(path, "sweep", uint64_t(1) << 20);
-  return parse_sweep(text, path, fs::path(path).parent_path().string());
+  return parse_sweep(settings.empty() ? text : sweep_with_settings(text, path, settings), path,
+                     fs::path(path).parent_path().string());
+}
+
+std::string sweep_with_settings(const std::string& text, const std::string& name, const std::vector<std::string>& settings) {
+  check_toml_text(text, name);
+  toml::table t;
+  try {
+    t = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw Error("bad sweep '" + name + "' line " + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+  }
+  // The keys the file varies: its [sweep], and every point's set and sweep.
+  const auto keys_of = [](const toml::node* node, std::vector<std::string>& out) {
+    if (const auto* tab = node ? node->as_table() : nullptr) {
+      std::vector<std::pair<std::string, const toml::node*>> flat;
+      Reader::flatten(*tab, "", flat);
+      for (const auto& [key, v] : flat) out.push_back(key);
+    }
+  };
+  std::vector<std::string> swept, point_set;
+  keys_of(t.get("sweep"), swept);
+  if (const auto* points = t.get("point"); points && points->as_array())
+    for (const auto& p : *points->as_array())
+      if (const auto* pt = p.as_table()) {
+        keys_of(pt->get("sweep"), swept);
+        keys_of(pt->get("set"), point_set);
+      }
+  toml::node* top_set = t.get("set");
+  if (top_set && !top_set->as_table())
+    throw Error("bad sweep '" + name + "': set is a table of configuration keys ([set] or set = { key = value })");
+  std::string given;
+  for (const std::string& s : settings) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error("--set " + printable(s) + ": give key=value (e.g. --set link.bandwidth=32GBps)");
+    const std::string key = s.substr(0, eq), value = s.substr(eq + 1);
+    if (std::find(swept.begin(), swept.end(), key) != swept.end())
+      throw Error("--set " + printable(key) + ": the sweep '" + name + "' sweeps it; edit the file to change its values");
+    if (std::find(point_set.begin(), point_set.end(), key) != point_set.end())
+      throw Error("--set " + printable(key) + ": a point of the sweep '" + name + "' sets it; edit the file to change it");
+    if (!top_set) top_set = t.insert_or_assign("set", toml::table{}).first->second.as_table();
+    toml::table& set = *top_set->as_table();
+    // The file's own spelling of the key, dotted or nested, gives way.
+    set.erase(key);
+    toml::table* parent = &set;
+    size_t from = 0;
+    for (size_t dot = key.find('.'); dot != std::string::npos && parent; dot = key.find('.', from = dot + 1)) {
+      toml::node* child = parent->get(key.substr(from, dot - from));
+      parent = child ? child->as_table() : nullptr;
+      if (parent) parent->erase(key.substr(dot + 1));
+    }
+    set.insert_or_assign(key, value);
+    given += " --set " + s;
+  }
+  std::ostringstream out;
+  out << "# " << name << " with" << given << "\n" << t << "\n";
+  return out.str();
 }
 
 namespace {

@@ -72,7 +72,19 @@ struct Sweep {
 // wrong (an unknown key, a list where one value is wanted, an empty list,
 // a point that names no scene, two points with the same id).
 Sweep read_sweep(const std::string& path);
+// read_sweep with --set's settings (sweep_with_settings).
+Sweep read_sweep(const std::string& path, const std::vector<std::string>& settings);
 Sweep parse_sweep(const std::string& text, const std::string& name, const std::string& base_dir);
+
+// The sweep file's text with `settings` ("key=value", as --set takes them)
+// in its top-level [set] table, replacing the file's own value of a key,
+// each value as the text given (what a configuration key reads): the text
+// the sweep then is, kept with its results and copied to a SLURM job, so
+// that a resume or a task reads the same points. A key the file sweeps, or
+// that a point sets or sweeps, is refused (overriding it would silently
+// change what the file says it varies), as is a setting without '='.
+// Throws Error naming the setting.
+std::string sweep_with_settings(const std::string& text, const std::string& name, const std::vector<std::string>& settings);
 
 // A sweep definition given as data (the Python module's dicts, as JSON) as
 // the TOML text of a sweep file with the same keys, for parse_sweep. Throws
