@@ -29,7 +29,8 @@ std::string default_db(const SweepArgs& a) {
   return fs::path(a.file).stem().string() + ".db";
 }
 
-int print_collect(const CollectReport& rep, const std::string& db_path, const Sweep* s, ResultsDb& db) {
+int print_collect(const CollectReport& rep, const std::string& db_path, const Sweep* s, ResultsDb& db,
+                  const std::string& slurm_dir) {
   for (const auto& p : rep.problems) fmt::print("  note: {}\n", printable(p));
   fmt::print("collected {} runs from {} task files into {} ({} there already)\n", rep.added, rep.files, db_path, rep.already);
   if (s) {
@@ -40,8 +41,20 @@ int print_collect(const CollectReport& rep, const std::string& db_path, const Sw
       if (it == status.end()) ++missing;
       else if (it->second == "failed") ++failed;
     }
+    // Points missing while the job still has tasks queued or running are
+    // coming: --resume now would run them here as well.
+    std::string rest;
+    if (missing) {
+      const SlurmJobState job = slurm_job_state(slurm_dir);
+      rest = job.known && job.tasks_left
+                 ? fmt::format(
+                       "; job {} still has {} task{} queued or running (squeue -j {}): collect again once it has "
+                       "ended, and only then run what is still missing with --resume",
+                       job.job_id, job.tasks_left, job.tasks_left == 1 ? "" : "s", job.job_id)
+                 : "; run the sweep again with --resume for the rest";
+    }
     fmt::print("sweep '{}': {} of {} points in the database, {} of them failed{}\n", s->name, s->points.size() - missing,
-               s->points.size(), failed, missing ? "; run the sweep again with --resume for the rest" : "");
+               s->points.size(), failed, rest);
     if (missing || failed) return 1;
   }
   return 0;
@@ -75,7 +88,7 @@ int sweep(const SweepArgs& a) {
   const DatabaseLock lock(db_path);  // the one writer, until this command ends (its children share it)
   auto db = std::make_unique<ResultsDb>(db_path, ResultsDb::Access::write, &lock);
   db->verify();  // whole, before anything is added to it or kept
-  if (a.collect) return print_collect(collect_slurm(slurm_dir, *db), db_path, &s, *db);
+  if (a.collect) return print_collect(collect_slurm(slurm_dir, *db), db_path, &s, *db, slurm_dir);
 
   const SweepPlan plan = plan_sweep(s, *db, a.resume, a.retry_failed, a.reconcile);
   for (const auto& n : plan.notes) fmt::print("note: {}\n", printable(n));
@@ -103,7 +116,7 @@ int sweep(const SweepArgs& a) {
       return 0;
     }
     if (sub.sbatch_status != 0) fmt::print("  note: sbatch --wait ended with status {}: a task failed\n", sub.sbatch_status);
-    return print_collect(collect_slurm(slurm_dir, *db), db_path, &s, *db);
+    return print_collect(collect_slurm(slurm_dir, *db), db_path, &s, *db, slurm_dir);
   }
 
   fmt::print("sweep '{}': {} points{}; results in {}\n", s.name, s.points.size(),

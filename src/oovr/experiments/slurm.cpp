@@ -188,7 +188,36 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
       throw Error("sbatch is not installed here (SLURM's client commands; scripts/install-deps.sh --services): " + out);
     throw Error("sbatch refused the job " + script_path + " (exit status " + std::to_string(sub.sbatch_status) + "): " + out);
   }
+  // Kept, so that a --collect before the job has ended can say what is left.
+  write_output_file((dir / "job-id").string(), sub.job_id + "\n", "SLURM job id");
   return sub;
+}
+
+SlurmJobState slurm_job_state(const std::string& dir) {
+  SlurmJobState st;
+  const FileRead f = read_regular_file((fs::path(dir) / "job-id").string(), 64, false);
+  if (f.failure != FileRead::Failure::none) return st;
+  std::string id = f.bytes;
+  while (!id.empty() && id.back() == '\n') id.pop_back();
+  if (id.empty() || id.size() > 20 || !std::all_of(id.begin(), id.end(), ::isdigit)) return st;  // not ours: unknown
+  st.job_id = id;
+  // One line per array task (-r), pending or running, none once it has ended.
+  std::string out;
+  if (run_command({"squeue", "-h", "-r", "-j", id, "-o", "%i"}, out) != 0) {
+    // squeue refuses a job id it has forgotten (ended a while ago): none left.
+    st.known = out.find("Invalid job id") != std::string::npos;
+    return st;
+  }
+  st.known = true;
+  size_t from = 0;
+  while (from < out.size()) {
+    const size_t nl = out.find('\n', from);
+    const std::string line = out.substr(from, nl == std::string::npos ? std::string::npos : nl - from);
+    if (line.rfind(id, 0) == 0) ++st.tasks_left;
+    if (nl == std::string::npos) break;
+    from = nl + 1;
+  }
+  return st;
 }
 
 void run_slurm_task(const std::string& dir, int task, unsigned jobs) {

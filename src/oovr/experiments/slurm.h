@@ -58,4 +58,16 @@ struct CollectReport {
 // Merges every task's records in `dir` into `db`.
 CollectReport collect_slurm(const std::string& dir, ResultsDb& db);
 
+// The job submitted from `dir` (its id, which submit_slurm keeps in the
+// folder) and how many of its array tasks SLURM still has queued or
+// running (squeue). `known` is false when that cannot be told: no job id in
+// the folder (a folder of an older oovr, or written by hand), or squeue
+// missing or failing.
+struct SlurmJobState {
+  bool known = false;
+  std::string job_id;
+  size_t tasks_left = 0;
+};
+SlurmJobState slurm_job_state(const std::string& dir);
+
 }  // namespace oovr
