@@ -3,6 +3,7 @@
 // the prediction of a sweep's time on more workers.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numeric>
 
 #include "oovr/experiments/sweep_schedule.h"
@@ -137,6 +138,43 @@ TEST(SweepSchedule, PredictionsOfHandWorkedSchedules) {
     EXPECT_LE(t, predict_schedule(many, w, true).wall_s) << w << " workers";
   }
   EXPECT_THROW((void)predict_schedule(two, 0, false), std::exception);
+}
+
+}  // namespace
+}  // namespace oovr
+
+namespace oovr {
+namespace {
+
+// Points ending at the given costs, one after the other.
+std::vector<double> ends(const std::vector<double>& costs) {
+  std::vector<double> t;
+  double now = 0;
+  for (double c : costs) t.push_back(now += c);
+  return t;
+}
+
+TEST(SweepSchedule, TheTimeLeftFollowsTheRecentRateWhenPointsGrowCostly) {
+  // 100 points: 50 of 1 s, then 50 of 3 s (the built-in scenes, then the
+  // game levels). At 60 done (80 s), 40 are left: 120 s.
+  std::vector<double> costs(50, 1.0);
+  costs.insert(costs.end(), 50, 3.0);
+  const std::vector<double> t = ends(std::vector<double>(costs.begin(), costs.begin() + 60));
+  const double whole = 80.0 / 60 * 40;  // 53 s: the run's mean rate
+  // The last 15 points (a quarter) took 80 - 45 = 35 s: 40 x 35 / 15.
+  EXPECT_NEAR(estimate_seconds_left(t, 100, 80), 40 * 35.0 / 15, 1e-9);
+  EXPECT_GT(estimate_seconds_left(t, 100, 80), 1.7 * whole);
+  // Even costs: the recent rate is the whole run's.
+  const std::vector<double> even = ends(std::vector<double>(40, 1.0));
+  EXPECT_NEAR(estimate_seconds_left(even, 100, 40), 60, 1e-9);
+  // Points growing cheaper: never below the whole run's rate.
+  std::vector<double> cheaper(30, 3.0);
+  cheaper.insert(cheaper.end(), 30, 1.0);
+  EXPECT_NEAR(estimate_seconds_left(ends(cheaper), 100, 120), 120.0 / 60 * 40, 1e-9);
+  // Nothing finished: unknown; everything: nothing left; few: the mean.
+  EXPECT_TRUE(std::isnan(estimate_seconds_left({}, 10, 5)));
+  EXPECT_EQ(estimate_seconds_left(even, 40, 40), 0);
+  EXPECT_NEAR(estimate_seconds_left(ends({2, 2, 2}), 10, 6), 14, 1e-9);
 }
 
 }  // namespace

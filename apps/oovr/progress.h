@@ -8,12 +8,15 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "oovr/core/text.h"
 #include "oovr/experiments/results_db.h"
+#include "oovr/experiments/sweep_schedule.h"
 
 namespace oovr::cli {
 
@@ -40,6 +43,7 @@ class Progress {
   void point(const RunRecord& r) {
     std::lock_guard<std::mutex> lock(m_mutex);
     ++(r.status == "done" ? m_done : m_failed);
+    m_ends.push_back(elapsed());
     if (m_tty) {
       if (r.status != "done") {
         clear();
@@ -63,11 +67,12 @@ class Progress {
   double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
 
  private:
+  // The time left at the recent rate or the whole run's, the slower
+  // (estimate_seconds_left: a sweep's late points are often its costly ones).
   std::string left() const {
-    const size_t finished = m_done + m_failed;
-    if (finished == 0) return clock_time(elapsed()) + " elapsed";
-    return fmt::format("{} elapsed, about {} left", clock_time(elapsed()),
-                       clock_time(elapsed() / double(finished) * double(m_total - finished)));
+    const double now = elapsed(), rest = estimate_seconds_left(m_ends, m_total, now);
+    if (std::isnan(rest)) return clock_time(now) + " elapsed";
+    return fmt::format("{} elapsed, about {} left", clock_time(now), clock_time(rest));
   }
   void clear() { fmt::print(stderr, "\r\033[K"); }
   void draw() {
@@ -84,6 +89,7 @@ class Progress {
   }
 
   size_t m_total, m_done = 0, m_failed = 0;
+  std::vector<double> m_ends;  // when each point ended, seconds from the start
   bool m_tty;
   std::string m_status;
   std::mutex m_mutex;

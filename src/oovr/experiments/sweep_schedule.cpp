@@ -1,6 +1,7 @@
 #include "oovr/experiments/sweep_schedule.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <queue>
 
@@ -141,6 +142,22 @@ PredictedSchedule predict_schedule(const std::vector<GroupDurations>& groups, un
   }
   p.wall_s = now;
   return p;
+}
+
+double estimate_seconds_left(std::span<const double> finished, size_t total, double now) {
+  const size_t n = finished.size();
+  if (n >= total) return 0;
+  if (n == 0 || now <= 0) return std::nan("");
+  const double left = double(total - n);
+  const double whole = now / double(n) * left;
+  // The recent window: its points over the time since the point before it
+  // ended (or since the start).
+  const size_t window = std::max<size_t>(8, n / 4);
+  if (n <= window) return whole;
+  const double since = finished[n - window - 1];
+  const double span = now - since;
+  if (span <= 0) return whole;
+  return std::max(whole, span / double(window) * left);
 }
 
 }  // namespace oovr

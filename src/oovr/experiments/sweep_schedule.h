@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace oovr {
@@ -81,5 +82,15 @@ struct PredictedSchedule {
 // one worker and then runs its points with a barrier at the group's end
 // (oovr before one pool). Traces held are not counted against the budget.
 PredictedSchedule predict_schedule(const std::vector<GroupDurations>& groups, unsigned workers, bool barrier);
+
+// Seconds a sweep of `total` points has left, `finished` (ascending) being
+// when each finished point ended and `now` the time, both in seconds from
+// the start: the points left at the recent rate (over the last quarter of
+// the finished points, at least 8 of them) or at the whole run's, whichever
+// is slower. A sweep's late points are often its costly ones (the paper's
+// game levels after the built-in scenes, its larger resolutions), so the
+// whole run's mean alone runs low; the recent rate follows them. NaN while
+// nothing has finished; 0 once everything has.
+double estimate_seconds_left(std::span<const double> finished, size_t total, double now);
 
 }  // namespace oovr
