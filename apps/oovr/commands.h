@@ -21,6 +21,8 @@ struct SimulateArgs {
   std::string config;
   std::vector<std::string> settings;
   std::string json, gpm_image, traffic_image;
+  std::string timeline;                // Trace Event Format JSON of every unit (oovr simulate --timeline)
+  size_t timeline_events = 1'000'000;  // at most this many units in it
   bool no_cache = false;
   std::string command;  // the command line, for the results
 };

@@ -271,6 +271,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   sim_cmd->add_option("--gpm-image", sim.gpm_image, "Write the frame coloured by the GPM that shaded each pixel");
   sim_cmd->add_option("--traffic-image", sim.traffic_image, "Write inter-GPM bytes per screen tile as a heat map");
+  sim_cmd->add_option("--timeline", sim.timeline,
+                      "Write every unit of work as Trace Event Format JSON (Perfetto, chrome://tracing)");
+  sim_cmd->add_option("--timeline-events", sim.timeline_events, "At most this many units in the timeline, the earliest")
+      ->capture_default_str()
+      ->check(CLI::Range(size_t(1), size_t(100'000'000)));
 
   cli::SimulateArgs cmp;
   std::string scheme_list;

@@ -11,6 +11,7 @@
 #include "oovr/run/result_json.h"
 #include "oovr/run/result_text.h"
 #include "oovr/run/simulation.h"
+#include "oovr/run/timeline.h"
 #include "progress.h"
 
 namespace oovr::cli {
@@ -58,9 +59,14 @@ int simulate(const SimulateArgs& a) {
     check_image_path(a.traffic_image);
     outputs.claim(a.traffic_image, "traffic image (--traffic-image)");
   }
+  if (!a.timeline.empty()) {
+    check_output_path(a.timeline, "timeline (--timeline)");
+    outputs.claim(a.timeline, "timeline (--timeline)");
+  }
   const Config config = machine_config(a.config, a.settings);
   SimulationRequest r = request_of(a);
   r.need_first_image = !a.gpm_image.empty() || !a.traffic_image.empty();
+  r.timeline = !a.timeline.empty();
   StatusLine status;
   if (status.on()) r.progress = [&](const std::string& what) { status.show(what); };
   const Simulation s = run_simulation(r, {find_scheme(a.scheme)}, config);
@@ -70,6 +76,12 @@ int simulate(const SimulateArgs& a) {
   const FrameOutput& first = s.window->outputs.front();
   if (!a.gpm_image.empty()) write_image(gpm_image(first, s.results.front()), a.gpm_image);
   if (!a.traffic_image.empty()) write_image(traffic_image(first, s.results.front()), a.traffic_image);
+  if (!a.timeline.empty()) {
+    const TimelineText t = timeline_json(s.results.front(), a.timeline_events);
+    write_output_file(a.timeline, t.json, "timeline");
+    fmt::print("timeline: {} units in {}{} (open it in ui.perfetto.dev or chrome://tracing)\n", t.units, a.timeline,
+               t.omitted ? fmt::format(", {} later ones left out (--timeline-events)", t.omitted) : std::string());
+  }
   return 0;
 }
 

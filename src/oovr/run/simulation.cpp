@@ -14,7 +14,8 @@ namespace oovr {
 Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRef>& schemes, const Config& config,
                           TraceSession* session) {
   if (schemes.empty()) throw Error("no scheme to simulate");
-  const MachineSpec machine = MachineSpec::from_config(config);  // read once, for every scheme
+  MachineSpec machine = MachineSpec::from_config(config);  // read once, for every scheme
+  machine.timeline = r.timeline;
   Simulation s;
   s.frame = r.frame;
   s.frames = measured_window(schemes, machine, r.frames, r.frames_option);

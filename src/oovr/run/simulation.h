@@ -27,6 +27,7 @@ struct SimulationRequest {
   bool need_first_image = false;           // the first frame's picture, for GPM and traffic images
   unsigned jobs = 0;                       // schemes run at once (0: every core)
   std::string frames_option = "--frames";  // how messages name `frames`
+  bool timeline = false;                   // keep every unit's time (SchemeResult::timeline)
   // What the simulation is doing, as it moves on (loading, traces, each
   // scheme done); called from the schemes' threads too. Empty: nothing.
   std::function<void(const std::string&)> progress;

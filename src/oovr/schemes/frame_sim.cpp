@@ -10,6 +10,18 @@
 
 namespace oovr {
 
+const char* timeline_kind_name(TimelineUnit::Kind k) {
+  switch (k) {
+    case TimelineUnit::Kind::command: return "draw";
+    case TimelineUnit::Kind::geometry: return "geometry";
+    case TimelineUnit::Kind::tiles: return "tiles";
+    case TimelineUnit::Kind::compose: return "compose";
+    case TimelineUnit::Kind::transfer: return "transfer";
+    case TimelineUnit::Kind::prealloc: return "copy";
+  }
+  return "unit";
+}
+
 uint64_t SchemeResult::total_inter_gpm_bytes() const {
   uint64_t s = 0;
   for (uint64_t b : inter_gpm_bytes) s += b;
@@ -168,7 +180,7 @@ UnitTraffic FrameSim::empty_traffic() const {
   return t;
 }
 
-int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue) {
+int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, TimelineUnit info, bool in_queue) {
   TimingEngine::Unit u;
   u.queue = in_queue ? m_machine->queue(gpm) : -1;
   u.demand = m_machine->demand(gpm, w, t);
@@ -178,6 +190,8 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
   const int id = m_engine.add_unit(std::move(u));
   if (in_queue) m_last[size_t(gpm)] = id;
   m_unit_gpm.push_back(gpm);
+  info.gpm = gpm;
+  m_unit_info.push_back(info);
   m_result.covered_fragments += w.covered;
   m_result.vertices += w.vertices;
   ++m_result.units;
@@ -200,6 +214,7 @@ int FrameSim::command(int gpm, int draws) {
   m_draw[size_t(gpm)] = id;
   if (m_ledger) m_ledger->received(id);
   m_unit_gpm.push_back(gpm);
+  m_unit_info.push_back({TimelineUnit::Kind::command, 0, gpm});
   m_result.draws += uint64_t(draws);
   ++m_result.units;
   return id;
@@ -276,7 +291,10 @@ int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double be
   WorkCounts w;
   w.vertices = vertices;
   w.triangles = triangles;
-  return add(gpm, w, t, std::move(after));
+  TimelineUnit info;
+  info.kind = TimelineUnit::Kind::geometry;
+  info.object = int(object);
+  return add(gpm, w, t, std::move(after), info);
 }
 
 void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
@@ -364,7 +382,12 @@ std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const
       replay(job.gpm, *job.records[k], colour_fb, depth_fb, frame, traffic[j], work[j]);
     }
   std::vector<int> units;
-  for (size_t j = 0; j < n; ++j) units.push_back(add(jobs[j].gpm, work[j], traffic[j], std::move(after[j])));
+  for (size_t j = 0; j < n; ++j) {
+    TimelineUnit info;
+    info.kind = TimelineUnit::Kind::tiles;
+    info.object = jobs[j].records.empty() ? -1 : int(jobs[j].records.front()->object);
+    units.push_back(add(jobs[j].gpm, work[j], traffic[j], std::move(after[j]), info));
+  }
   return units;
 }
 
@@ -375,11 +398,16 @@ int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector
   UnitTraffic t = empty_traffic();
   m_memory->transfer(from, to, bytes, c, t);
   // A transfer between GPMs waits for the link latency of every hop.
+  TimelineUnit info;
+  info.kind = TimelineUnit::Kind::transfer;
+  info.gpm = to;
+  info.from = from;
   return add_movement(m_machine->transfer_demand(t), std::move(after),
-                      m_memory_spec.link_latency.value * double(m_memory->topology().route(from, to).size()));
+                      m_memory_spec.link_latency.value * double(m_memory->topology().route(from, to).size()), info);
 }
 
-int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency) {
+int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency,
+                           TimelineUnit info) {
   TimingEngine::Unit u;
   u.queue = -1;
   u.demand = std::move(demand);
@@ -388,6 +416,7 @@ int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vect
   u.latency = latency;
   ++m_result.units;
   m_unit_gpm.push_back(-1);
+  m_unit_info.push_back(info);
   return m_engine.add_unit(std::move(u));
 }
 
@@ -403,7 +432,10 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
   }
   if (copied == 0) return -1;
   // The copies' DRAM reads and writes and their links.
-  return add_movement(m_machine->demand(gpm, WorkCounts{}, t), std::move(after), m_memory_spec.link_latency.value);
+  TimelineUnit info;
+  info.kind = TimelineUnit::Kind::prealloc;
+  info.gpm = gpm;
+  return add_movement(m_machine->demand(gpm, WorkCounts{}, t), std::move(after), m_memory_spec.link_latency.value, info);
 }
 
 int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after) {
@@ -413,7 +445,9 @@ int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_
     for (const TileWork* r : records) m_ledger->composed(*r);
   WorkCounts w;
   w.composed = pixels;
-  return add(gpm, w, empty_traffic(), std::move(after), false);
+  TimelineUnit info;
+  info.kind = TimelineUnit::Kind::compose;
+  return add(gpm, w, empty_traffic(), std::move(after), info, false);
 }
 
 SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, const std::function<void(int)>& on_finish) {
@@ -478,6 +512,14 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
   if (m_engine.unconverged())
     s.notes.push_back(std::to_string(m_engine.unconverged()) +
                       " resource sharings stopped at the iteration limit: their rates fit the resources but may leave some idle");
+  if (m_in.spec->timeline) {
+    s.timeline = m_unit_info;
+    for (size_t i = 0; i < s.timeline.size() && i < r.units.size(); ++i) {
+      s.timeline[i].start = r.units[i].start;
+      s.timeline[i].work_done = r.units[i].work_done;
+      s.timeline[i].finish = r.units[i].finish;
+    }
+  }
   if (m_ledger) {
     m_ledger->check(scheme, frames_in_flight);
     s.laws_checked = true;

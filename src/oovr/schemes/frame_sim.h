@@ -158,7 +158,7 @@ class FrameSim {
   static bool law_checks();
 
  private:
-  int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, bool in_queue = true);
+  int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, TimelineUnit info, bool in_queue = true);
   // The geometry unit of geometry() and geometry_part(): `vertices` shaded,
   // `triangles` set up, reading bytes [begin, end) (shares) of the object's
   // vertex and index buffers.
@@ -173,7 +173,7 @@ class FrameSim {
   const Object& object_arg(uint32_t object, const FrameTrace& frame, const char* fn) const;
   std::vector<int> tiles_checked(const std::vector<TileJob>& jobs, const FrameTrace& frame);
   // A unit of data movement (transfer, copy) outside every GPM's pipeline.
-  int add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency);
+  int add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency, TimelineUnit info);
   // Replays one record's memory accesses on `gpm` into `total` and `w`.
   void replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
               WorkCounts& w);
@@ -196,7 +196,8 @@ class FrameSim {
   std::vector<int> m_draw;
   std::vector<std::vector<int>> m_draw_ends;
   std::vector<size_t> m_draws_received;
-  std::vector<int> m_unit_gpm;  // per unit: the GPM whose busy time it counts in, or -1
+  std::vector<int> m_unit_gpm;            // per unit: the GPM whose busy time it counts in, or -1
+  std::vector<TimelineUnit> m_unit_info;  // per unit: what it is, for the timeline (times filled by finish)
   std::vector<LineAccess> m_scratch;
   // (object, tile) -> GPM for frames[0], in replay order; finish() makes
   // SchemeResult::owner of it (a log, not a map: a record each, cheap).

@@ -42,6 +42,20 @@ struct SchemeInput {
   std::shared_ptr<CarriedState> carried;
 };
 
+// One unit of work as the timing engine ran it (MachineSpec::timeline):
+// what it was, where, and when, in seconds from its frame's start.
+struct TimelineUnit {
+  enum class Kind : uint8_t { command, geometry, tiles, compose, transfer, prealloc };
+  Kind kind = Kind::tiles;
+  int frame = 0;                                // the window's frame (run_scheme_window), from 0
+  int gpm = -1;                                 // the GPM working (a transfer: the receiver; a copy: the GPM copied to)
+  int from = -1;                                // a transfer: the sender
+  int object = -1;                              // geometry and tiles: the (first) object
+  double start = 0, work_done = 0, finish = 0;  // work_done to finish: latency (memory, link hops)
+  double offset = 0;                            // the frame's start in the window, seconds
+};
+const char* timeline_kind_name(TimelineUnit::Kind k);
+
 struct SchemeResult {
   std::string scheme;
   int gpms = 0;
@@ -71,6 +85,9 @@ struct SchemeResult {
   // figures at its name (OO-VR's batches, moved chunks and predictor
   // rates: add_own). From run_scheme_window: merged by each one's rule.
   Stats stats;
+  // Every unit, when the machine asked for it (MachineSpec::timeline); from
+  // run_scheme_window, every measured frame's, one after the other.
+  std::vector<TimelineUnit> timeline;
   // Set by FrameSim::finish once the run's conservation laws held
   // (schemes/conservation.h); run_scheme refuses a result without it.
   bool laws_checked = false;

@@ -31,6 +31,10 @@ struct MachineSpec {
   // The configuration it was read from (a scheme written in Python edits a
   // copy of it in its configure()).
   Config config;
+  // Record every unit's time into SchemeResult::timeline (oovr simulate
+  // --timeline). Not configuration: it changes what a run keeps, never its
+  // numbers or its id.
+  bool timeline = false;
 
   // Reads every key of `c` once: the machine's sections into the fields
   // above, each scheme's own section into own() (or, for a section without

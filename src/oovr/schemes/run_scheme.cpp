@@ -161,6 +161,18 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
   for (auto& x : s.inter_gpm_bytes) x = 0;
   s.local_dram_bytes = s.covered_fragments = s.vertices = s.draws = s.units = 0;
   std::vector<double> busy(s.gpm_busy_s.size(), 0);
+  // The frames' timelines one after the other, each at its frame's start
+  // (with frames in flight, the group's frames share one timeline).
+  s.timeline.clear();
+  double offset = 0;
+  for (size_t k = 0; k < all.size(); ++k) {
+    for (TimelineUnit u : all[k].timeline) {
+      u.frame = int(k);
+      u.offset = offset;
+      s.timeline.push_back(u);
+    }
+    offset += all[k].frame_latency_s;
+  }
   for (const SchemeResult& r : all) {
     s.frame_latencies_s.insert(s.frame_latencies_s.end(), r.frame_latencies_s.begin(), r.frame_latencies_s.end());
     time += double(r.frames_in_flight) / r.throughput_fps;

@@ -1,0 +1,132 @@
+#include "oovr/run/timeline.h"
+
+#include <algorithm>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
+#include "oovr/core/error.h"
+
+namespace oovr {
+
+namespace {
+
+// Lanes a track may spread over (its thread ids: track * kLanes + lane);
+// past the last, units share it.
+constexpr int kLanes = 1000;
+const char* const kThreads[] = {"front end (draws)", "pipeline", "composition", "copies in (pre-allocation)"};
+
+// The thread of a GPM's process a unit runs on.
+int gpm_thread(TimelineUnit::Kind k) {
+  switch (k) {
+    case TimelineUnit::Kind::command: return 0;
+    case TimelineUnit::Kind::compose: return 2;
+    case TimelineUnit::Kind::prealloc: return 3;
+    default: return 1;
+  }
+}
+
+nlohmann::ordered_json name_event(const char* what, int pid, int tid, const std::string& name) {
+  nlohmann::ordered_json e;
+  e["name"] = what;
+  e["ph"] = "M";
+  e["pid"] = pid;
+  e["tid"] = tid;
+  e["args"] = {{"name", name}};
+  return e;
+}
+
+}  // namespace
+
+TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
+  if (r.timeline.empty()) throw Error(r.scheme + ": the run kept no timeline (run it with MachineSpec::timeline)");
+  const int n = r.gpms;
+  const int links_pid = n, frames_pid = n + 1;
+  nlohmann::ordered_json events = nlohmann::ordered_json::array();
+  for (int g = 0; g < n; ++g) {
+    events.push_back(name_event("process_name", g, 0, "GPM " + std::to_string(g)));
+    events.push_back(name_event("process_sort_index", g, 0, std::to_string(g)));
+    for (int t = 0; t < 4; ++t) events.push_back(name_event("thread_name", g, t * kLanes, kThreads[t]));
+  }
+  events.push_back(name_event("process_name", links_pid, 0, "links"));
+  events.push_back(name_event("process_name", frames_pid, 0, "frames"));
+  // The frames, one after the other.
+  double end = 0;
+  int frame = -1;
+  for (const TimelineUnit& u : r.timeline)
+    if (u.frame != frame) {
+      frame = u.frame;
+      const double lat = frame < int(r.frame_latencies_s.size()) ? r.frame_latencies_s[size_t(frame)] : 0;
+      nlohmann::ordered_json e;
+      e["name"] = "frame " + std::to_string(frame);
+      e["ph"] = "X";
+      e["ts"] = u.offset * 1e6;
+      e["dur"] = lat * 1e6;
+      e["pid"] = frames_pid;
+      e["tid"] = 0;
+      events.push_back(e);
+      end = std::max(end, u.offset + lat);
+    }
+  // The units, earliest first, at most max_events.
+  std::vector<size_t> order(r.timeline.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return r.timeline[a].offset + r.timeline[a].start < r.timeline[b].offset + r.timeline[b].start;
+  });
+  TimelineText out;
+  std::map<std::pair<int, int>, std::vector<double>> lane_ends;  // (pid, track) -> each lane's last finish
+  for (size_t i : order) {
+    if (out.units == max_events) {
+      ++out.omitted;
+      continue;
+    }
+    const TimelineUnit& u = r.timeline[i];
+    nlohmann::ordered_json e;
+    std::string name = timeline_kind_name(u.kind);
+    if (u.object >= 0) name += " object " + std::to_string(u.object);
+    if (u.kind == TimelineUnit::Kind::transfer) name += " " + std::to_string(u.from) + " -> " + std::to_string(u.gpm);
+    e["name"] = name;
+    e["cat"] = timeline_kind_name(u.kind);
+    e["ph"] = "X";
+    e["ts"] = (u.offset + u.start) * 1e6;
+    e["dur"] = (u.finish - u.start) * 1e6;
+    const bool link = u.kind == TimelineUnit::Kind::transfer;
+    const int pid = link ? links_pid : std::max(u.gpm, 0);
+    const int track = link ? u.from * n + u.gpm : gpm_thread(u.kind);
+    // Units of one track that overlap (composition, copies, transfers
+    // beside each other) go on lanes of their own: a viewer nests the spans
+    // of one thread, and these do not nest.
+    std::vector<double>& lanes = lane_ends[{pid, track}];
+    size_t lane = 0;
+    while (lane < lanes.size() && lanes[lane] > u.offset + u.start) ++lane;
+    if (lane == lanes.size()) {
+      lanes.push_back(0);
+      if (link || lane > 0) {
+        const std::string base =
+            link ? "GPM " + std::to_string(u.from) + " -> GPM " + std::to_string(u.gpm) : std::string(kThreads[track]);
+        events.push_back(name_event("thread_name", pid, track * kLanes + int(lane),
+                                    lane ? base + " (" + std::to_string(lane + 1) + ")" : base));
+      }
+    }
+    lanes[lane] = u.offset + u.finish;
+    e["pid"] = pid;
+    e["tid"] = track * kLanes + int(std::min<size_t>(lane, kLanes - 1));
+    e["args"] = {{"frame", u.frame}, {"work_us", (u.work_done - u.start) * 1e6}, {"latency_us", (u.finish - u.work_done) * 1e6}};
+    events.push_back(e);
+    ++out.units;
+  }
+  nlohmann::ordered_json doc;
+  doc["traceEvents"] = events;
+  doc["displayTimeUnit"] = "ns";
+  doc["otherData"] = {{"scheme", r.scheme},
+                      {"gpms", n},
+                      {"frames", r.frame_latencies_s.size()},
+                      {"units", r.timeline.size()},
+                      {"units_written", out.units},
+                      {"units_left_out", out.omitted},
+                      {"end_us", end * 1e6}};
+  out.json = doc.dump() + "\n";
+  return out;
+}
+
+}  // namespace oovr

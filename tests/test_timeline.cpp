@@ -1,0 +1,126 @@
+// The timeline (oovr simulate --timeline; run/timeline.h): every unit as
+// the timing engine ran it, and as Trace Event Format JSON.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "oovr/core/error.h"
+#include "oovr/run/timeline.h"
+#include "oovr/schemes/i_scheme.h"
+#include "test_util.h"
+
+namespace oovr {
+namespace {
+
+const test::RenderedFrames& courtyard() {
+  static const std::unique_ptr<test::RenderedFrames> r = test::render_builtin("courtyard", 320, 240, 30, 4);
+  return *r;
+}
+
+SchemeResult run(const std::string& scheme, bool timeline) {
+  const auto& r = courtyard();
+  MachineSpec machine = MachineSpec::from_config(Config());
+  machine.timeline = timeline;
+  return run_scheme_window(find_scheme(scheme), r.scene, FramesInMemory(r.traces), machine, 4);
+}
+
+// The union of [start, finish) of a set of intervals.
+double covered(std::vector<std::pair<double, double>> v) {
+  std::sort(v.begin(), v.end());
+  double end = -1, sum = 0;
+  for (const auto& [a, b] : v) {
+    if (a >= end) sum += b - a;
+    else if (b > end) sum += b - end;
+    end = std::max(end, b);
+  }
+  return sum;
+}
+
+TEST(Timeline, ItsSpansAddUpToEachGpmsBusyTime) {
+  for (const char* scheme : {"baseline", "oo-vr", "chopin"}) {
+    const SchemeResult r = run(scheme, true);
+    ASSERT_FALSE(r.timeline.empty()) << scheme;
+    // A GPM is busy while its front end, pipeline or ROPs work: per frame,
+    // the union of those units' spans; the result is the frames' mean.
+    std::map<std::pair<int, int>, std::vector<std::pair<double, double>>> spans;  // (gpm, frame)
+    int frames = 0;
+    for (const TimelineUnit& u : r.timeline) {
+      frames = std::max(frames, u.frame + 1);
+      EXPECT_LE(u.start, u.work_done);
+      EXPECT_LE(u.work_done, u.finish);
+      if (u.kind == TimelineUnit::Kind::transfer || u.kind == TimelineUnit::Kind::prealloc) continue;
+      spans[{u.gpm, u.frame}].push_back({u.start, u.finish});
+    }
+    EXPECT_EQ(frames, 4);
+    for (int g = 0; g < r.gpms; ++g) {
+      double busy = 0;
+      for (int f = 0; f < frames; ++f) busy += covered(spans[{g, f}]);
+      EXPECT_NEAR(busy / frames, r.gpm_busy_s[size_t(g)], 1e-12 * r.frame_latency_s) << scheme << " GPM " << g;
+    }
+    // Each frame's last unit ends at its latency; frames follow each other.
+    std::vector<double> last(size_t(frames), 0), offset(size_t(frames), 0);
+    for (const TimelineUnit& u : r.timeline) {
+      last[size_t(u.frame)] = std::max(last[size_t(u.frame)], u.finish);
+      offset[size_t(u.frame)] = u.offset;
+    }
+    for (int f = 0; f < frames; ++f) {
+      EXPECT_NEAR(last[size_t(f)], r.frame_latencies_s[size_t(f)], 1e-15) << scheme;
+      if (f) EXPECT_NEAR(offset[size_t(f)], offset[size_t(f - 1)] + r.frame_latencies_s[size_t(f - 1)], 1e-15);
+    }
+    // Keeping it changes no number.
+    const SchemeResult plain = run(scheme, false);
+    EXPECT_TRUE(plain.timeline.empty());
+    EXPECT_EQ(plain.frame_latencies_s, r.frame_latencies_s) << scheme;
+    EXPECT_EQ(plain.gpm_busy_s, r.gpm_busy_s) << scheme;
+  }
+}
+
+TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
+  const SchemeResult r = run("oo-vr", true);
+  const TimelineText t = timeline_json(r, 1'000'000);
+  EXPECT_EQ(t.units, r.timeline.size());
+  EXPECT_EQ(t.omitted, 0u);
+  const nlohmann::json j = nlohmann::json::parse(t.json);
+  ASSERT_TRUE(j.at("traceEvents").is_array());
+  std::map<std::string, int> kinds;
+  std::map<std::pair<int, int>, bool> named;  // (pid, tid) with a thread_name
+  std::map<int, std::string> processes;
+  size_t spans = 0;
+  for (const auto& e : j["traceEvents"]) {
+    const std::string ph = e.at("ph");
+    if (ph == "M" && e["name"] == "process_name") processes[e["pid"]] = e["args"]["name"];
+    if (ph == "M" && e["name"] == "thread_name") named[{e["pid"], e["tid"]}] = true;
+    if (ph != "X" || !e.contains("cat")) continue;
+    ++spans;
+    ++kinds[e["cat"]];
+    EXPECT_GE(double(e["dur"]), 0.0);
+    EXPECT_TRUE(named.count({e["pid"], e["tid"]})) << "a span on an unnamed thread: " << e.dump();
+  }
+  EXPECT_EQ(spans, r.timeline.size());
+  for (const char* k : {"draw", "geometry", "tiles", "compose", "transfer"}) EXPECT_GT(kinds[k], 0) << k;
+  EXPECT_EQ(processes[0], "GPM 0");
+  EXPECT_EQ(processes[r.gpms], "links");
+  EXPECT_EQ(processes[r.gpms + 1], "frames");
+  EXPECT_EQ(j["otherData"]["units"], r.timeline.size());
+  // Bounded: the earliest units only, and the file says how many are left out.
+  const TimelineText small = timeline_json(r, 10);
+  EXPECT_EQ(small.units, 10u);
+  EXPECT_EQ(small.omitted, r.timeline.size() - 10);
+  const nlohmann::json s = nlohmann::json::parse(small.json);
+  EXPECT_EQ(s["otherData"]["units_left_out"], r.timeline.size() - 10);
+  double latest = 0;
+  for (const auto& e : s["traceEvents"])
+    if (e["ph"] == "X" && e.contains("cat")) latest = std::max(latest, double(e["ts"]));
+  size_t earlier = 0;
+  for (const TimelineUnit& u : r.timeline) earlier += (u.offset + u.start) * 1e6 <= latest;
+  EXPECT_GE(earlier, 10u);
+  EXPECT_LT(earlier, r.timeline.size() / 2) << "not the earliest";
+  // A run that kept none is refused.
+  EXPECT_THROW((void)timeline_json(run("oo-vr", false), 10), Error);
+}
+
+}  // namespace
+}  // namespace oovr
