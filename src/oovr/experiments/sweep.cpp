@@ -282,6 +282,17 @@ std::string describe(const SweepPoint& p) {
   return s;
 }
 
+// A sweep file's TOML, checked first (check_toml_text); Error naming the
+// line on a syntax error.
+toml::table parse_toml(const std::string& text, const std::string& name) {
+  check_toml_text(text, name);
+  try {
+    return toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw Error("bad sweep '" + name + "' line " + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+  }
+}
+
 }  // namespace
 
 std::string canonical_point(const std::string& scene, const std::string& scheme, const std::string& resolution, int frame,
@@ -317,13 +328,7 @@ std::string stable_id(const std::string& text) {
 }
 
 Sweep parse_sweep(const std::string& text, const std::string& name, const std::string& base_dir) {
-  check_toml_text(text, name);
-  toml::table t;
-  try {
-    t = toml::parse(text, name);
-  } catch (const toml::parse_error& e) {
-    throw Error("bad sweep '" + name + "' line " + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
-  }
+  const toml::table t = parse_toml(text, name);
   const Reader reader(name);
   Sweep s;
   s.file = name;
@@ -444,13 +449,7 @@ Sweep read_sweep(const std::string& path, const std::vector<std::string>& settin
 }
 
 std::string sweep_with_settings(const std::string& text, const std::string& name, const std::vector<std::string>& settings) {
-  check_toml_text(text, name);
-  toml::table t;
-  try {
-    t = toml::parse(text, name);
-  } catch (const toml::parse_error& e) {
-    throw Error("bad sweep '" + name + "' line " + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
-  }
+  toml::table t = parse_toml(text, name);
   // The keys the file varies: its [sweep], and every point's set and sweep.
   const auto keys_of = [](const toml::node* node, std::vector<std::string>& out) {
     if (const auto* tab = node ? node->as_table() : nullptr) {

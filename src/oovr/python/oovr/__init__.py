@@ -14,49 +14,13 @@ Errors carry oovr's message: ``FileNotFoundError`` for a file or game data that 
 it), ``TypeError`` for an argument of the wrong type.
 """
 
-from . import _oovr
-from ._api import (
-    Comparison,
-    Composer,
-    Config,
-    Frame,
-    FrameSim,
-    Record,
-    Records,
-    Result,
-    Scene,
-    Scheme,
-    SchemeInput,
-    SchemeResult,
-    SweepOutcome,
-    TileJob,
-    Trace,
-    clear_traces,
-    compare,
-    config,
-    load_scene,
-    read_metrics,
-    read_runs,
-    render,
-    scenes,
-    schemes,
-    simulate,
-    sort_first,
-    sort_last_framebuffers,
-    sweep,
-    trace_stats,
-    vertical_strip_owner,
-)
+from . import _api, _oovr
+from ._api import *  # noqa: F401,F403 - the public names, _api.__all__
 
 __version__: str = _oovr.version()
 git_commit: str = _oovr.git_commit()
 
-__all__ = [
-    "Comparison", "Composer", "Config", "Frame", "FrameSim", "Record", "Records", "Result", "Scene", "Scheme",
-    "SchemeInput", "SchemeResult", "SweepOutcome", "TileJob", "Trace", "clear_traces", "compare", "config",
-    "git_commit", "load_scene", "read_metrics", "read_runs", "render", "scenes", "schemes", "simulate", "sort_first",
-    "sort_last_framebuffers", "sweep", "trace_stats", "vertical_strip_owner",
-]
+__all__ = sorted(_api.__all__ + ["git_commit"])
 
 # The Python-defined names read as the package's (help(), reprs, tracebacks).
 for _name in ("Comparison", "Result", "Scheme", "SweepOutcome", "compare", "config", "read_metrics", "read_runs",

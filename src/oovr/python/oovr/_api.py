@@ -33,6 +33,15 @@ from ._oovr import (
     vertical_strip_owner,
 )
 
+# What the package exports (oovr/__init__.py: from ._api import *).
+__all__ = [
+    "Comparison", "Composer", "Config", "Frame", "FrameSim", "Record", "Records", "Result", "Scene", "Scheme",
+    "SchemeInput", "SchemeResult", "SweepOutcome", "TileJob", "Trace", "clear_traces", "compare", "config",
+    "load_scene", "read_metrics", "read_runs", "render", "scenes", "schemes", "simulate", "sort_first",
+    "sort_last_framebuffers", "sweep", "trace_stats", "vertical_strip_owner",
+]
+
+
 def _pandas():
     try:
         import pandas
