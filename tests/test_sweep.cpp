@@ -11,6 +11,7 @@
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/experiments/results_db.h"
+#include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
 #include "oovr/run/result_json.h"
@@ -670,6 +671,48 @@ TEST(SweepRun, AStoredResultReadsBackExactly) {
   ResultsDb migrated(path);
   migrated.verify();
   same_run(migrated.runs());
+}
+
+}  // namespace
+}  // namespace oovr
+
+namespace oovr {
+namespace {
+
+TEST(Sweep, SlurmTasksRunATraceGroupEachByDefault) {
+  // 2 scenes x 2 resolutions x 3 schemes: 4 trace groups of 3 points, the
+  // schemes innermost.
+  Sweep s = parse_sweep(
+      "scenes = ['crowd', 'courtyard']\nschemes = ['baseline', 'oo-vr', 'sfr-v']\nresolutions = ['64x32', '96x64']\nframes = "
+      "1\n",
+      "t.toml", "");
+  resolve_all(s);
+  std::vector<size_t> todo(s.points.size());
+  for (size_t i = 0; i < todo.size(); ++i) todo[i] = i;
+  const auto tasks = slurm_tasks(s, todo, 0);
+  ASSERT_EQ(tasks.size(), 4u);
+  for (const auto& t : tasks) {
+    ASSERT_EQ(t.size(), 3u);
+    for (size_t i : t) EXPECT_EQ(trace_group(s.points[i]), trace_group(s.points[t.front()]));
+  }
+  // Only some points left: still one task per group they come from, in order.
+  const auto part = slurm_tasks(s, {1, 2, 9, 10}, 0);
+  EXPECT_EQ(part, (std::vector<std::vector<size_t>>{{1, 2}, {9, 10}}));
+  // --chunk: consecutive points, whatever their groups.
+  EXPECT_EQ(slurm_tasks(s, {1, 2, 9, 10}, 3), (std::vector<std::vector<size_t>>{{1, 2, 9}, {10}}));
+  // More groups than kMaxTasks: consecutive groups share a task (each
+  // group whole in one), and there are at most kMaxTasks of them. 1,200
+  // groups of 2 points: 600 tasks of 2 groups.
+  Sweep many;
+  many.points.resize(2400);
+  std::vector<size_t> all(many.points.size());
+  for (size_t k = 0; k < all.size(); ++k) {
+    many.points[k].scene = "scene" + std::to_string(k / 2);
+    all[k] = k;
+  }
+  const auto shared = slurm_tasks(many, all, 0);
+  ASSERT_EQ(shared.size(), 600u);
+  for (size_t t = 0; t < shared.size(); ++t) EXPECT_EQ(shared[t], (std::vector<size_t>{4 * t, 4 * t + 1, 4 * t + 2, 4 * t + 3}));
 }
 
 }  // namespace

@@ -313,7 +313,7 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--array-limit", sweep.array_limit, "Tasks running at once (0 = no limit)")
       ->check(CLI::Range(0, 1000000))
       ->group(slurm_group);
-  sweep_cmd->add_option("--chunk", sweep.chunk, "Points per task (0 = at most 1000 tasks)")
+  sweep_cmd->add_option("--chunk", sweep.chunk, "Points per task (0 = a task per trace group, at most 1000 tasks)")
       ->check(CLI::Range(0, 1000000))
       ->group(slurm_group);
   sweep_cmd->add_option("--cpus-per-task", sweep.cpus_per_task, "CPUs per task; a task runs that many points at once")

@@ -104,6 +104,32 @@ Sweep submitted_sweep(const std::string& dir, const nlohmann::json& m) {
 
 }  // namespace
 
+std::vector<std::vector<size_t>> slurm_tasks(const Sweep& s, const std::vector<size_t>& todo, int chunk) {
+  std::vector<std::vector<size_t>> tasks;
+  if (chunk > 0) {
+    for (size_t k = 0; k < todo.size(); k += size_t(chunk))
+      tasks.emplace_back(todo.begin() + std::ptrdiff_t(k),
+                         todo.begin() + std::ptrdiff_t(std::min(todo.size(), k + size_t(chunk))));
+    return tasks;
+  }
+  // The trace groups, in the order their first points come.
+  std::vector<std::vector<size_t>> groups;
+  std::map<std::string, size_t> index;
+  for (size_t i : todo) {
+    const auto [it, added] = index.emplace(trace_group(s.points[i]), groups.size());
+    if (added) groups.emplace_back();
+    groups[it->second].push_back(i);
+  }
+  // At most kMaxTasks tasks: consecutive groups share one when there are more.
+  const size_t per = (groups.size() + kMaxTasks - 1) / kMaxTasks;
+  for (size_t g = 0; g < groups.size(); g += per) {
+    tasks.emplace_back();
+    for (size_t k = g; k < std::min(groups.size(), g + per); ++k)
+      tasks.back().insert(tasks.back().end(), groups[k].begin(), groups[k].end());
+  }
+  return tasks;
+}
+
 SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, const std::vector<size_t>& todo,
                              const std::string& command, const SlurmOptions& o) {
   if (todo.empty()) throw Error("nothing to submit: every point is in the database");
@@ -115,8 +141,8 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
     if (e.path().extension() == ".jsonl")
       throw Error("the SLURM job folder '" + o.dir + "' holds results of an earlier job (" + e.path().filename().string() +
                   "): collect them with --collect, then remove the folder or give another --slurm-dir");
-  const size_t chunk = o.chunk > 0 ? size_t(o.chunk) : (todo.size() + 999) / 1000;
-  const int tasks = int((todo.size() + chunk - 1) / chunk);
+  const std::vector<std::vector<size_t>> task_points = slurm_tasks(s, todo, o.chunk);
+  const int tasks = int(task_points.size());
 
   nlohmann::json m;
   m["schema"] = kManifestSchema;
@@ -128,10 +154,9 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
   m["command"] = command;
   m["use_cache"] = o.use_cache;
   nlohmann::json list = nlohmann::json::array();
-  for (int t = 0; t < tasks; ++t) {
+  for (const auto& chunk : task_points) {
     nlohmann::json points = nlohmann::json::array();
-    for (size_t k = size_t(t) * chunk; k < std::min(todo.size(), size_t(t + 1) * chunk); ++k)
-      points.push_back({todo[k], s.points[todo[k]].id});
+    for (size_t i : chunk) points.push_back({i, s.points[i].id});
     list.push_back(points);
   }
   m["tasks"] = list;

@@ -21,7 +21,7 @@ struct SlurmOptions {
   std::string partition;   // "" : the cluster's default
   std::string time_limit;  // per task, as sbatch takes it ("30", "2:00:00"); "": the partition's
   int array_limit = 0;     // tasks running at once (the array's %N); 0: no limit
-  int chunk = 0;           // points per task; 0: as few tasks as keep every chunk under 1000 tasks
+  int chunk = 0;           // points per task, in sweep order; 0: a task per trace group (slurm_tasks)
   int cpus_per_task = 1;   // each task runs this many points at once
   bool use_cache = true;
   bool wait = false;                     // sbatch --wait: return when every task has ended
@@ -37,6 +37,16 @@ struct SlurmSubmission {
   int sbatch_status = 0;  // sbatch's exit status (with wait: non-zero when a task failed)
   std::string sbatch_output;
 };
+
+// The most tasks a job array is cut into by default.
+inline constexpr size_t kMaxTasks = 1000;
+
+// The points of `todo` (places in s.points) each array task runs. With
+// `chunk` > 0, `chunk` consecutive points a task. Otherwise (0) a task per
+// trace group (trace_group: the points replaying the same traces), so that
+// a task renders or reads each trace once and no two tasks render the same;
+// past kMaxTasks groups, consecutive groups share a task.
+std::vector<std::vector<size_t>> slurm_tasks(const Sweep& s, const std::vector<size_t>& todo, int chunk);
 
 // Writes the job folder (a copy of the sweep file, the manifest of each
 // task's points, the sbatch script) and submits it with sbatch. Throws
