@@ -83,6 +83,7 @@ int sweep(const SweepArgs& a) {
     fmt::print("sweep '{}': {} points\n", s.name, s.points.size());
     return 0;
   }
+  if (a.backend == "slurm" && !a.collect) check_slurm_scenes(s);  // before the database or the job folder is made
   const std::string db_path = default_db(a);
   const std::string slurm_dir = a.slurm_dir.empty() ? db_path + ".slurm" : a.slurm_dir;
   const DatabaseLock lock(db_path);  // the one writer, until this command ends (its children share it)

@@ -17,6 +17,7 @@
 #include "oovr/core/text.h"
 #include "oovr/experiments/sweep_run.h"
 #include "oovr/run/result_json.h"
+#include "oovr/scene/load.h"
 
 namespace oovr {
 namespace fs = std::filesystem;
@@ -128,6 +129,24 @@ std::vector<std::vector<size_t>> slurm_tasks(const Sweep& s, const std::vector<s
       tasks.back().insert(tasks.back().end(), groups[k].begin(), groups[k].end());
   }
   return tasks;
+}
+
+void check_slurm_scenes(const Sweep& s) {
+  // What can be checked here of what the nodes need: the game data the
+  // points' scenes read. Missing here, it is most likely missing there, and
+  // every point of those scenes would fail on the nodes.
+  std::set<std::string> scenes, missing;
+  for (const auto& p : s.points) scenes.insert(p.scene);
+  for (const auto& scene : scenes)
+    if (const std::string why = scene_data_missing(scene); !why.empty()) missing.insert(printable(scene) + ": " + why);
+  if (!missing.empty()) {
+    std::string list;
+    for (const auto& m : missing) list += (list.empty() ? "" : "; ") + m;
+    throw Error("the sweep's scenes need data that is not here, so the nodes would fail their points: " + list +
+                ". Install it where the nodes see it too, and point OOVR_OPENARENA_DIR, OOVR_NEXUIZ_DIR or OOVR_TORCS_DIR "
+                "at it if it is not where Debian puts it (the tasks get this environment; docs/sweeps.md, \"What a node "
+                "needs\")");
+  }
 }
 
 SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, const std::vector<size_t>& todo,

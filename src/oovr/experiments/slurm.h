@@ -48,6 +48,13 @@ inline constexpr size_t kMaxTasks = 1000;
 // past kMaxTasks groups, consecutive groups share a task.
 std::vector<std::vector<size_t>> slurm_tasks(const Sweep& s, const std::vector<size_t>& todo, int chunk);
 
+// Checks what can be checked here of what the nodes need before anything
+// is written: the game data the sweep's scenes read (scene_data_missing).
+// Missing here, it is most likely missing there too, and every point of
+// those scenes would fail on the nodes: Error naming each scene and where
+// its data was looked for.
+void check_slurm_scenes(const Sweep& s);
+
 // Writes the job folder (a copy of the sweep file, the manifest of each
 // task's points, the sbatch script) and submits it with sbatch. Throws
 // Error when sbatch is missing or refuses the job (with its message).
