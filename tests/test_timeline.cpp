@@ -78,6 +78,39 @@ TEST(Timeline, ItsSpansAddUpToEachGpmsBusyTime) {
   }
 }
 
+TEST(Timeline, OOVRMarksEachBatchAndEachDecision) {
+  const SchemeResult r = run("oo-vr", true);
+  const Stat* batches = r.stats.find("oo-vr", "batches");
+  ASSERT_NE(batches, nullptr);
+  const size_t per_frame = size_t(batches->value), frames = r.frame_latencies_s.size();
+  std::map<std::pair<int, int>, int> decisions, spans;  // (frame, batch) -> count
+  for (const TimelineMark& m : r.marks) {
+    int batch = -1, gpm = -1;
+    for (const auto& [k, v] : m.args) {
+      if (k == "batch") batch = int(v);
+      if (k == "gpm") gpm = int(v);
+    }
+    ASSERT_GE(batch, 0) << m.name;
+    if (m.category == "decision") {
+      ++decisions[{m.frame, batch}];
+      EXPECT_EQ(gpm, m.gpm);
+      EXPECT_LT(m.finish, 0) << "an instant";
+    } else {
+      ASSERT_EQ(m.category, "batch");
+      ++spans[{m.frame, batch}];
+      EXPECT_LE(m.start, m.finish);
+      EXPECT_LE(m.finish, r.frame_latencies_s[size_t(m.frame)] + 1e-15);
+    }
+  }
+  // Every batch of every frame: sent once, and ran as one span on its GPM.
+  EXPECT_EQ(decisions.size(), per_frame * frames);
+  EXPECT_EQ(spans.size(), per_frame * frames);
+  for (const auto& [key, n] : decisions) EXPECT_EQ(n, 1);
+  for (const auto& [key, n] : spans) EXPECT_EQ(n, 1);
+  // Without a timeline, nothing is kept.
+  EXPECT_TRUE(run("oo-vr", false).marks.empty());
+}
+
 TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
   const SchemeResult r = run("oo-vr", true);
   const TimelineText t = timeline_json(r, 1'000'000);
@@ -93,14 +126,17 @@ TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
     const std::string ph = e.at("ph");
     if (ph == "M" && e["name"] == "process_name") processes[e["pid"]] = e["args"]["name"];
     if (ph == "M" && e["name"] == "thread_name") named[{e["pid"], e["tid"]}] = true;
+    if (ph == "i") ++kinds[e["cat"]];
     if (ph != "X" || !e.contains("cat")) continue;
-    ++spans;
     ++kinds[e["cat"]];
+    if (e["cat"] == "batch") continue;  // the scheme's marks, counted apart
+    ++spans;
     EXPECT_GE(double(e["dur"]), 0.0);
     EXPECT_TRUE(named.count({e["pid"], e["tid"]})) << "a span on an unnamed thread: " << e.dump();
   }
   EXPECT_EQ(spans, r.timeline.size());
   for (const char* k : {"draw", "geometry", "tiles", "compose", "transfer"}) EXPECT_GT(kinds[k], 0) << k;
+  EXPECT_EQ(size_t(kinds["batch"]) + size_t(kinds["decision"]), r.marks.size());
   EXPECT_EQ(processes[0], "GPM 0");
   EXPECT_EQ(processes[r.gpms], "links");
   EXPECT_EQ(processes[r.gpms + 1], "frames");
@@ -113,7 +149,7 @@ TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
   EXPECT_EQ(s["otherData"]["units_left_out"], r.timeline.size() - 10);
   double latest = 0;
   for (const auto& e : s["traceEvents"])
-    if (e["ph"] == "X" && e.contains("cat")) latest = std::max(latest, double(e["ts"]));
+    if (e["ph"] == "X" && e.contains("cat") && e["cat"] != "batch") latest = std::max(latest, double(e["ts"]));
   size_t earlier = 0;
   for (const TimelineUnit& u : r.timeline) earlier += (u.offset + u.start) * 1e6 <= latest;
   EXPECT_GE(earlier, 10u);

@@ -68,7 +68,11 @@ int OORuntime::queued() const {
 
 // The GPM the next batch goes to.
 int OORuntime::choose(int b) {
-  if (!m_engine || m_batches[size_t(b)].warmup) return m_rr++ % m_n;
+  if (!m_engine || m_batches[size_t(b)].warmup) {
+    const int g = m_rr++ % m_n;
+    m_exec.decided(b, g, {}, "round-robin");
+    return g;
+  }
   for (int g = 0; g < m_n; ++g) {
     // Work reported for the batches it holds, the running item pro rata.
     double v = 0, p = 0;
@@ -84,14 +88,21 @@ int OORuntime::choose(int b) {
     }
     m_engine->set_elapsed(g, v, p);
   }
-  if (m_spec.affinity <= 0 || m_link_seconds.empty()) return m_engine->earliest_free();
   std::vector<double> extra(size_t(m_n), 0.0);
-  for (uint32_t o : m_batches_in[size_t(b)].objects)
-    if (!m_link_seconds[o].empty())
-      for (int g = 0; g < m_n; ++g) extra[size_t(g)] += m_spec.affinity * m_link_seconds[o][size_t(g)];
+  if (m_spec.affinity > 0 && !m_link_seconds.empty())
+    for (uint32_t o : m_batches_in[size_t(b)].objects)
+      if (!m_link_seconds[o].empty())
+        for (int g = 0; g < m_n; ++g) extra[size_t(g)] += m_spec.affinity * m_link_seconds[o][size_t(g)];
   const int g = m_engine->cheapest(extra);
   if (g != m_engine->earliest_free()) ++m_affine;
+  m_exec.decided(b, g, predicted(extra), "predicted free first");
   return g;
+}
+
+std::vector<double> OORuntime::predicted(const std::vector<double>& extra) const {
+  std::vector<double> p(size_t(m_n), 0.0);
+  for (int k = 0; k < m_n; ++k) p[size_t(k)] = m_engine->remaining(k) + (extra.empty() ? 0.0 : extra[size_t(k)]);
+  return p;
 }
 
 void OORuntime::assign(int b, int g) {
@@ -123,6 +134,7 @@ void OORuntime::schedule() {
       for (int g = 0; g < m_n && m_next < int(m_batches.size()); ++g) {
         const Gpm& s = m_gpm[size_t(g)];
         if (s.running < 0 && s.todo.empty() && s.pending.empty()) {
+          m_exec.decided(m_next, g, predicted({}), "idle");
           assign(m_next++, g);
           changed = true;
         }
@@ -209,6 +221,11 @@ void OORuntime::issue(int g, Item& it) {
   s.running = unit;
   s.item = &it;
   ++m_issued;
+  BatchRun& run = m_batches[size_t(it.batch)];
+  if (g == run.gpm) {
+    if (run.first_unit < 0) run.first_unit = unit;
+    run.last_unit = unit;
+  }
   if (size_t(unit) >= m_unit_gpm.size()) m_unit_gpm.resize(size_t(unit) + 1, -1);
   m_unit_gpm[size_t(unit)] = g;
 }
@@ -230,6 +247,7 @@ void OORuntime::on_finish(int unit) {
 
 void OORuntime::batch_done(int b) {
   const BatchRun& br = m_batches[size_t(b)];
+  if (br.first_unit >= 0) m_exec.batch_ran(b, br.gpm, br.first_unit, br.last_unit);
   if (m_engine) m_engine->finish(b);
   if (!br.warmup) return;
   const Batch& in = m_batches_in[size_t(b)];

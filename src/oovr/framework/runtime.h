@@ -68,6 +68,16 @@ class RuntimeExecutor {
   // `thief_copy` (-1: none). Returns its unit.
   virtual int chunk(int gpm, uint32_t object, std::span<const TileWork* const> records, int geo_unit, int geo_gpm, int prealloc,
                     int thief_copy) = 0;
+  // For a timeline (nothing by default): batch `batch` went to `gpm`, `why`
+  // ("round-robin", "predicted free first", "idle"), each GPM predicted
+  // free in `predicted` seconds (with screen affinity, plus the batch's link
+  // time there; empty when dealt round-robin); batch `batch` ran on its GPM
+  // from unit `first` to unit `last` (its moved chunks elsewhere are not in
+  // the span).
+  virtual void decided(int batch, int gpm, std::span<const double> predicted, const char* why) {
+    (void)batch, (void)gpm, (void)predicted, (void)why;
+  }
+  virtual void batch_ran(int batch, int gpm, int first, int last) { (void)batch, (void)gpm, (void)first, (void)last; }
 };
 
 class OORuntime {
@@ -119,6 +129,7 @@ class OORuntime {
     bool warmup = false;
     double vertices_done = 0, pixels_done = 0;
     uint64_t pixels = 0;
+    int first_unit = -1, last_unit = -1;  // its units on its own GPM
   };
   struct Gpm {
     std::deque<int> pending;  // batches assigned, not started
@@ -132,6 +143,9 @@ class OORuntime {
   void start_engine(const Rates& rates);
   int queued() const;
   int choose(int b);
+  // Each GPM's predicted free time plus `extra` (empty: none), the engine
+  // running.
+  std::vector<double> predicted(const std::vector<double>& extra) const;
   void assign(int b, int g);
   void schedule();
   bool advance(int g);

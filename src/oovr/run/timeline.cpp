@@ -1,6 +1,7 @@
 #include "oovr/run/timeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -14,7 +15,10 @@ namespace {
 // Lanes a track may spread over (its thread ids: track * kLanes + lane);
 // past the last, units share it.
 constexpr int kLanes = 1000;
-const char* const kThreads[] = {"front end (draws)", "pipeline", "composition", "copies in (pre-allocation)"};
+const char* const kThreads[] = {
+    "front end (draws)",     "pipeline", "composition", "copies in (pre-allocation)", "the scheme's spans (batches)",
+    "the scheme's decisions"};
+constexpr int kGpmTracks = 6;
 
 // The thread of a GPM's process a unit runs on.
 int gpm_thread(TimelineUnit::Kind k) {
@@ -46,7 +50,7 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
   for (int g = 0; g < n; ++g) {
     events.push_back(name_event("process_name", g, 0, "GPM " + std::to_string(g)));
     events.push_back(name_event("process_sort_index", g, 0, std::to_string(g)));
-    for (int t = 0; t < 4; ++t) events.push_back(name_event("thread_name", g, t * kLanes, kThreads[t]));
+    for (int t = 0; t < kGpmTracks; ++t) events.push_back(name_event("thread_name", g, t * kLanes, kThreads[t]));
   }
   events.push_back(name_event("process_name", links_pid, 0, "links"));
   events.push_back(name_event("process_name", frames_pid, 0, "frames"));
@@ -115,6 +119,41 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
     events.push_back(e);
     ++out.units;
   }
+  // The scheme's marks: spans on lanes of their own track, instants on theirs.
+  for (const TimelineMark& m : r.marks) {
+    nlohmann::ordered_json e;
+    e["name"] = m.name;
+    e["cat"] = m.category;
+    e["ts"] = (m.offset + m.start) * 1e6;
+    e["pid"] = std::max(m.gpm, 0);
+    nlohmann::ordered_json args = nlohmann::ordered_json::object();
+    args["frame"] = m.frame;
+    for (const auto& [k, v] : m.args) {
+      if (v == std::floor(v) && std::abs(v) < 1e15) args[k] = int64_t(v);  // counts and ids as whole numbers
+      else args[k] = v;
+    }
+    e["args"] = args;
+    if (m.finish < 0) {
+      e["ph"] = "i";
+      e["s"] = "t";
+      e["tid"] = 5 * kLanes;
+    } else {
+      e["ph"] = "X";
+      e["dur"] = (m.finish - m.start) * 1e6;
+      std::vector<double>& lanes = lane_ends[{e["pid"].get<int>(), 4}];
+      size_t lane = 0;
+      while (lane < lanes.size() && lanes[lane] > m.offset + m.start) ++lane;
+      if (lane == lanes.size()) {
+        lanes.push_back(0);
+        if (lane > 0)
+          events.push_back(name_event("thread_name", e["pid"].get<int>(), 4 * kLanes + int(lane),
+                                      std::string(kThreads[4]) + " (" + std::to_string(lane + 1) + ")"));
+      }
+      lanes[lane] = m.offset + m.finish;
+      e["tid"] = 4 * kLanes + int(std::min<size_t>(lane, kLanes - 1));
+    }
+    events.push_back(e);
+  }
   nlohmann::ordered_json doc;
   doc["traceEvents"] = events;
   doc["displayTimeUnit"] = "ns";
@@ -124,6 +163,7 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
                       {"units", r.timeline.size()},
                       {"units_written", out.units},
                       {"units_left_out", out.omitted},
+                      {"marks", r.marks.size()},
                       {"end_us", end * 1e6}};
   out.json = doc.dump() + "\n";
   return out;

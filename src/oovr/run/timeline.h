@@ -6,7 +6,10 @@
 //              pipeline (geometry and tile work), its ROPs composing, and
 //              the copies its pre-allocation unit makes into it;
 //   links      one thread per (sender, receiver) pair: the transfers;
-//   frames     each measured frame as a span.
+//   frames     each measured frame as a span;
+// and on a GPM's process, the scheme's own marks (TimelineMark): OO-VR's
+// batches as spans on the GPM that ran them, and its engine's decisions
+// (which GPM a batch went to, each GPM's predicted free time) as instants.
 //
 // A unit's span is its start to its finish; its arguments split that into
 // work and the latency after it (memory, link hops). Times are in

@@ -438,6 +438,32 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
   return add_movement(m_machine->demand(gpm, WorkCounts{}, t), std::move(after), m_memory_spec.link_latency.value, info);
 }
 
+void FrameSim::mark_span(std::string name, std::string category, int gpm, int first, int last,
+                         std::vector<std::pair<std::string, double>> args) {
+  if (!keeps_timeline()) return;
+  gpm_arg(gpm, "mark_span");
+  unit_arg(first, "mark_span", "first");
+  unit_arg(last, "mark_span", "last");
+  TimelineMark m;
+  m.name = std::move(name);
+  m.category = std::move(category);
+  m.gpm = gpm;
+  m.args = std::move(args);
+  m_spans.push_back({std::move(m), first, last});
+}
+
+void FrameSim::mark_instant(std::string name, std::string category, int gpm, std::vector<std::pair<std::string, double>> args) {
+  if (!keeps_timeline()) return;
+  gpm_arg(gpm, "mark_instant");
+  TimelineMark m;
+  m.name = std::move(name);
+  m.category = std::move(category);
+  m.gpm = gpm;
+  m.start = m_engine.now();
+  m.args = std::move(args);
+  m_instants.push_back(std::move(m));
+}
+
 int FrameSim::compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after) {
   gpm_arg(gpm, "compose");
   after_arg(after, "compose");
@@ -518,6 +544,13 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
       s.timeline[i].start = r.units[i].start;
       s.timeline[i].work_done = r.units[i].work_done;
       s.timeline[i].finish = r.units[i].finish;
+    }
+    s.marks = m_instants;
+    for (const PendingSpan& p : m_spans) {
+      TimelineMark m = p.mark;
+      m.start = r.units[size_t(p.first)].start;
+      m.finish = std::max(m.start, r.units[size_t(p.last)].finish);
+      s.marks.push_back(std::move(m));
     }
   }
   if (m_ledger) {

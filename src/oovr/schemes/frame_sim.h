@@ -130,6 +130,14 @@ class FrameSim {
   // works asynchronously with shading, paper Section 5.3), sharing its ROPs
   // with whatever the GPM is rendering; it counts as busy time of the GPM.
   int compose(int gpm, std::span<const TileWork* const> records, uint64_t pixels, std::vector<int> after = {});
+  // The scheme's own marks on the timeline, kept only when the machine asks
+  // for one (MachineSpec::timeline; the calls cost nothing otherwise): a
+  // span on `gpm` from unit `first`'s start to unit `last`'s finish, and an
+  // instant at the current time of the run (from on_finish) or at 0.
+  bool keeps_timeline() const { return m_in.spec->timeline; }
+  void mark_span(std::string name, std::string category, int gpm, int first, int last,
+                 std::vector<std::pair<std::string, double>> args = {});
+  void mark_instant(std::string name, std::string category, int gpm, std::vector<std::pair<std::string, double>> args = {});
   // GPM `gpm`'s pipeline's last unit so far (-1: none yet): where work that
   // must follow everything the GPM was given starts (composition rounds).
   int last_unit(int gpm) const;
@@ -198,6 +206,12 @@ class FrameSim {
   std::vector<size_t> m_draws_received;
   std::vector<int> m_unit_gpm;            // per unit: the GPM whose busy time it counts in, or -1
   std::vector<TimelineUnit> m_unit_info;  // per unit: what it is, for the timeline (times filled by finish)
+  struct PendingSpan {
+    TimelineMark mark;
+    int first, last;
+  };
+  std::vector<PendingSpan> m_spans;  // resolved by finish
+  std::vector<TimelineMark> m_instants;
   std::vector<LineAccess> m_scratch;
   // (object, tile) -> GPM for frames[0], in replay order; finish() makes
   // SchemeResult::owner of it (a log, not a map: a record each, cheap).

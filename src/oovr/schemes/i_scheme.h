@@ -56,6 +56,18 @@ struct TimelineUnit {
 };
 const char* timeline_kind_name(TimelineUnit::Kind k);
 
+// What a scheme says of its own work on the timeline (MachineSpec::timeline):
+// a span over units (an OO-VR batch on its GPM) or an instant (a decision),
+// with figures as arguments. Times as TimelineUnit's.
+struct TimelineMark {
+  std::string name, category;
+  int frame = 0;
+  int gpm = -1;
+  double start = 0, finish = -1;  // finish < 0: an instant
+  double offset = 0;
+  std::vector<std::pair<std::string, double>> args;
+};
+
 struct SchemeResult {
   std::string scheme;
   int gpms = 0;
@@ -88,6 +100,7 @@ struct SchemeResult {
   // Every unit, when the machine asked for it (MachineSpec::timeline); from
   // run_scheme_window, every measured frame's, one after the other.
   std::vector<TimelineUnit> timeline;
+  std::vector<TimelineMark> marks;  // the scheme's spans and instants, with the timeline
   // Set by FrameSim::finish once the run's conservation laws held
   // (schemes/conservation.h); run_scheme refuses a result without it.
   bool laws_checked = false;

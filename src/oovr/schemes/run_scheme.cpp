@@ -164,12 +164,18 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
   // The frames' timelines one after the other, each at its frame's start
   // (with frames in flight, the group's frames share one timeline).
   s.timeline.clear();
+  s.marks.clear();
   double offset = 0;
   for (size_t k = 0; k < all.size(); ++k) {
     for (TimelineUnit u : all[k].timeline) {
       u.frame = int(k);
       u.offset = offset;
       s.timeline.push_back(u);
+    }
+    for (TimelineMark m : all[k].marks) {
+      m.frame = int(k);
+      m.offset = offset;
+      s.marks.push_back(std::move(m));
     }
     offset += all[k].frame_latency_s;
   }

@@ -123,6 +123,19 @@ class Machine final : public RuntimeExecutor {
     return m_sim.preallocate(gpm, regions, {after});
   }
 
+  // The timeline's marks (kept only when a timeline is asked for).
+  void decided(int batch, int gpm, std::span<const double> predicted, const char* why) override {
+    if (!m_sim.keeps_timeline()) return;
+    std::vector<std::pair<std::string, double>> args = {{"batch", batch}, {"gpm", gpm}};
+    for (size_t g = 0; g < predicted.size(); ++g)
+      args.push_back({"predicted_free_us_gpm" + std::to_string(g), predicted[g] * 1e6});
+    m_sim.mark_instant("batch " + std::to_string(batch) + " to GPM " + std::to_string(gpm) + " (" + why + ")", "decision", gpm,
+                       std::move(args));
+  }
+  void batch_ran(int batch, int gpm, int first, int last) override {
+    m_sim.mark_span("batch " + std::to_string(batch), "batch", gpm, first, last, {{"batch", batch}});
+  }
+
   void start_batch(int gpm, const std::vector<uint32_t>& objects) override {
     for (uint32_t o : objects) receive(gpm, o);
   }
