@@ -191,7 +191,7 @@ int FrameSim::add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vecto
   if (in_queue) m_last[size_t(gpm)] = id;
   m_unit_gpm.push_back(gpm);
   info.gpm = gpm;
-  m_unit_info.push_back(info);
+  if (keeps_timeline()) m_unit_info.push_back(info);
   m_result.covered_fragments += w.covered;
   m_result.vertices += w.vertices;
   ++m_result.units;
@@ -214,7 +214,7 @@ int FrameSim::command(int gpm, int draws) {
   m_draw[size_t(gpm)] = id;
   if (m_ledger) m_ledger->received(id);
   m_unit_gpm.push_back(gpm);
-  m_unit_info.push_back({TimelineUnit::Kind::command, 0, gpm});
+  if (keeps_timeline()) m_unit_info.push_back({TimelineUnit::Kind::command, 0, gpm});
   m_result.draws += uint64_t(draws);
   ++m_result.units;
   return id;
@@ -416,7 +416,7 @@ int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vect
   u.latency = latency;
   ++m_result.units;
   m_unit_gpm.push_back(-1);
-  m_unit_info.push_back(info);
+  if (keeps_timeline()) m_unit_info.push_back(info);
   return m_engine.add_unit(std::move(u));
 }
 

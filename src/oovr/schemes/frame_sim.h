@@ -205,7 +205,7 @@ class FrameSim {
   std::vector<std::vector<int>> m_draw_ends;
   std::vector<size_t> m_draws_received;
   std::vector<int> m_unit_gpm;            // per unit: the GPM whose busy time it counts in, or -1
-  std::vector<TimelineUnit> m_unit_info;  // per unit: what it is, for the timeline (times filled by finish)
+  std::vector<TimelineUnit> m_unit_info;  // per unit, with a timeline only: what it is (times filled by finish)
   struct PendingSpan {
     TimelineMark mark;
     int first, last;
