@@ -143,8 +143,9 @@ void check_slurm_scenes(const Sweep& s) {
     std::string list;
     for (const auto& m : missing) list += (list.empty() ? "" : "; ") + m;
     throw Error("the sweep's scenes need data that is not here, so the nodes would fail their points: " + list +
-                ". Install it where the nodes see it too, and point OOVR_OPENARENA_DIR, OOVR_NEXUIZ_DIR or OOVR_TORCS_DIR "
-                "at it if it is not where Debian puts it (the tasks get this environment; docs/sweeps.md, \"What a node "
+                ". Install it where the nodes see it too, and point OOVR_OPENARENA_DIR, OOVR_NEXUIZ_DIR, OOVR_TORCS_DIR or "
+                "OOVR_CAPTURE_DIR "
+                "at it if it is not in its default place (the tasks get this environment; docs/sweeps.md, \"What a node "
                 "needs\")");
   }
 }
