@@ -9,63 +9,11 @@ set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 oovr=$1
 work=$2
-skip() { echo "skipped: $*"; exit 77; }
-for c in slurmctld slurmd sbatch scontrol sinfo sqlite3; do
-  command -v $c > /dev/null 2>&1 || skip "$c is not installed (scripts/install-deps.sh --services installs SLURM)"
-done
-rm -rf "$work" && mkdir -p "$work/state" "$work/spool" && cd "$work"
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
 work=$(pwd)
-node=$(hostname -s)
-cpus=$(nproc)
-# Ports of this test only, away from a real SLURM's 6817 and 6818.
-base=$((20000 + $$ % 20000))
-cat > slurm.conf <<CONF
-ClusterName=oovrtest
-SlurmctldHost=$node(127.0.0.1)
-SlurmctldPort=$base
-SlurmdPort=$((base + 1))
-AuthType=auth/none
-CredType=cred/none
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-StateSaveLocation=$work/state
-SlurmdSpoolDir=$work/spool
-SlurmctldPidFile=$work/slurmctld.pid
-SlurmdPidFile=$work/slurmd.pid
-SlurmctldLogFile=$work/slurmctld.log
-SlurmdLogFile=$work/slurmd.log
-SlurmUser=$(id -un)
-ReturnToService=2
-MpiDefault=none
-JobAcctGatherType=jobacct_gather/none
-AccountingStorageType=accounting_storage/none
-NodeName=$node NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=1000 State=UNKNOWN
-PartitionName=oovr Nodes=$node Default=YES MaxTime=INFINITE State=UP
-CONF
-export SLURM_CONF="$work/slurm.conf"
+. "$here/slurm_lib.sh"
+start_slurm 1
 export OOVR_CACHE_DIR="$work/cache"
-# Shut down and wait (at most 10 s) until both daemons have gone.
-stop() {
-  scontrol shutdown > /dev/null 2>&1 || true
-  for f in slurmd.pid slurmctld.pid; do
-    [ -f "$work/$f" ] || continue
-    pid=$(cat "$work/$f")
-    n=0
-    while kill -0 "$pid" 2> /dev/null && [ $n -lt 50 ]; do sleep 0.2; n=$((n + 1)); done
-    kill -9 "$pid" 2> /dev/null || true
-  done
-}
-trap stop EXIT
-slurmctld -c -f "$SLURM_CONF" > ctld.out 2>&1 || skip "slurmctld did not start: $(tail -n 3 ctld.out "$work/slurmctld.log" 2>/dev/null | tr '\n' ' ')"
-slurmd -f "$SLURM_CONF" > d.out 2>&1 || skip "slurmd did not start (it needs root here): $(tail -n 3 d.out "$work/slurmd.log" 2>/dev/null | tr '\n' ' ')"
-tries=0
-until sinfo -h -o %t 2> /dev/null | grep -q idle; do
-  tries=$((tries + 1))
-  [ $tries -gt 100 ] && skip "the SLURM node did not become idle in 20 s: $(sinfo 2>&1 | tail -n 1)"
-  sleep 0.2
-done
 
 cat > small.toml <<'TOML'
 # 8 points: 2 scenes x 2 schemes x 2 GPM counts

@@ -1,0 +1,41 @@
+#!/bin/sh
+# `oovr sweep --backend slurm` on a two-node SLURM (two slurmd on localhost,
+# each with its own port, spool, pid file and log, one CPU each): the
+# default chunking gives each trace group a task, the two tasks run one on
+# each node, and the collected database equals the local backend's. Exits
+# 77 ("skipped", with the reason) when SLURM is not installed or cannot
+# start.
+# Usage: sweep_slurm_two.sh OOVR WORKDIR
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+oovr=$1
+work=$2
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+work=$(pwd)
+. "$here/slurm_lib.sh"
+start_slurm 2
+export OOVR_CACHE_DIR="$work/cache"
+cat > two.toml <<'TOML'
+# 8 points in 2 trace groups: 2 scenes x 2 schemes x 2 GPM counts
+name = "two"
+scenes = ["crowd", "courtyard"]
+schemes = ["baseline", "oo-vr"]
+resolutions = ["160x128"]
+frames = 4
+[sweep]
+gpms = [2, 4]
+TOML
+"$oovr" sweep two.toml --db local.db > local.log 2>&1 || { cat local.log; exit 1; }
+"$oovr" sweep two.toml --db slurm.db --backend slurm --wait > slurm.log 2>&1 || {
+  cat slurm.log; tail -n 20 slurm.db.slurm/task-*.log slurmctld.log slurmd-node*.log; exit 1; }
+grep -q "8 points in 2 tasks" slurm.log || { cat slurm.log; exit 1; }
+grep -q "collected 8 runs from 2 task files" slurm.log || { cat slurm.log; exit 1; }
+# Each node ran a task of the array (its own slurmd launched it).
+for n in node1 node2; do
+  grep -q "Launching batch job" "slurmd-$n.log" || { echo "$n ran no task"; tail -n 5 slurmd-*.log; exit 1; }
+done
+dump() { sh "$here/dump_runs.sh" "$1" gpms; }
+dump local.db > local.dump
+dump slurm.db > slurm.dump
+cmp local.dump slurm.dump || { diff local.dump slurm.dump | cut -c 1-300 | head -20; exit 1; }
+echo "two-node SLURM sweep equals the local one: 8 runs in 2 tasks, one on each node"
