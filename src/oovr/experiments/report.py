@@ -145,12 +145,20 @@ def form(value, how):
 
 # ---------------------------------------------------------------- plots
 
-def save(fig, out, name):
-    fig.tight_layout()
-    for ext in ("png", "svg"):
+def save(fig, out, name, layout=True):
+    if layout:
+        fig.tight_layout()
+    for ext in ("png", "svg", "pdf"):
         fig.savefig(os.path.join(out, name + "." + ext), dpi=110)
     plt.close(fig)
     return name
+
+
+def frames_of(run):
+    """The run's per-frame latencies, seconds (empty when not stored)."""
+    res = run.get("result") or {}
+    v = res.get("frame_latencies_s") or res.get("frame_latencies") or []
+    return [x for x in v if isinstance(x, (int, float)) and math.isfinite(x)]
 
 
 def slug(text):
@@ -195,48 +203,142 @@ def claim_figures(values, out):
     return made
 
 
+# One colour per scheme, the same in every figure: the registered schemes
+# in their order, then any other by a stable hash of its name (twenty
+# colours of tab20, which repeats no colour within a figure of up to twenty
+# schemes). The other swept keys' values are told apart by line style.
+PALETTE = [matplotlib.colormaps["tab20"](i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9, 11, 13, 15, 17, 19)]
+STYLES = ["-", "--", ":", "-."]
+
+
+def scheme_colour(scheme):
+    if scheme in ORDER:
+        return PALETTE[ORDER.index(scheme) % len(PALETTE)]
+    return PALETTE[(len(ORDER) + sum(scheme.encode()) * 7) % len(PALETTE)]
+
+
+def numeric(value):
+    """A sort key that orders numbers as numbers (32 before 128), then text."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return (0, float(value), "")
+    return (1, 0.0, str(value))
+
+
+def swept_lines(runs, key, extra=()):
+    """The lines of a figure against `key`: runs that differ in `key` alone
+    (their scene, resolution, scheme and every other configuration key
+    equal), each line's runs in increasing `key`. Runs differing in another
+    key (another swept value, an ablation, a preset) are other lines, never
+    joined. `extra`: runs that do not sweep `key` but hold a value of it
+    (the sweep's main grid at the default), each added to the line whose
+    other keys it equals, if there is one. Returns [(scheme, others, runs)],
+    `others` the keys that tell a line from its scheme's others ("k=v,
+    ..."), lines in scheme order, then numerically by those values."""
+    groups = {}
+    ident = lambda r: (r["scene"], r["resolution"], r["scheme"],
+                       tuple(sorted((k, json.dumps(config_value(r, k))) for k in r["config"] if k != key)))
+    for r in runs:
+        groups.setdefault(ident(r), []).append(r)
+    for r in extra:
+        g = groups.get(ident(r))
+        if g is not None and all(x["swept"][key] != config_value(r, key) for x in g):
+            g.append(dict(r, swept=dict(r["swept"], **{key: config_value(r, key)})))
+    by_scheme = {}
+    for (scene, res, scheme, cfg), rs in groups.items():
+        by_scheme.setdefault((scene, res, scheme), []).append((dict(cfg), rs))
+    lines = []
+    for (scene, res, scheme), members in by_scheme.items():
+        # The keys in which this scheme's lines differ, named on each.
+        differing = sorted({k for cfg, _ in members for k in cfg if len({c.get(k) for c, _ in members}) > 1})
+        for cfg, rs in members:
+            values = [json.loads(cfg[k]) if k in cfg else None for k in differing]
+            others = ", ".join("{}={}".format(k, readable(rs[0]["config"].get(k))) for k in differing)
+            lines.append(((scene, res), scheme_rank(scheme), [numeric(v) for v in values], scheme, others,
+                          sorted(rs, key=lambda r: numeric(r["swept"][key]))))
+    lines.sort(key=lambda x: (x[0], x[1], x[2]))
+    return [(scheme, others, rs) for _, _, _, scheme, others, rs in lines]
+
+
+def tick_label(value, unit):
+    """A swept value as people write it: 32, 64, ... GB/s, then 1 TB/s."""
+    if unit == "B/s":
+        return "{:g} TB/s".format(value / 1e12) if value >= 1e12 else "{:g}".format(value / 1e9)
+    if unit == "B":
+        d, u = scale_for("B", [value])
+        return "{:g} {}".format(value / d, u)
+    if unit == "s":
+        d, u = scale_for("s", [value])
+        return "{:g} {}".format(value / d, u)
+    return "{:g}".format(value)
+
+
 def swept_figures(sweep, runs, out):
     """Per swept key: frame latency and inter-GPM traffic against its value,
-    one panel per scene and resolution, one line per scheme (and per value
-    of the other swept keys)."""
+    one panel per scene and resolution (each its own y axis from 0: the
+    scenes' frame times differ several fold), one line
+    per scheme and setting (swept_lines), a colour per scheme (scheme_colour)
+    and a line style per setting, bars from the frames' lowest to highest
+    latency, the legend beside the panels. Bandwidths read 32, 64, ... GB/s
+    and 1 TB/s on a log axis; whole-number keys (GPM counts) are evenly
+    spaced categories."""
     mine = [r for r in runs.values() if r["sweep"] == sweep["name"] and r["status"] == "done"]
     made = []
     for key in sweep["keys"]:
         pts = [r for r in mine if isinstance(r["swept"].get(key), (int, float))]
-        if len({r["swept"][key] for r in pts}) < 2:
+        # The sweep's other runs at a value of `key` (its main grid, at the
+        # default), to complete the lines they belong to.
+        rest = [r for r in mine if key not in r["swept"] and isinstance(config_value(r, key), (int, float))]
+        lines_of = {pan: swept_lines([r for r in pts if (r["scene"], r["resolution"]) == pan], key,
+                                     [r for r in rest if (r["scene"], r["resolution"]) == pan])
+                    for pan in {(r["scene"], r["resolution"]) for r in pts}}
+        values = sorted({r["swept"][key] for ls in lines_of.values() for _, _, rs in ls for r in rs})
+        if len(values) < 2:
             continue
         unit = next((r["config"][key].get("unit", "") for r in pts if isinstance(r["config"].get(key), dict)), "")
-        div, ulabel = scale_for(unit, [r["swept"][key] for r in pts])
+        categorical = not unit and all(float(v).is_integer() for v in values)
+        position = {v: i for i, v in enumerate(values)}
+        log = not categorical and min(values) > 0 and max(values) / min(values) >= 8
         panels = sorted({(r["scene"], r["resolution"]) for r in pts})[:6]
-        fig, axes = plt.subplots(2, len(panels), figsize=(4.2 * len(panels), 6.4), squeeze=False)
+        legend_in = 2.0  # inches beside the panels for the legend
+        width = 3.8 * len(panels) + legend_in
+        fig, axes = plt.subplots(2, len(panels), figsize=(width, 6.4), squeeze=False)
         lat_div, lat_unit = scale_for("s", [metric(r, "frame", "latency") for r in pts])
         tr_div, tr_unit = scale_for("B", [metric(r, "frame", "inter_gpm_bytes") for r in pts])
+        handles = {}
         for pi, (scene, res) in enumerate(panels):
-            lines = {}
-            for r in pts:
-                if (r["scene"], r["resolution"]) != (scene, res):
-                    continue
-                others = ", ".join("{}={}".format(k, readable(r["config"].get(k)))
-                                   for k in sweep["keys"] if k != key and k in r["swept"])
-                lines.setdefault((scheme_rank(r["scheme"]), others), []).append(r)
-            for (rank, others), rs in sorted(lines.items())[:12]:
-                rs.sort(key=lambda r: r["swept"][key])
-                xs = [r["swept"][key] / div for r in rs]
-                label = rank[1] + (" ({})".format(others) if others else "")
-                axes[0][pi].plot(xs, [metric(r, "frame", "latency") / lat_div for r in rs], marker="o", label=label)
-                axes[1][pi].plot(xs, [metric(r, "frame", "inter_gpm_bytes") / tr_div for r in rs], marker="o", label=label)
-            for row, ylabel in ((0, "frame latency ({})".format(lat_unit)),
+            styles = {}
+            for scheme, others, rs in lines_of[(scene, res)][:20]:
+                style = styles.setdefault(others, STYLES[len(styles) % len(STYLES)])
+                xs = [position[r["swept"][key]] if categorical else r["swept"][key] for r in rs]
+                label = scheme + (" ({})".format(others) if others else "")
+                lat = [metric(r, "frame", "latency") / lat_div for r in rs]
+                # The spread over the frames measured: lowest to highest latency.
+                lo = [min(f) / lat_div if f else y for f, y in zip((frames_of(r) for r in rs), lat)]
+                hi = [max(f) / lat_div if f else y for f, y in zip((frames_of(r) for r in rs), lat)]
+                err = [[y - l for y, l in zip(lat, lo)], [h - y for y, h in zip(lat, hi)]]
+                h = axes[0][pi].errorbar(xs, lat, yerr=err, color=scheme_colour(scheme), linestyle=style, marker="o",
+                                         markersize=3, capsize=2, label=label)
+                axes[1][pi].plot(xs, [metric(r, "frame", "inter_gpm_bytes") / tr_div for r in rs],
+                                 color=scheme_colour(scheme), linestyle=style, marker="o", markersize=3)
+                handles.setdefault(label, h)
+            for row, ylabel in ((0, "frame latency ({}; bars: frames' range)".format(lat_unit)),
                                 (1, "inter-GPM traffic ({} per frame)".format(tr_unit))):
                 ax = axes[row][pi]
-                xs = [r["swept"][key] / div for r in pts]
-                if min(xs) > 0 and max(xs) / min(xs) >= 8:
-                    ax.set_xscale("log", base=2)
-                ax.set_xlabel("{} ({})".format(key, ulabel) if ulabel else key)
+                if categorical:
+                    ax.set_xticks(range(len(values)), ["{:g}".format(v) for v in values])
+                else:
+                    if log:
+                        ax.set_xscale("log")
+                    ax.set_xticks(values, [tick_label(v, unit) for v in values])
+                    ax.minorticks_off()
+                ax.set_xlabel(key + (" (GB/s)" if unit == "B/s" else ""))
                 ax.set_ylabel(ylabel)
+                ax.set_ylim(bottom=0)
                 ax.grid(alpha=0.3)
             axes[0][pi].set_title("{}, {}".format(scene, res), fontsize=10)
-        axes[0][0].legend(fontsize=7)
-        made.append((key, save(fig, out, "sweep-{}-{}".format(slug(sweep["name"]), slug(key)))))
+        fig.legend(list(handles.values()), list(handles.keys()), loc="center right", fontsize=7, frameon=False)
+        fig.tight_layout(rect=(0, 0, 1 - legend_in / width, 1))
+        made.append((key, save(fig, out, "sweep-{}-{}".format(slug(sweep["name"]), slug(key)), layout=False)))
     return made
 
 
