@@ -3,6 +3,15 @@
 
 skip() { echo "skipped: $*"; exit 77; }
 
+# slurm_test WORKDIR NODES: a fresh work folder (entered; $work its absolute
+# path), a cluster of NODES nodes in it (start_slurm) and a trace cache of
+# its own.
+slurm_test() {
+  rm -rf "$1" && mkdir -p "$1" && cd "$1"
+  start_slurm "$2"
+  export OOVR_CACHE_DIR="$work/cache"
+}
+
 # start_slurm NODES: a SLURM cluster on localhost with NODES nodes, each a
 # slurmd of its own (slurmd -N NAME, its own port, spool, pid file and log:
 # node-local paths), slurmctld and the nodes on ports of this test only (away

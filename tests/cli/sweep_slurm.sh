@@ -8,12 +8,8 @@
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 oovr=$1
-work=$2
-rm -rf "$work" && mkdir -p "$work" && cd "$work"
-work=$(pwd)
 . "$here/slurm_lib.sh"
-start_slurm 1
-export OOVR_CACHE_DIR="$work/cache"
+slurm_test "$2" 1
 
 cat > small.toml <<'TOML'
 # 8 points: 2 scenes x 2 schemes x 2 GPM counts

@@ -9,12 +9,8 @@
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 oovr=$1
-work=$2
-rm -rf "$work" && mkdir -p "$work" && cd "$work"
-work=$(pwd)
 . "$here/slurm_lib.sh"
-start_slurm 2
-export OOVR_CACHE_DIR="$work/cache"
+slurm_test "$2" 2
 cat > two.toml <<'TOML'
 # 8 points in 2 trace groups: 2 scenes x 2 schemes x 2 GPM counts
 name = "two"
