@@ -111,6 +111,29 @@ TEST(Timeline, OOVRMarksEachBatchAndEachDecision) {
   EXPECT_TRUE(run("oo-vr", false).marks.empty());
 }
 
+TEST(Timeline, ChopinMarksEachCompositionGroupOnTheGpmsThatWorkedInIt) {
+  const SchemeResult r = run("chopin", true);
+  const Stat* groups = r.stats.find("chopin", "groups");
+  ASSERT_NE(groups, nullptr);
+  std::map<std::pair<int, int>, int> spans;  // (frame, group) -> GPMs
+  for (const TimelineMark& m : r.marks) {
+    ASSERT_EQ(m.category, "group");
+    int group = -1;
+    for (const auto& [k, v] : m.args)
+      if (k == "group") group = int(v);
+    ASSERT_GE(group, 0);
+    ++spans[{m.frame, group}];
+    EXPECT_LE(m.start, m.finish);
+    EXPECT_LE(m.gpm, r.gpms - 1);
+  }
+  // Every group of every frame, on at least one GPM and at most all.
+  EXPECT_EQ(spans.size(), size_t(groups->value) * r.frame_latencies_s.size());
+  for (const auto& [key, n] : spans) {
+    EXPECT_GE(n, 1);
+    EXPECT_LE(n, r.gpms);
+  }
+}
+
 TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
   const SchemeResult r = run("oo-vr", true);
   const TimelineText t = timeline_json(r, 1'000'000);

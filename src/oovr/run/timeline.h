@@ -9,7 +9,8 @@
 //   frames     each measured frame as a span;
 // and on a GPM's process, the scheme's own marks (TimelineMark): OO-VR's
 // batches as spans on the GPM that ran them, and its engine's decisions
-// (which GPM a batch went to, each GPM's predicted free time) as instants.
+// (which GPM a batch went to, each GPM's predicted free time) as instants;
+// CHOPIN's composition groups as spans on each GPM that worked in them.
 //
 // A unit's span is its start to its finish; its arguments split that into
 // work and the latency after it (memory, link hops). Times are in

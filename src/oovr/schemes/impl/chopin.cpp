@@ -105,6 +105,12 @@ class Scheduler {
       if (!m_barrier.empty()) return;
       const Group& g = m_groups[m_group];
       if (m_next == g.end) {
+        // The group on each GPM, for a timeline: its first draw's command to
+        // its last unit there.
+        for (int gpm = 0; gpm < m_sim.gpms(); ++gpm)
+          if (const auto [first, last] = m_span[size_t(gpm)]; first >= 0)
+            m_sim.mark_span("group " + std::to_string(m_group) + (g.blended ? " (blended)" : " (opaque)"), "group", gpm, first,
+                            last, {{"group", double(m_group)}, {"draws", double(g.end - g.first)}});
         for (int u : m_composer.close())
           if (!m_sim.engine().finished(u)) m_barrier.push_back(u);
         for (int gpm = 0; gpm < m_sim.gpms(); ++gpm) {
@@ -144,6 +150,7 @@ class Scheduler {
     const Group& g = m_groups[group];
     m_next = g.first;
     m_run.clear();
+    m_span.assign(size_t(m_sim.gpms()), {-1, -1});
     if (!g.blended) return;
     // Runs of consecutive draws with about equal triangles: a draw goes to
     // the run its middle triangle falls in.
@@ -193,7 +200,7 @@ class Scheduler {
 
   void dispatch(uint32_t o, int gpm) {
     const ObjectWork& ow = m_f.objects[o];
-    m_sim.command(gpm);
+    const int command = m_sim.command(gpm);
     int last = m_sim.geometry(gpm, o, 1, uint64_t(ow.setup[0]) + ow.setup[1]);
     std::vector<const TileWork*> records = m_records[o].both();
     if (!records.empty()) {
@@ -204,6 +211,9 @@ class Scheduler {
     }
     m_sim.end_draw(gpm);
     m_outstanding[size_t(gpm)].push_back({ow.triangles, last});
+    auto& span = m_span[size_t(gpm)];
+    if (span.first < 0) span.first = command;
+    span.second = last;
   }
 
   FrameSim& m_sim;
@@ -215,10 +225,11 @@ class Scheduler {
   std::vector<std::deque<Draw>> m_outstanding;  // per GPM, in dispatch order (a queue's units end in order)
   size_t m_window;
   size_t m_group = 0;
-  uint32_t m_next = 0;         // the next draw to give out
-  int m_rr = -1;               // the GPM chosen last
-  std::vector<int> m_run;      // per draw of a blended group: its GPM
-  std::vector<int> m_barrier;  // units the next group waits for
+  uint32_t m_next = 0;                      // the next draw to give out
+  int m_rr = -1;                            // the GPM chosen last
+  std::vector<int> m_run;                   // per draw of a blended group: its GPM
+  std::vector<int> m_barrier;               // units the next group waits for
+  std::vector<std::pair<int, int>> m_span;  // per GPM: the group's first and last unit there (-1: none)
 };
 
 class Chopin final : public Scheme {
