@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "oovr/core/error.h"
 #include "oovr/run/timeline.h"
@@ -132,6 +133,29 @@ TEST(Timeline, ChopinMarksEachCompositionGroupOnTheGpmsThatWorkedInIt) {
     EXPECT_GE(n, 1);
     EXPECT_LE(n, r.gpms);
   }
+}
+
+TEST(Timeline, GpupdMarksEachBatchsProjectionAndRenderingPerGpm) {
+  const SchemeResult r = run("gpupd", true);
+  std::map<std::pair<int, int>, int> projection, rendering;  // (frame, batch) -> GPMs
+  for (const TimelineMark& m : r.marks) {
+    int batch = -1;
+    for (const auto& [k, v] : m.args)
+      if (k == "batch") batch = int(v);
+    ASSERT_GE(batch, 0);
+    EXPECT_LE(m.start, m.finish);
+    if (m.category == "projection") ++projection[{m.frame, batch}];
+    else if (m.category == "rendering") ++rendering[{m.frame, batch}];
+    else ADD_FAILURE() << m.category;
+  }
+  // Every GPM projects its share of every batch; the batches it renders
+  // are those with primitives in its strip; all of them in every frame.
+  ASSERT_FALSE(projection.empty());
+  for (const auto& [key, n] : projection) EXPECT_EQ(n, r.gpms);
+  EXPECT_EQ(rendering.size(), projection.size());
+  std::set<int> frames;
+  for (const auto& [key, n] : projection) frames.insert(key.first);
+  EXPECT_EQ(frames.size(), r.frame_latencies_s.size());
 }
 
 TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {

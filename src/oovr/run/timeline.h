@@ -10,7 +10,8 @@
 // and on a GPM's process, the scheme's own marks (TimelineMark): OO-VR's
 // batches as spans on the GPM that ran them, and its engine's decisions
 // (which GPM a batch went to, each GPM's predicted free time) as instants;
-// CHOPIN's composition groups as spans on each GPM that worked in them.
+// CHOPIN's composition groups as spans on each GPM that worked in them;
+// GPUpd's batches as a projection and a rendering span on each GPM.
 //
 // A unit's span is its start to its finish; its arguments split that into
 // work and the latency after it (memory, link hops). Times are in

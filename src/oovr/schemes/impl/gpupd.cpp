@@ -125,9 +125,15 @@ class Gpupd final : public Scheme {
         step = sent.empty() ? after : sent;
       }
       for (const auto& units : projected) step.insert(step.end(), units.begin(), units.end());
+      // For a timeline: each GPM's projection of the batch, its first draw
+      // received to its last share projected.
+      for (int g = 0; g < n && !projected[size_t(g)].empty(); ++g)
+        sim.mark_span("batch " + std::to_string(b) + " projection", "projection", g, received[batches[b].first][size_t(g)],
+                      projected[size_t(g)].back(), {{"batch", double(b)}});
       return step;
     };
     const auto render = [&](size_t b, const std::vector<int>& exchanged) {
+      std::vector<std::pair<int, int>> span(size_t(n), {-1, -1});  // per GPM: its first and last rendering unit
       for (uint32_t o = batches[b].first; o < batches[b].second; ++o) {
         std::vector<FrameSim::TileJob> jobs;
         for (int g = 0; g < n; ++g) {
@@ -135,11 +141,18 @@ class Gpupd final : public Scheme {
           if (mine[o][size_t(g)].empty()) continue;
           const uint64_t got = prims[o][size_t(g)];
           const double share = std::min(1.0, double(got) / double(std::max<uint32_t>(1, f.objects[o].triangles)));
-          jobs.push_back({g, mine[o][size_t(g)], 0, {sim.geometry_part(g, o, 0, share, 1, got, exchanged)}});
+          const int geo = sim.geometry_part(g, o, 0, share, 1, got, exchanged);
+          if (span[size_t(g)].first < 0) span[size_t(g)].first = geo;
+          jobs.push_back({g, mine[o][size_t(g)], 0, {geo}});
         }
-        sim.tiles_together(jobs, f);
+        const std::vector<int> units = sim.tiles_together(jobs, f);
+        for (size_t j = 0; j < jobs.size(); ++j) span[size_t(jobs[j].gpm)].second = units[j];
         for (int g = 0; g < n; ++g) sim.end_draw(g);
       }
+      for (int g = 0; g < n; ++g)
+        if (span[size_t(g)].first >= 0)
+          sim.mark_span("batch " + std::to_string(b) + " rendering", "rendering", g, span[size_t(g)].first,
+                        span[size_t(g)].second, {{"batch", double(b)}});
     };
     std::vector<int> next = batches.empty() ? std::vector<int>{} : project(0);
     for (size_t b = 0; b < batches.size(); ++b) {
