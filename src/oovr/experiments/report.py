@@ -179,17 +179,27 @@ def claim_figures(values, out):
         if not items:
             continue
         groups = sorted({g for _, _, per in items for g in per})
-        fig, ax = plt.subplots(figsize=(max(5.0, 1.3 * len(items) + 2), 3.8))
+        # A colour per scene and a hatch per resolution, so that the legend
+        # names each once (a scene at three resolutions is not three
+        # entries), beside the plot rather than over the bars.
+        scenes = sorted({g[0] for g in groups})
+        resolutions = sorted({g[1] for g in groups}, key=lambda r: [int(x) for x in r.split("x")] if "x" in r else [0])
+        hatches = ["", "///", "...", "xxx", "\\\\"]
+        fig, ax = plt.subplots(figsize=(max(5.0, 1.3 * len(items) + 2) + 2.2, 3.8))
         width = 0.8 / (len(groups) + 1)
-        cmap = plt.get_cmap("tab10")
         for gi, g in enumerate(groups):
             xs = [i + (gi - len(groups) / 2) * width for i in range(len(items))]
             ys = [per.get(g, float("nan")) for _, _, per in items]
-            ax.bar(xs, ys, width, color=cmap(gi % 10), label="oovr: {} {}".format(g[0], g[1]))
+            ax.bar(xs, ys, width, color=PALETTE[scenes.index(g[0]) % len(PALETTE)],
+                   hatch=hatches[resolutions.index(g[1]) % len(hatches)], edgecolor="white", linewidth=0)
+        handles = [mpatches.Patch(color=PALETTE[k % len(PALETTE)], label="oovr: " + sc) for k, sc in enumerate(scenes)]
+        if len(resolutions) > 1:
+            handles += [mpatches.Patch(facecolor="lightgrey", hatch=hatches[k % len(hatches)], edgecolor="white", label=res)
+                        for k, res in enumerate(resolutions)]
         px = [i + (len(groups) / 2) * width for i in range(len(items))]
         py = [v.get("paper", float("nan")) for _, v, _ in items]
         if any(math.isfinite(p) for p in py):
-            ax.scatter(px, py, marker="D", s=48, color="black", zorder=3, label="the paper")
+            handles.append(ax.scatter(px, py, marker="D", s=48, color="black", zorder=3, label="the paper"))
         ax.set_xticks(range(len(items)))
         ax.set_xticklabels(["{}: {}".format(c["id"], v["label"]) for c, v, _ in items], rotation=20, ha="right", fontsize=8)
         measures = sorted({v["measure"] for _, v, _ in items})
@@ -198,7 +208,7 @@ def claim_figures(values, out):
         if unit != "bits":
             ax.axhline(1.0, color="grey", lw=0.8)
         ax.set_title(title, fontsize=10)
-        ax.legend(fontsize=7, loc="best")
+        ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
         made.append((title, save(fig, out, "paper-" + slug(title))))
     return made
 
