@@ -254,14 +254,8 @@ SlurmJobState slurm_job_state(const std::string& dir) {
     return st;
   }
   st.known = true;
-  size_t from = 0;
-  while (from < out.size()) {
-    const size_t nl = out.find('\n', from);
-    const std::string line = out.substr(from, nl == std::string::npos ? std::string::npos : nl - from);
+  for (const std::string& line : split_fields(out, '\n'))
     if (line.rfind(id, 0) == 0) ++st.tasks_left;
-    if (nl == std::string::npos) break;
-    from = nl + 1;
-  }
   return st;
 }
 

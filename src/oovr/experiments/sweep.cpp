@@ -440,8 +440,6 @@ std::string sweep_toml(const nlohmann::json& definition) {
   return out.str();
 }
 
-Sweep read_sweep(const std::string& path) { return read_sweep(path, {}); }
-
 Sweep read_sweep(const std::string& path, const std::vector<std::string>& settings) {
   const std::string text = read_input_file(path, "sweep", uint64_t(1) << 20);
   return parse_sweep(settings.empty() ? text : sweep_with_settings(text, path, settings), path,

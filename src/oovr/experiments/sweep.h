@@ -71,9 +71,8 @@ struct Sweep {
 // Reads and expands a sweep file. Throws Error naming the file and what is
 // wrong (an unknown key, a list where one value is wanted, an empty list,
 // a point that names no scene, two points with the same id).
-Sweep read_sweep(const std::string& path);
-// read_sweep with --set's settings (sweep_with_settings).
-Sweep read_sweep(const std::string& path, const std::vector<std::string>& settings);
+// `settings`: --set's overrides of the file's [set] (sweep_with_settings).
+Sweep read_sweep(const std::string& path, const std::vector<std::string>& settings = {});
 Sweep parse_sweep(const std::string& text, const std::string& name, const std::string& base_dir);
 
 // The sweep file's text with `settings` ("key=value", as --set takes them)

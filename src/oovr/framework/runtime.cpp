@@ -70,7 +70,7 @@ int OORuntime::queued() const {
 int OORuntime::choose(int b) {
   if (!m_engine || m_batches[size_t(b)].warmup) {
     const int g = m_rr++ % m_n;
-    m_exec.decided(b, g, {}, "round-robin");
+    if (m_exec.keeps_marks()) m_exec.decided(b, g, {}, "round-robin");
     return g;
   }
   for (int g = 0; g < m_n; ++g) {
@@ -88,14 +88,16 @@ int OORuntime::choose(int b) {
     }
     m_engine->set_elapsed(g, v, p);
   }
-  std::vector<double> extra(size_t(m_n), 0.0);
-  if (m_spec.affinity > 0 && !m_link_seconds.empty())
+  std::vector<double> extra;  // screen affinity's link time per GPM (empty: none)
+  if (m_spec.affinity > 0 && !m_link_seconds.empty()) {
+    extra.assign(size_t(m_n), 0.0);
     for (uint32_t o : m_batches_in[size_t(b)].objects)
       if (!m_link_seconds[o].empty())
         for (int g = 0; g < m_n; ++g) extra[size_t(g)] += m_spec.affinity * m_link_seconds[o][size_t(g)];
+  }
   const int g = m_engine->cheapest(extra);
-  if (g != m_engine->earliest_free()) ++m_affine;
-  m_exec.decided(b, g, predicted(extra), "predicted free first");
+  if (!extra.empty() && g != m_engine->earliest_free()) ++m_affine;
+  if (m_exec.keeps_marks()) m_exec.decided(b, g, predicted(extra), "predicted free first");
   return g;
 }
 
@@ -134,7 +136,7 @@ void OORuntime::schedule() {
       for (int g = 0; g < m_n && m_next < int(m_batches.size()); ++g) {
         const Gpm& s = m_gpm[size_t(g)];
         if (s.running < 0 && s.todo.empty() && s.pending.empty()) {
-          m_exec.decided(m_next, g, predicted({}), "idle");
+          if (m_exec.keeps_marks()) m_exec.decided(m_next, g, predicted({}), "idle");
           assign(m_next++, g);
           changed = true;
         }
@@ -247,7 +249,7 @@ void OORuntime::on_finish(int unit) {
 
 void OORuntime::batch_done(int b) {
   const BatchRun& br = m_batches[size_t(b)];
-  if (br.first_unit >= 0) m_exec.batch_ran(b, br.gpm, br.first_unit, br.last_unit);
+  if (br.first_unit >= 0 && m_exec.keeps_marks()) m_exec.batch_ran(b, br.gpm, br.first_unit, br.last_unit);
   if (m_engine) m_engine->finish(b);
   if (!br.warmup) return;
   const Batch& in = m_batches_in[size_t(b)];

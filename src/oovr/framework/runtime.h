@@ -74,6 +74,9 @@ class RuntimeExecutor {
   // time there; empty when dealt round-robin); batch `batch` ran on its GPM
   // from unit `first` to unit `last` (its moved chunks elsewhere are not in
   // the span).
+  // Whether the executor keeps these (a timeline): the runtime works out
+  // its predictions for decided() only then.
+  virtual bool keeps_marks() const { return false; }
   virtual void decided(int batch, int gpm, std::span<const double> predicted, const char* why) {
     (void)batch, (void)gpm, (void)predicted, (void)why;
   }

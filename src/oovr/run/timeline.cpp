@@ -40,6 +40,34 @@ nlohmann::ordered_json name_event(const char* what, int pid, int tid, const std:
   return e;
 }
 
+// Spans of one track that overlap (composition, copies, transfers beside
+// each other, a scheme's spans) go on lanes of their own: a viewer nests the
+// spans of one thread, and these do not nest. Spans come in order of start.
+class Lanes {
+ public:
+  // The thread of a span [start, finish) of track `track` of process `pid`:
+  // the first lane free by `start`, or a new one, whose thread is named
+  // `name` ("name (k)" past the first lane; the first lane only when
+  // `name_first`, the others having their names already).
+  int place(int pid, int track, double start, double finish, const std::string& name, bool name_first,
+            nlohmann::ordered_json& events) {
+    std::vector<double>& ends = m_ends[{pid, track}];
+    size_t lane = 0;
+    while (lane < ends.size() && ends[lane] > start) ++lane;
+    if (lane == ends.size()) {
+      ends.push_back(0);
+      if (name_first || lane > 0)
+        events.push_back(name_event("thread_name", pid, track * kLanes + int(lane),
+                                    lane ? name + " (" + std::to_string(lane + 1) + ")" : name));
+    }
+    ends[lane] = finish;
+    return track * kLanes + int(std::min<size_t>(lane, kLanes - 1));
+  }
+
+ private:
+  std::map<std::pair<int, int>, std::vector<double>> m_ends;  // (pid, track) -> each lane's last finish
+};
+
 }  // namespace
 
 TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
@@ -78,7 +106,7 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
     return r.timeline[a].offset + r.timeline[a].start < r.timeline[b].offset + r.timeline[b].start;
   });
   TimelineText out;
-  std::map<std::pair<int, int>, std::vector<double>> lane_ends;  // (pid, track) -> each lane's last finish
+  Lanes lanes;
   for (size_t i : order) {
     if (out.units == max_events) {
       ++out.omitted;
@@ -97,24 +125,10 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
     const bool link = u.kind == TimelineUnit::Kind::transfer;
     const int pid = link ? links_pid : std::max(u.gpm, 0);
     const int track = link ? u.from * n + u.gpm : gpm_thread(u.kind);
-    // Units of one track that overlap (composition, copies, transfers
-    // beside each other) go on lanes of their own: a viewer nests the spans
-    // of one thread, and these do not nest.
-    std::vector<double>& lanes = lane_ends[{pid, track}];
-    size_t lane = 0;
-    while (lane < lanes.size() && lanes[lane] > u.offset + u.start) ++lane;
-    if (lane == lanes.size()) {
-      lanes.push_back(0);
-      if (link || lane > 0) {
-        const std::string base =
-            link ? "GPM " + std::to_string(u.from) + " -> GPM " + std::to_string(u.gpm) : std::string(kThreads[track]);
-        events.push_back(name_event("thread_name", pid, track * kLanes + int(lane),
-                                    lane ? base + " (" + std::to_string(lane + 1) + ")" : base));
-      }
-    }
-    lanes[lane] = u.offset + u.finish;
     e["pid"] = pid;
-    e["tid"] = track * kLanes + int(std::min<size_t>(lane, kLanes - 1));
+    e["tid"] = lanes.place(
+        pid, track, u.offset + u.start, u.offset + u.finish,
+        link ? "GPM " + std::to_string(u.from) + " -> GPM " + std::to_string(u.gpm) : std::string(kThreads[track]), link, events);
     e["args"] = {{"frame", u.frame}, {"work_us", (u.work_done - u.start) * 1e6}, {"latency_us", (u.finish - u.work_done) * 1e6}};
     events.push_back(e);
     ++out.units;
@@ -140,17 +154,7 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
     } else {
       e["ph"] = "X";
       e["dur"] = (m.finish - m.start) * 1e6;
-      std::vector<double>& lanes = lane_ends[{e["pid"].get<int>(), 4}];
-      size_t lane = 0;
-      while (lane < lanes.size() && lanes[lane] > m.offset + m.start) ++lane;
-      if (lane == lanes.size()) {
-        lanes.push_back(0);
-        if (lane > 0)
-          events.push_back(name_event("thread_name", e["pid"].get<int>(), 4 * kLanes + int(lane),
-                                      std::string(kThreads[4]) + " (" + std::to_string(lane + 1) + ")"));
-      }
-      lanes[lane] = m.offset + m.finish;
-      e["tid"] = 4 * kLanes + int(std::min<size_t>(lane, kLanes - 1));
+      e["tid"] = lanes.place(std::max(m.gpm, 0), 4, m.offset + m.start, m.offset + m.finish, kThreads[4], false, events);
     }
     events.push_back(e);
   }

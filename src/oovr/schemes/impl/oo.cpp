@@ -124,8 +124,8 @@ class Machine final : public RuntimeExecutor {
   }
 
   // The timeline's marks (kept only when a timeline is asked for).
+  bool keeps_marks() const override { return m_sim.keeps_timeline(); }
   void decided(int batch, int gpm, std::span<const double> predicted, const char* why) override {
-    if (!m_sim.keeps_timeline()) return;
     std::vector<std::pair<std::string, double>> args = {{"batch", batch}, {"gpm", gpm}};
     for (size_t g = 0; g < predicted.size(); ++g)
       args.push_back({"predicted_free_us_gpm" + std::to_string(g), predicted[g] * 1e6});
