@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <tuple>
 
 #include "oovr/core/error.h"
 #include "oovr/run/timeline.h"
@@ -168,7 +170,7 @@ TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
   std::map<std::string, int> kinds;
   std::map<std::pair<int, int>, bool> named;  // (pid, tid) with a thread_name
   std::map<int, std::string> processes;
-  size_t spans = 0;
+  size_t spans = 0, waits = 0;
   for (const auto& e : j["traceEvents"]) {
     const std::string ph = e.at("ph");
     if (ph == "M" && e["name"] == "process_name") processes[e["pid"]] = e["args"]["name"];
@@ -177,11 +179,32 @@ TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
     if (ph != "X" || !e.contains("cat")) continue;
     ++kinds[e["cat"]];
     if (e["cat"] == "batch") continue;  // the scheme's marks, counted apart
+    if (e["cat"] == "wait") {           // inside a unit, counted apart
+      ++waits;
+      continue;
+    }
     ++spans;
     EXPECT_GE(double(e["dur"]), 0.0);
     EXPECT_TRUE(named.count({e["pid"], e["tid"]})) << "a span on an unnamed thread: " << e.dump();
   }
   EXPECT_EQ(spans, r.timeline.size());
+  // A wait inside every unit that had latency after its work, ending with it.
+  size_t waited = 0;
+  for (const TimelineUnit& u : r.timeline) waited += u.finish > u.work_done;
+  EXPECT_GT(waited, 0u);
+  EXPECT_EQ(waits, waited);
+  EXPECT_EQ(t.waits, waited);
+  std::map<std::pair<int, int>, std::vector<std::pair<double, double>>> units_on;  // (pid, tid): (start, end) in µs
+  for (const auto& e : j["traceEvents"])
+    if (e["ph"] == "X" && e.contains("cat") && e["cat"] != "wait" && e["cat"] != "batch")
+      units_on[{e["pid"], e["tid"]}].emplace_back(double(e["ts"]), double(e["ts"]) + double(e["dur"]));
+  for (const auto& e : j["traceEvents"]) {
+    if (e["ph"] != "X" || !e.contains("cat") || e["cat"] != "wait") continue;
+    const double from = e["ts"], to = from + double(e["dur"]);
+    bool inside = false;
+    for (const auto& [a, b] : units_on[{e["pid"], e["tid"]}]) inside |= a <= from + 1e-6 && std::abs(b - to) < 1e-6;
+    EXPECT_TRUE(inside) << "a wait that does not end its unit: " << e.dump();
+  }
   for (const char* k : {"draw", "geometry", "tiles", "compose", "transfer"}) EXPECT_GT(kinds[k], 0) << k;
   EXPECT_EQ(size_t(kinds["batch"]) + size_t(kinds["decision"]), r.marks.size());
   EXPECT_EQ(processes[0], "GPM 0");

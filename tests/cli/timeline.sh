@@ -13,7 +13,9 @@ grep -q "^timeline: [1-9][0-9]* units in $work/t.json" "$work/run.log" || { cat 
 /usr/bin/python3 - "$work/t.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-spans = [e for e in d["traceEvents"] if e["ph"] == "X" and e.get("cat") not in (None, "batch")]
+spans = [e for e in d["traceEvents"] if e["ph"] == "X" and e.get("cat") not in (None, "batch", "wait")]
+waits = [e for e in d["traceEvents"] if e.get("cat") == "wait"]
+assert len(waits) == d["otherData"]["waits"] > 0, (len(waits), d["otherData"])
 marks = [e for e in d["traceEvents"] if e.get("cat") in ("batch", "decision")]
 assert len(marks) == d["otherData"]["marks"] > 0, (len(marks), d["otherData"])
 assert len(spans) == d["otherData"]["units"] > 0, (len(spans), d["otherData"])

@@ -130,8 +130,25 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
         pid, track, u.offset + u.start, u.offset + u.finish,
         link ? "GPM " + std::to_string(u.from) + " -> GPM " + std::to_string(u.gpm) : std::string(kThreads[track]), link, events);
     e["args"] = {{"frame", u.frame}, {"work_us", (u.work_done - u.start) * 1e6}, {"latency_us", (u.finish - u.work_done) * 1e6}};
+    const nlohmann::ordered_json unit_tid = e["tid"];
     events.push_back(e);
     ++out.units;
+    // Its wait on memory and links (the reads outstanding when its work is
+    // done, the link hops of what it sends) as a span inside it, so a
+    // track shows where a GPM waited rather than worked.
+    if (u.finish > u.work_done) {
+      nlohmann::ordered_json w;
+      w["name"] = link ? "in flight over the links" : "waiting on memory and links";
+      w["cat"] = "wait";
+      w["ph"] = "X";
+      w["ts"] = (u.offset + u.work_done) * 1e6;
+      w["dur"] = (u.finish - u.work_done) * 1e6;
+      w["pid"] = pid;
+      w["tid"] = unit_tid;
+      w["args"] = {{"frame", u.frame}};
+      events.push_back(w);
+      ++out.waits;
+    }
   }
   // The scheme's marks: spans on lanes of their own track, instants on theirs.
   for (const TimelineMark& m : r.marks) {
@@ -167,6 +184,7 @@ TimelineText timeline_json(const SchemeResult& r, size_t max_events) {
                       {"units", r.timeline.size()},
                       {"units_written", out.units},
                       {"units_left_out", out.omitted},
+                      {"waits", out.waits},
                       {"marks", r.marks.size()},
                       {"end_us", end * 1e6}};
   out.json = doc.dump() + "\n";

@@ -14,7 +14,8 @@
 // GPUpd's batches as a projection and a rendering span on each GPM.
 //
 // A unit's span is its start to its finish; its arguments split that into
-// work and the latency after it (memory, link hops). Times are in
+// work and the latency after it (memory, link hops), and the latency is a
+// span of its own inside it (category "wait"). Times are in
 // microseconds, as the format has them. At most `max_events` units are
 // written, the earliest first; the file says when more were left out.
 #pragma once
@@ -30,6 +31,7 @@ struct TimelineText {
   std::string json;
   size_t units = 0;    // units written
   size_t omitted = 0;  // units left out past max_events
+  size_t waits = 0;    // wait spans written, one inside each unit written that waited
 };
 
 // `r` must have been run with MachineSpec::timeline. Throws Error when it
