@@ -16,9 +16,9 @@ namespace {
 
 using test::message_of;
 
-TEST(Claims, TheCarriedFileHoldsP1ToP17WithKnownSchemesAndKeys) {
+TEST(Claims, TheCarriedFileHoldsP1ToP18WithKnownSchemesAndKeys) {
   const auto& claims = paper_claims();
-  ASSERT_EQ(claims.size(), 17u);
+  ASSERT_EQ(claims.size(), 18u);
   std::set<std::string> ids;
   for (const Claim& c : claims) {
     ids.insert(c.id);
@@ -27,7 +27,7 @@ TEST(Claims, TheCarriedFileHoldsP1ToP17WithKnownSchemesAndKeys) {
       EXPECT_TRUE(Schemes::find(v.against)) << c.id << ": " << v.against;
     }
   }
-  for (int i = 1; i <= 17; ++i) {
+  for (int i = 1; i <= 18; ++i) {
     std::string id = "P";
     id += std::to_string(i);  // not "P" + ...: gcc 12 warns falsely (-Wrestrict)
     EXPECT_TRUE(ids.count(id)) << id;
@@ -42,6 +42,10 @@ TEST(Claims, TheCarriedFileHoldsP1ToP17WithKnownSchemesAndKeys) {
   EXPECT_DOUBLE_EQ(*claims[0].values[1].paper, 0.58);
   EXPECT_DOUBLE_EQ(*claims[13].values[2].paper, 6.27);
   EXPECT_FALSE(claims[7].values[0].paper);  // P8: figure only
+  // P18: energy beside the traffic claims; the paper gives words, no number.
+  EXPECT_EQ(claims[17].values[0].measure, "link_energy");
+  EXPECT_EQ(claims[17].values[2].measure, "energy");
+  EXPECT_FALSE(claims[17].values[0].paper);
   // The comparison document's tolerances are the claims file's.
   EXPECT_DOUBLE_EQ(*claims[1].values[0].tolerance, 0.25);  // P2
   EXPECT_FALSE(claims[3].values[0].tolerance);             // P4: direction only
@@ -232,6 +236,37 @@ TEST(Claims, AValueIsMeasuredOnTheRunsOfItsSetupOnly) {
   EXPECT_FALSE(on_paper_setup(runs[0], "baseline", {{"oo.batch_queue", 4}}));
   EXPECT_FALSE(on_paper_setup(runs[2], "afr", nlohmann::ordered_json::object()));
   EXPECT_TRUE(on_paper_setup(runs[2], "afr", {{"link.bandwidth", 32e9}}));
+}
+
+// P18 sets energy beside the traffic claims: each value's energy ratio to
+// the baseline's on the same scene (the links' alone, or the memory
+// system's), judged on the means.
+TEST(Claims, EnergyIsMeasuredAgainstTheBaselinesEnergy) {
+  std::vector<RunRecord> runs = {stored_run("a", "baseline", 100), stored_run("a", "oo-vr", 100), stored_run("a", "object", 100)};
+  const auto energy = [](RunRecord& r, double total, double links) {
+    r.metrics.push_back({"frame", "energy", total, "J"});
+    r.metrics.push_back({"frame", "energy.links", links, "J"});
+  };
+  energy(runs[0], 4e-3, 1e-3);
+  energy(runs[1], 3e-3, 0.5e-3);
+  energy(runs[2], 5e-3, 2e-3);
+  const std::vector<Claim>& claims = paper_claims();
+  ASSERT_EQ(claims[17].id, "P18");
+  const auto measured = measure_claims(claims, runs);
+  EXPECT_DOUBLE_EQ(measured[17][0].mean, 0.5);   // oo-vr links
+  EXPECT_DOUBLE_EQ(measured[17][1].mean, 2.0);   // object links
+  EXPECT_DOUBLE_EQ(measured[17][2].mean, 0.75);  // oo-vr memory
+  EXPECT_TRUE(judge_claims(claims, measured)[17][0].holds);
+  EXPECT_TRUE(judge_claims(claims, measured)[17][1].holds);
+  energy(runs[1], 5e-3, 1.5e-3);  // now more than the baseline's (the first rows are read)
+  runs[1].metrics.erase(runs[1].metrics.begin() + 2, runs[1].metrics.begin() + 4);
+  const auto more = measure_claims(claims, runs);
+  EXPECT_DOUBLE_EQ(more[17][0].mean, 1.5);
+  EXPECT_FALSE(judge_claims(claims, more)[17][0].holds);
+  EXPECT_FALSE(judge_claims(claims, more)[17][1].holds);
+  // A run stored before oovr counted energy has none to compare.
+  runs[0].metrics.resize(2);
+  EXPECT_TRUE(measure_claims(claims, runs)[17][0].per.empty());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "oovr/core/rng.h"
 #include "oovr/memory/memory_system.h"
 #include "oovr/pipeline/pipeline.h"
+#include "oovr/run/result_metrics.h"
 #include "oovr/scene/builtin.h"
 #include "oovr/timing/gpm_model.h"
 #include "test_util.h"
@@ -507,6 +508,61 @@ TEST(Memory, TheEndOfADrawOnOneGpmDropsOnlyItsRemoteCache) {
   EXPECT_EQ(f.run(0, 1, all).remote_hits, 0u);
   EXPECT_EQ(f.run(2, 1, all).remote_hits, 64u);
   EXPECT_THROW(f.mem->end_draw(9), Error);
+}
+
+// Energy (docs/model.md, "Energy"): every lookup of a cache, hit or miss,
+// costs a line's bits at the level's energy per bit; a DRAM's and a link's
+// bytes cost theirs. Counted here by hand for four kinds of access.
+TEST(Memory, EnergyIntegratesEachLevelsLookupsAndEachLinksBytes) {
+  for (const bool between_nodes : {false, true}) {
+    Fixture f(between_nodes ? spec_with({"memory.placement=pinned", "link.energy_per_bit=250pJ"})
+                            : spec_with({"memory.placement=pinned"}));
+    const uint32_t far = f.map.add("far", Category::texture, 8 << 10);
+    const uint32_t near = f.map.add("near", Category::colour, 8 << 10);
+    f.build();
+    f.mem->pin(far, 1);
+    f.mem->pin(near, 0);
+    const auto texels = reads(f.map.region(far).base, 8 << 10);
+    f.run(0, 0, texels);  // 64 lines: L1 misses, remote-cache misses, GPM 1's L2 misses, its DRAM, link 1->0
+    f.run(0, 0, texels);  // 64 L1 hits
+    f.run(1, 0, texels);  // GPM 1's own: 64 L1 misses, 64 L2 hits
+    std::vector<LineAccess> writes;
+    for (const auto& a : reads(f.map.region(near).base, 8 << 10)) writes.push_back({a.address, Category::colour, true});
+    f.run(0, 1, writes);  // no L1; 64 lookups of GPM 0's L2, no DRAM until written back
+    SchemeResult r;
+    f.mem->report(r.stats);
+    EXPECT_EQ(r.stats.at("l1", "lookups"), 192);
+    EXPECT_EQ(r.stats.at("l2", "lookups"), 192);
+    EXPECT_EQ(r.stats.at("remote_cache", "lookups"), 64);
+    const double line_bits = 1024, j = 1e-12;
+    const double caches = 192 * line_bits * 0.21875 * j + (192 + 64) * line_bits * 1.5625 * j;
+    const double dram = (8 << 10) * 8 * 14 * j, links = (8 << 10) * 8 * (between_nodes ? 250 : 10) * j;
+    const Energy e = energy_of(r);
+    EXPECT_TRUE(e.known);
+    EXPECT_NEAR(e.caches, caches, 1e-9 * caches);
+    EXPECT_NEAR(e.dram, dram, 1e-9 * dram);
+    EXPECT_NEAR(e.links, links, 1e-9 * links);
+    EXPECT_NEAR(energy_at(r, "gpm[1].dram"), dram, 1e-9 * dram);
+    EXPECT_EQ(energy_at(r, "gpm[0].dram"), 0);
+    EXPECT_NEAR(energy_at(r, "link[1->0]"), links, 1e-9 * links);
+    EXPECT_TRUE(std::isnan(energy_at(r, "memory")));
+    // Every output reads the same figures: the frame's total and parts,
+    // each location's energy after its price.
+    double total = 0, located = 0;
+    for (const Metric& m : metrics_of(r)) {
+      if (m.location == "frame" && m.metric == "energy") total = m.value;
+      if (m.location != "frame" && m.metric == "energy") located += m.value;
+      if (m.metric == "energy") EXPECT_EQ(m.unit, "J");
+    }
+    EXPECT_NEAR(total, caches + dram + links, 1e-9 * total);
+    EXPECT_NEAR(located, total, 1e-9 * total);
+  }
+  // Energies are read as energies, in range.
+  EXPECT_EQ(spec_with({"dram.energy_per_bit=3.97pJ"}).dram_energy_per_bit.value, 3.97 / 1e12);
+  EXPECT_EQ(spec_with({"cache.l1.energy_per_bit=0pJ"}).l1.energy_per_bit.value, 0);
+  for (const char* bad :
+       {"link.energy_per_bit=-1pJ", "link.energy_per_bit=1J", "link.energy_per_bit=10", "dram.energy_per_bit=10pW"})
+    EXPECT_THROW(spec_with({bad}), Error) << bad;
 }
 
 }  // namespace

@@ -330,6 +330,19 @@ int main(int argc, char** argv) {
   auto* report_cmd = app.add_subcommand("report", "Plots and an HTML page from a results database");
   report_cmd->add_option("db", report.db, "Results database (oovr sweep)")->required();
   report_cmd->add_option("--out", report.out, "Folder for index.html and the plots")->required();
+  report_cmd
+      ->add_option("--plots", report.plots,
+                   "Comma-separated rows of each study figure: latency, speedup, throughput, traffic, energy "
+                   "(default: latency,speedup,traffic,energy, those the database can fill)")
+      ->delimiter(',');
+  report_cmd->add_option("--x", report.x, "Comma-separated: plot against only these swept keys (default: every swept key)")
+      ->delimiter(',');
+  report_cmd->add_option("--group", report.group, "Panels per scene (a line per scheme) or per scheme (a line per scene)")
+      ->check(CLI::IsMember({"scene", "scheme"}))
+      ->capture_default_str();
+  report_cmd->add_option("--normalise", report.normalise, "The scheme speed-ups are over (its run of the same setup)")
+      ->capture_default_str();
+  report_cmd->add_flag("--own-y", report.own_y, "Each panel of an absolute row (latency, traffic, energy) its own y axis");
 
   RenderArgs render;
   cli::PaperArgs paper;

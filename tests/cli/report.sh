@@ -56,6 +56,24 @@ grep -q "no matching runs" rep/index.html || exit 1
 # 4-GPM runs; P14's need single-gpm, so they are not measured.
 grep -Eq "<tr><td>P7, direction</td>.*<td>(agrees|differs)</td><td></td></tr>" rep/index.html || { echo "P7 not judged"; exit 1; }
 grep -q "<tr><td>P14, direction</td>.*<td>not measured</td>" rep/index.html || { echo "P14 judged without its runs"; exit 1; }
+# Energy is in the study's table and figure (each run's memory-system energy).
+grep -q "<th>energy (mJ/frame)</th>" rep/index.html || { echo "no energy column"; exit 1; }
+grep -q "frame latency, speed-up over baseline, inter-GPM traffic, memory-system energy against gpms" rep/index.html ||
+  { echo "the figure does not have the default rows"; exit 1; }
+# The options, drawn: two rows, panels per scheme, speed-ups over OO-VR.
+"$oovr" report small.db --out opt --plots energy,speedup --group scheme --normalise oo-vr --own-y > opt.log 2>&1 ||
+  { cat opt.log; exit 1; }
+grep -q "memory-system energy, speed-up over oo-vr against gpms, per scheme" opt/index.html || { echo "options not drawn"; exit 1; }
+grep -q "<th>speed-up over oo-vr</th>" opt/index.html || exit 1
+grep -q '"normalise": "oo-vr"' opt/claims.json || exit 1
+# Options naming what the database does not have: one clear error each, nothing written.
+for bad in "--plots joules:no plot 'joules'" "--x link.bandwidth:do not sweep 'link.bandwidth' (they sweep gpms)" \
+           "--normalise afr:no done runs of 'afr'" "--group eye:--group: eye not in"; do
+  flag=${bad%%:*}
+  if "$oovr" report small.db --out badopt $flag > badopt.log 2>&1; then echo "reported with $flag"; exit 1; fi
+  grep -qF -e "${bad#*:}" badopt.log || { echo "$flag:"; cat badopt.log; exit 1; }
+  [ ! -e badopt ] || { echo "$flag wrote the folder"; exit 1; }
+done
 # A database that is not one: one clear error.
 echo "not a database" > bad.db
 if "$oovr" report bad.db --out bad > bad.log 2>&1; then echo "reported a bad database"; exit 1; fi

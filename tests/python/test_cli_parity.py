@@ -19,7 +19,7 @@ def test_compare_gives_the_cli_s_results_and_table(cli_json):
     # The DataFrame is the same table at full precision: rounded as the CLI prints, it reads the same.
     df = c.to_pandas()
     assert list(df.columns) == ["latency ms", "speed-up", "frames/s", "throughput", "inter-GPM MB", "traffic",
-                                "best/worst"]
+                                "best/worst", "energy mJ"]
     lines = {l.split()[0]: l.split()[1:] for l in text.splitlines()[2:] if l.startswith("  ") and not l.startswith("  time")}
     for scheme, row in df.iterrows():
         cols = lines[scheme]
@@ -28,6 +28,7 @@ def test_compare_gives_the_cli_s_results_and_table(cli_json):
         assert f"{row['frames/s']:.1f}" == cols[2]
         assert f"{row['inter-GPM MB']:.2f}" == cols[4]
         assert f"{row['best/worst']:.2f}" == cols[7]
+        assert f"{row['energy mJ']:.3f}" == cols[8]
     assert list(df.index) == oovr._oovr.default_compare_schemes()
     # Printed, the DataFrame shows what the CLI shows, row for row.
     printed = {l.split()[0]: l.split()[1:] for l in str(df).splitlines()[2:]}

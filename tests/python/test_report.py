@@ -1,7 +1,9 @@
 """The report's study plots (src/oovr/experiments/report.py, swept_figures):
 one colour per scheme in every figure, lines only through runs that differ
 in the plotted key, numbers in numeric order, values labelled as people
-write them, and each figure as PNG, SVG and PDF."""
+write them, speed-ups over the chosen scheme's run of the same setup,
+shared y axes, the rows and grouping asked for, and each figure as PNG,
+SVG and PDF."""
 import importlib.util
 import os
 
@@ -13,15 +15,21 @@ report = importlib.util.module_from_spec(SPEC)
 SPEC.loader.exec_module(report)
 
 
-def run(scheme, bw, latency, extra=None, swept=True, scene="s", frames=(1.0,)):
+POSITION = [0]
+
+
+def run(scheme, bw, latency, extra=None, swept=True, scene="s", frames=(1.0,), energy=None):
     config = {"link.bandwidth": {"value": str(bw), "base": bw, "unit": "B/s"}}
     for k, v in (extra or {}).items():
         config[k] = {"value": str(v), "base": v}
-    return {"id": "{:016x}".format(abs(hash((scheme, bw, latency, str(extra), swept))) % (1 << 64)), "sweep": "t",
-            "status": "done", "scene": scene, "resolution": "64x32", "scheme": scheme, "config": config,
-            "swept": {"link.bandwidth": bw} if swept else {},
-            "m": {("frame", "latency"): (latency, "s"), ("frame", "inter_gpm_bytes"): (1e6, "B")},
-            "result": {"frame_latencies_s": [latency * f for f in frames]}}
+    POSITION[0] += 1
+    m = {("frame", "latency"): (latency, "s"), ("frame", "inter_gpm_bytes"): (1e6, "B")}
+    if energy is not None:
+        m[("frame", "energy")] = (energy, "J")
+    return {"id": "{:016x}".format(abs(hash((scheme, bw, latency, str(extra), swept, scene))) % (1 << 64)), "sweep": "t",
+            "position": POSITION[0], "status": "done", "scene": scene, "resolution": "64x32", "scheme": scheme,
+            "frame": 0, "aniso": 16, "config": config, "swept": {"link.bandwidth": bw} if swept else {},
+            "m": m, "result": {"frame_latencies_s": [latency * f for f in frames]}}
 
 
 @pytest.fixture(autouse=True)
@@ -66,7 +74,59 @@ def test_a_figure_is_written_as_png_svg_and_pdf(tmp_path):
     runs = {r["id"]: r for r in [run("baseline", v, 1.0 + 1e9 / v, frames=(0.9, 1.1)) for v in (32e9, 128e9, 1e12)] +
             [run("oo-vr", v, 0.5 + 1e9 / v) for v in (32e9, 128e9, 1e12)]}
     made = report.swept_figures({"name": "t", "keys": ["link.bandwidth"]}, runs, str(tmp_path))
-    assert [k for k, _ in made] == ["link.bandwidth"]
+    # The default rows this database can fill: no energy was stored.
+    assert [(k, p) for k, p, _ in made] == [("link.bandwidth", ["latency", "speedup", "traffic"])]
     for ext in ("png", "svg", "pdf"):
-        f = tmp_path / (made[0][1] + "." + ext)
+        f = tmp_path / (made[0][2] + "." + ext)
         assert f.exists() and f.stat().st_size > 1000, ext
+
+
+def test_a_speedup_is_over_the_chosen_schemes_run_of_the_same_setup():
+    runs = [run("baseline", 32e9, 4.0, frames=(0.5, 1.5)), run("baseline", 32e9, 1.0, {"oo.split": 0}),
+            run("oo-vr", 32e9, 2.0, {"oo.batch_queue": 4}, frames=(1.0, 1.0)), run("oo-vr", 32e9, 8.0, scene="other")]
+    index = report.reference_index(runs)
+    # OO-VR's own key is no difference; the ablated baseline's is.
+    assert report.reference_of(runs[2], "baseline", index) is runs[0]
+    assert report.reference_of(runs[0], "baseline", index) is runs[0]
+    assert report.reference_of(runs[3], "baseline", index) is None, "another scene has no baseline"
+    y, spread = report.PLOTS["speedup"][2](runs[2], runs[0])
+    assert y == 2.0
+    assert spread == (1.0, 3.0), "frame by frame: 2/2 and 6/2"
+    assert report.PLOTS["speedup"][2](runs[3], None)[0] != report.PLOTS["speedup"][2](runs[3], None)[0]  # NaN
+    assert report.PLOTS["latency"][2](runs[0], None) == (4.0, (2.0, 6.0))
+
+
+def test_rows_panels_and_axes_follow_the_options(tmp_path, monkeypatch):
+    runs = {r["id"]: r for r in
+            [run("baseline", v, 1.0 + 1e9 / v, scene=sc, energy=2e-3) for v in (32e9, 128e9) for sc in ("a", "b")] +
+            [run("oo-vr", v, 0.5 + 1e9 / v, scene=sc, energy=1e-3) for v in (32e9, 128e9) for sc in ("a", "b")]}
+    figures = []
+    real_subplots = report.plt.subplots
+
+    def subplots(*args, **kwargs):
+        fig, axes = real_subplots(*args, **kwargs)
+        figures.append(axes)
+        return fig, axes
+
+    monkeypatch.setattr(report.plt, "subplots", subplots)
+    sweep = {"name": "t", "keys": ["link.bandwidth"]}
+    made = report.swept_figures(sweep, runs, str(tmp_path))
+    assert made[0][1] == ["latency", "speedup", "traffic", "energy"]
+    axes = figures[-1]
+    assert axes.shape == (4, 2), "a row per plot, a panel per scene"
+    for row in axes:
+        assert len({ax.get_ylim() for ax in row}) == 1, "each row's panels share their y axis"
+    assert [ax.get_title() for ax in axes[0]] == ["a, 64x32", "b, 64x32"]
+    # Grouped by scheme, with two rows asked for and their own y axes.
+    opts = report.options_of({"options": {"plots": ["energy", "speedup"], "group": "scheme", "own_y": True}})
+    made = report.swept_figures(sweep, runs, str(tmp_path), opts)
+    axes = figures[-1]
+    assert made[0][1] == ["energy", "speedup"] and axes.shape == (2, 2)
+    assert [ax.get_title() for ax in axes[0]] == ["baseline", "oo-vr"]
+    assert axes[0][0].get_ylim() != axes[0][1].get_ylim(), "absolute rows keep their own axes with own_y"
+    assert axes[1][0].get_ylim() == axes[1][1].get_ylim(), "speed-ups always share theirs"
+    assert "mJ" in axes[0][0].get_ylabel()
+    # Only the keys asked for are drawn.
+    assert report.swept_figures(sweep, runs, str(tmp_path), report.options_of({"options": {"x": ["gpms"]}})) == []
+    with pytest.raises(SystemExit):
+        report.options_of({"options": {"plots": ["joules"]}})

@@ -333,6 +333,23 @@ Hertz Config::get_frequency(const std::string& key, Hertz fallback) const {
   return r;
 }
 
+Joules Config::get_energy(const std::string& key, Joules fallback, Joules max) const {
+  const Value* v = find(key);
+  Joules r = fallback;
+  if (v) {
+    if (v->kind != Kind::string) type_error(key, *v, "an energy such as 10pJ");
+    const std::string what = "configuration key '" + key + "' (" + v->source + ")";
+    r = parse_energy(v->text, what);
+    const auto pj = [](double j) { return format_number(j * 1e12) + " pJ"; };
+    if (r.value > max.value) throw Error(what + " must be from 0 to " + pj(max.value) + ", not " + pj(r.value));
+  }
+  const auto print = [](double j) {
+    return format_scaled(j, 1e12, "pJ", "J", [](const std::string& t) { return parse_energy(t, "").value; });
+  };
+  record(key, v, {print(r.value), print(fallback.value), "", "an energy (10pJ)", "J", r.value});
+  return r;
+}
+
 void Config::check_all_used() const {
   std::string unknown;
   for (const auto& [k, v] : m_values)

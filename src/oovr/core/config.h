@@ -61,6 +61,8 @@ class Config {
   BytesPerSecond get_bandwidth(const std::string& key, BytesPerSecond fallback) const;
   Seconds get_time(const std::string& key, Seconds fallback) const;
   Hertz get_frequency(const std::string& key, Hertz fallback) const;
+  // An energy ("10pJ"), from 0 to `max`.
+  Joules get_energy(const std::string& key, Joules fallback, Joules max) const;
 
   // Throws Error naming every key that no getter read.
   void check_all_used() const;
@@ -73,7 +75,7 @@ class Config {
     std::string fallback;        // the default, in the same form
     std::string source;          // "default", "FILE.toml:LINE" or "--set"
     std::string kind;            // what it takes: "a whole number from 1 to 32", "a size", "one of lru, random"
-    std::string unit;            // the base unit of `base` ("B", "B/s", "s", "Hz"; "" for plain numbers)
+    std::string unit;            // the base unit of `base` ("B", "B/s", "s", "Hz", "J"; "" for plain numbers)
     std::optional<double> base;  // the value as a number in the base unit (none for strings)
   };
   const std::map<std::string, Entry>& entries() const { return m_entries; }

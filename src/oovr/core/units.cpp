@@ -70,6 +70,14 @@ Hertz parse_frequency(const std::string& text, const std::string& what) {
   return {n * scale};
 }
 
+Joules parse_energy(const std::string& text, const std::string& what) {
+  // Units per joule, divided by, as times are: "10pJ" is exactly 10e-12.
+  static const std::map<std::string, double> per_joule = {{"j", 1},    {"mj", 1e3},  {"uj", 1e6},
+                                                          {"nj", 1e9}, {"pj", 1e12}, {"fj", 1e15}};
+  const auto [n, scale] = lookup(text, what, per_joule, "10pJ, 0.5pJ");
+  return {n / scale};
+}
+
 std::string format_bytes(Bytes b) {
   // Exact, in the largest unit that divides it, so that a printed size
   // (oovr config, result files) reads back as the same number of bytes.

@@ -163,9 +163,11 @@ std::vector<Claim> parse_claims(const std::string& text, const std::string& name
       ClaimValue x;
       x.label = r.text(v, "label");
       x.measure = r.text(v, "measure");
-      static const char* measures[] = {"speedup", "latency", "throughput", "traffic", "best_to_worst", "engine_storage"};
+      static const char* measures[] = {"speedup",       "latency",        "throughput", "traffic",
+                                       "best_to_worst", "engine_storage", "energy",     "link_energy"};
       if (std::find(std::begin(measures), std::end(measures), x.measure) == std::end(measures))
-        r.fail(v, "measure '" + x.measure + "' (speedup, latency, throughput, traffic, best_to_worst, engine_storage)");
+        r.fail(v, "measure '" + x.measure +
+                      "' (speedup, latency, throughput, traffic, best_to_worst, engine_storage, energy, link_energy)");
       x.scheme = r.text(v, "scheme");
       x.set = r.settings(v, "set");
       x.against = r.text(v, "against", false, "baseline");
@@ -351,9 +353,12 @@ std::vector<std::vector<ClaimMeasured>> measure_claims(const std::vector<Claim>&
           if (v.measure == "speedup") x = metric(*ref, "frame", "latency") / metric(*r, "frame", "latency");
           else if (v.measure == "latency") x = metric(*r, "frame", "latency") / metric(*ref, "frame", "latency");
           else if (v.measure == "throughput") x = metric(*r, "frame", "throughput") / metric(*ref, "frame", "throughput");
-          else if (v.measure == "traffic") {
-            const double b = metric(*ref, "frame", "inter_gpm_bytes");
-            x = b != 0 ? metric(*r, "frame", "inter_gpm_bytes") / b : std::nan("");
+          else {
+            // Bytes between GPMs, or the energy of the memory system or of
+            // its links (result_metrics.h, energy_of), over the reference's.
+            const char* name = v.measure == "traffic" ? "inter_gpm_bytes" : v.measure == "energy" ? "energy" : "energy.links";
+            const double b = metric(*ref, "frame", name);
+            x = b != 0 ? metric(*r, "frame", name) / b : std::nan("");
           }
         }
         if (!std::isfinite(x)) continue;

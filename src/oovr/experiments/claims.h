@@ -16,7 +16,7 @@ namespace oovr {
 
 struct ClaimValue {
   std::string label;
-  std::string measure;  // speedup, latency, throughput, traffic, best_to_worst, engine_storage
+  std::string measure;  // speedup, latency, throughput, traffic, best_to_worst, engine_storage, energy, link_energy
   std::string scheme;
   std::map<std::string, std::string> set;  // keys changed from the paper's setup, as --set takes them
   std::string against = "baseline";

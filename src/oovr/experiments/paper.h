@@ -3,7 +3,7 @@
 // and 16, the link bandwidth sweep of Figure 17, the GPM count sweep of
 // Figure 18, OO-VR's ablations, the SMP comparison, the model's earlier
 // steps and the one-pass workloads) runs into a results database; the
-// runs are read back from it and the claims P1-P17 of the paper (their
+// runs are read back from it and the claims P1-P18 of the paper (their
 // values from experiments/paper-claims.toml, claims.h) set beside oovr's,
 // per scene, with the reasons where they differ (docs/paper-comparison.md),
 // plus CSV, JSON and SVG plots.

@@ -2,9 +2,11 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
@@ -21,6 +23,34 @@ extern const char* const report_py;
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The options name what the database holds: a plot the script draws, keys
+// its sweeps swept, a scheme it has runs of (the script trusts them).
+void check_options(const ReportOptions& o, const std::vector<RunRecord>& runs) {
+  static const std::set<std::string> plots = {"latency", "speedup", "throughput", "traffic", "energy"};
+  for (const std::string& p : o.plots)
+    if (!plots.count(p)) throw Error("--plots: no plot '" + p + "' (latency, speedup, throughput, traffic, energy)");
+  if (o.group != "scene" && o.group != "scheme") throw Error("--group: '" + o.group + "' is not scene or scheme");
+  std::set<std::string> swept, schemes;
+  for (const RunRecord& r : runs) {
+    for (const auto& [key, value] : r.swept) swept.insert(key);
+    if (r.status == "done") schemes.insert(r.scheme);
+  }
+  const auto listed = [](const std::set<std::string>& s) {
+    std::string out;
+    for (const std::string& x : s) out += (out.empty() ? "" : ", ") + x;
+    return out.empty() ? std::string("none") : out;
+  };
+  for (const std::string& k : o.x)
+    if (!swept.count(k)) throw Error("--x: the database's sweeps do not sweep '" + k + "' (they sweep " + listed(swept) + ")");
+  const bool asked = o.normalise != "baseline" || std::count(o.plots.begin(), o.plots.end(), "speedup");
+  if (asked && !schemes.count(o.normalise))
+    throw Error("--normalise: the database has no done runs of '" + o.normalise + "' (it has " + listed(schemes) + ")");
+}
+
+}  // namespace
+
 std::string write_report(const ReportOptions& o) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(o.db, ec))) throw Error("no results database '" + o.db + "' (oovr sweep writes one)");
@@ -32,6 +62,7 @@ std::string write_report(const ReportOptions& o) {
     db.verify();
     runs = db.runs(false);  // the claims need their figures, not their images
   }
+  check_options(o, runs);
   fs::create_directories(o.out, ec);
   if (ec) throw Error("cannot create the folder '" + o.out + "': " + ec.message());
   const std::string script = (fs::path(o.out) / "report.py").string();
@@ -63,6 +94,7 @@ std::string write_report(const ReportOptions& o) {
     if (on_paper_setup(r, r.scheme, nlohmann::ordered_json::object())) paper_setup.push_back(r.id);
   context["paper_setup"] = paper_setup;
   context["scheme_order"] = schemes_in_order();
+  context["options"] = {{"plots", o.plots}, {"x", o.x}, {"group", o.group}, {"normalise", o.normalise}, {"own_y", o.own_y}};
   write_output_file(claims, context.dump(1) + "\n", "claims");
 
   std::string python = o.python;

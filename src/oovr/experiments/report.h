@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace oovr {
 
@@ -16,10 +17,22 @@ struct ReportOptions {
   // The Python with matplotlib: $OOVR_PYTHON, else /usr/bin/python3 (a
   // python3 earlier on PATH may be one that cannot import Debian's packages).
   std::string python;
+  // How the study's figures are drawn (docs/report.md, "Options"), checked
+  // against the database before anything is written: the rows of each
+  // figure (latency, speedup, throughput, traffic, energy; empty: the
+  // default rows the database can fill), the swept keys to plot against
+  // (empty: all), panels per "scene" or per "scheme", the scheme speed-ups
+  // are over, and whether absolute rows keep each panel's own y axis.
+  std::vector<std::string> plots;
+  std::vector<std::string> x;
+  std::string group = "scene";
+  std::string normalise = "baseline";
+  bool own_y = false;
 };
 
 // Writes the report; returns the page's path. Throws Error when the
-// database is missing or not oovr's, the folder cannot be written, or the
+// database is missing or not oovr's, an option names a plot, key or
+// scheme the database does not have, the folder cannot be written, or the
 // script fails (matplotlib missing: named with the package to install).
 std::string write_report(const ReportOptions& o);
 

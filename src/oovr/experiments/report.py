@@ -57,6 +57,11 @@ def scale_for(unit, values):
         return 1e-9, "ns"
     if unit == "Hz":
         return (1e6, "MHz") if top < 1e9 else (1e9, "GHz")
+    if unit == "J":
+        for d, u in ((1, "J"), (1e-3, "mJ"), (1e-6, "µJ")):
+            if top >= d:
+                return d, u
+        return 1e-9, "nJ"
     return 1, unit
 
 
@@ -105,12 +110,6 @@ def config_value(run, key):
     if not isinstance(e, dict):
         return None
     return e["base"] if "base" in e else e.get("value")
-
-
-def same_setup_key(run):
-    """Runs with this key differ only in scheme (and the frames AFR needs)."""
-    cfg = tuple(sorted((k, json.dumps(config_value(run, k))) for k in run["config"]))
-    return (run["scene"], run["resolution"], run["frame"], run["aniso"], cfg)
 
 
 def group_key(run):
@@ -243,7 +242,8 @@ def swept_lines(runs, key, extra=()):
     (the sweep's main grid at the default), each added to the line whose
     other keys it equals, if there is one. Returns [(scheme, others, runs)],
     `others` the keys that tell a line from its scheme's others ("k=v,
-    ..."), lines in scheme order, then numerically by those values."""
+    ..."), lines by scene and resolution, then in scheme order, then
+    numerically by those values."""
     groups = {}
     ident = lambda r: (r["scene"], r["resolution"], r["scheme"],
                        tuple(sorted((k, json.dumps(config_value(r, k))) for k in r["config"] if k != key)))
@@ -273,67 +273,164 @@ def tick_label(value, unit):
     """A swept value as people write it: 32, 64, ... GB/s, then 1 TB/s."""
     if unit == "B/s":
         return "{:g} TB/s".format(value / 1e12) if value >= 1e12 else "{:g}".format(value / 1e9)
-    if unit == "B":
-        d, u = scale_for("B", [value])
-        return "{:g} {}".format(value / d, u)
-    if unit == "s":
-        d, u = scale_for("s", [value])
+    if unit in ("B", "s", "J"):
+        d, u = scale_for(unit, [value])
         return "{:g} {}".format(value / d, u)
     return "{:g}".format(value)
 
 
-def swept_figures(sweep, runs, out):
-    """Per swept key: frame latency and inter-GPM traffic against its value,
-    one panel per scene and resolution (each its own y axis from 0: the
-    scenes' frame times differ several fold), one line
-    per scheme and setting (swept_lines), a colour per scheme (scheme_colour)
-    and a line style per setting, bars from the frames' lowest to highest
-    latency, the legend beside the panels. Bandwidths read 32, 64, ... GB/s
-    and 1 TB/s on a log axis; whole-number keys (GPM counts) are evenly
-    spaced categories."""
+def reference_index(runs):
+    """Done runs by (scene, resolution, first frame, filtering), in the
+    order a reference is looked for: the database's sweeps, then positions."""
+    index = {}
+    for r in sorted(runs, key=lambda r: (r["sweep"], r["position"])):
+        if r["status"] == "done":
+            index.setdefault(group_key(r), []).append(r)
+    return index
+
+
+def reference_of(run, scheme, index):
+    """The run of `scheme` on `run`'s setup: the same scene, resolution,
+    first frame and filtering, and every configuration key both runs read
+    equal (a key one scheme reads alone, its own, is no difference); the
+    run itself when it is of `scheme`; None when the database has none."""
+    if run["scheme"] == scheme:
+        return run
+    for c in index.get(group_key(run), ()):
+        if c["scheme"] == scheme and all(json.dumps(config_value(c, k)) == json.dumps(config_value(run, k))
+                                         for k in run["config"] if k in c["config"]):
+            return c
+    return None
+
+
+# What a study's figures can show, one row of panels each (oovr report
+# --plots): (name, the y axis's words, the value and its spread for a run).
+# Spread: the lowest and highest of the measured frames, where a run
+# stores them; a speed-up's, frame by frame over the reference's frames
+# when both measured the same number.
+def _latency(run, ref):
+    y = metric(run, "frame", "latency")
+    f = frames_of(run)
+    return y, (min(f), max(f)) if f else None
+
+
+def _speedup(run, ref):
+    if ref is None:
+        return float("nan"), None
+    y = metric(ref, "frame", "latency") / metric(run, "frame", "latency")
+    a, b = frames_of(ref), frames_of(run)
+    per = [x / z for x, z in zip(a, b) if z > 0] if a and len(a) == len(b) else []
+    return y, (min(per), max(per)) if per else None
+
+
+PLOTS = {
+    "latency": ("frame latency ({u}; bars: frames' range)", "s", _latency),
+    "speedup": ("speed-up over {ref} (x; bars: frames' range)", "", _speedup),
+    "throughput": ("throughput (frames/s)", "", lambda r, ref: (metric(r, "frame", "throughput"), None)),
+    "traffic": ("inter-GPM traffic ({u} per frame)", "B", lambda r, ref: (metric(r, "frame", "inter_gpm_bytes"), None)),
+    "energy": ("memory-system energy ({u} per frame)", "J", lambda r, ref: (metric(r, "frame", "energy"), None)),
+}
+DEFAULT_PLOTS = ["latency", "speedup", "traffic", "energy"]
+
+
+def options_of(claims):
+    """The drawing options oovr report wrote beside the claims (checked
+    there): which rows, against which keys, panels per scene or per
+    scheme, the scheme speed-ups are over, and whether absolute rows keep
+    each panel's own y axis."""
+    o = claims.get("options") or {}
+    out = {"plots": o.get("plots") or DEFAULT_PLOTS, "x": o.get("x") or [], "group": o.get("group") or "scene",
+           "normalise": o.get("normalise") or "baseline", "own_y": bool(o.get("own_y")),
+           "explicit_plots": bool(o.get("plots"))}
+    for p in out["plots"]:
+        if p not in PLOTS:
+            sys.exit("unknown plot {!r} (one of {})".format(p, ", ".join(PLOTS)))
+    if out["group"] not in ("scene", "scheme"):
+        sys.exit("unknown grouping {!r} (scene or scheme)".format(out["group"]))
+    return out
+
+
+def swept_figures(sweep, runs, out, options=None):
+    """Per swept key: one row of panels per plot (frame latency, speed-up
+    over a chosen scheme, throughput, inter-GPM traffic, energy; oovr
+    report --plots) against its value; one panel per scene and resolution
+    with a line per scheme and setting (swept_lines), or (--group scheme)
+    one panel per scheme with a line per scene. One colour per scheme (or
+    per scene) in every figure and a line style per setting; bars from the
+    frames' lowest to highest value; each row's panels share their y axis
+    (absolute rows keep their own with --own-y); the legend beside the
+    panels. Bandwidths read 32, 64, ... GB/s and 1 TB/s on a log axis;
+    whole-number keys (GPM counts) are evenly spaced categories."""
+    o = options or options_of({})
     mine = [r for r in runs.values() if r["sweep"] == sweep["name"] and r["status"] == "done"]
+    index = reference_index(runs.values())
     made = []
     for key in sweep["keys"]:
+        if o["x"] and key not in o["x"]:
+            continue
         pts = [r for r in mine if isinstance(r["swept"].get(key), (int, float))]
         # The sweep's other runs at a value of `key` (its main grid, at the
         # default), to complete the lines they belong to.
         rest = [r for r in mine if key not in r["swept"] and isinstance(config_value(r, key), (int, float))]
-        lines_of = {pan: swept_lines([r for r in pts if (r["scene"], r["resolution"]) == pan], key,
-                                     [r for r in rest if (r["scene"], r["resolution"]) == pan])
-                    for pan in {(r["scene"], r["resolution"]) for r in pts}}
-        values = sorted({r["swept"][key] for ls in lines_of.values() for _, _, rs in ls for r in rs})
+        by_scene = {}
+        for pan in sorted({(r["scene"], r["resolution"]) for r in pts}):
+            by_scene[pan] = swept_lines([r for r in pts if (r["scene"], r["resolution"]) == pan], key,
+                                        [r for r in rest if (r["scene"], r["resolution"]) == pan])
+        values = sorted({r["swept"][key] for ls in by_scene.values() for _, _, rs in ls for r in rs})
         if len(values) < 2:
+            continue
+        # Panels and the lines in each: (title, [(colour key, label, others, runs)]).
+        if o["group"] == "scheme":
+            scenes = list(by_scene)
+            panels = {}
+            for pan, ls in by_scene.items():
+                for scheme, others, rs in ls:
+                    panels.setdefault(scheme, []).append((scenes.index(pan), "{}, {}".format(*pan), others, rs))
+            panels = [(scheme, panels[scheme]) for scheme in sorted(panels, key=scheme_rank)][:6]
+            colour = lambda c: PALETTE[c % len(PALETTE)]
+        else:
+            panels = [("{}, {}".format(*pan), [(scheme, scheme, others, rs) for scheme, others, rs in ls])
+                      for pan, ls in by_scene.items()][:6]
+            colour = scheme_colour
+        # Rows: the plots asked for that have a value here (the default
+        # rows a database cannot fill, a speed-up without its reference
+        # scheme or an energy stored before oovr counted it, are left out).
+        rows = []
+        for p in o["plots"]:
+            ys = [PLOTS[p][2](r, reference_of(r, o["normalise"], index))[0] for _, ls in panels for _, _, _, rs in ls
+                  for r in rs]
+            if any(math.isfinite(y) for y in ys) or o["explicit_plots"]:
+                rows.append((p, [y for y in ys if math.isfinite(y)]))
+        if not rows:
             continue
         unit = next((r["config"][key].get("unit", "") for r in pts if isinstance(r["config"].get(key), dict)), "")
         categorical = not unit and all(float(v).is_integer() for v in values)
         position = {v: i for i, v in enumerate(values)}
         log = not categorical and min(values) > 0 and max(values) / min(values) >= 8
-        panels = sorted({(r["scene"], r["resolution"]) for r in pts})[:6]
-        legend_in = 2.0  # inches beside the panels for the legend
+        legend_in = 2.2  # inches beside the panels for the legend
         width = 3.8 * len(panels) + legend_in
-        fig, axes = plt.subplots(2, len(panels), figsize=(width, 6.4), squeeze=False)
-        lat_div, lat_unit = scale_for("s", [metric(r, "frame", "latency") for r in pts])
-        tr_div, tr_unit = scale_for("B", [metric(r, "frame", "inter_gpm_bytes") for r in pts])
+        fig, axes = plt.subplots(len(rows), len(panels), figsize=(width, 2.9 * len(rows) + 0.4), squeeze=False)
         handles = {}
-        for pi, (scene, res) in enumerate(panels):
-            styles = {}
-            for scheme, others, rs in lines_of[(scene, res)][:20]:
-                style = styles.setdefault(others, STYLES[len(styles) % len(STYLES)])
-                xs = [position[r["swept"][key]] if categorical else r["swept"][key] for r in rs]
-                label = scheme + (" ({})".format(others) if others else "")
-                lat = [metric(r, "frame", "latency") / lat_div for r in rs]
-                # The spread over the frames measured: lowest to highest latency.
-                lo = [min(f) / lat_div if f else y for f, y in zip((frames_of(r) for r in rs), lat)]
-                hi = [max(f) / lat_div if f else y for f, y in zip((frames_of(r) for r in rs), lat)]
-                err = [[y - l for y, l in zip(lat, lo)], [h - y for y, h in zip(lat, hi)]]
-                h = axes[0][pi].errorbar(xs, lat, yerr=err, color=scheme_colour(scheme), linestyle=style, marker="o",
-                                         markersize=3, capsize=2, label=label)
-                axes[1][pi].plot(xs, [metric(r, "frame", "inter_gpm_bytes") / tr_div for r in rs],
-                                 color=scheme_colour(scheme), linestyle=style, marker="o", markersize=3)
-                handles.setdefault(label, h)
-            for row, ylabel in ((0, "frame latency ({}; bars: frames' range)".format(lat_unit)),
-                                (1, "inter-GPM traffic ({} per frame)".format(tr_unit))):
-                ax = axes[row][pi]
+        for ri, (p, ys) in enumerate(rows):
+            words, base_unit, value_of = PLOTS[p]
+            div, shown = scale_for(base_unit, ys) if base_unit else (1, "")
+            for pi, (title, ls) in enumerate(panels):
+                ax = axes[ri][pi]
+                styles = {}
+                for ckey, label, others, rs in ls[:20]:
+                    style = styles.setdefault(others, STYLES[len(styles) % len(STYLES)])
+                    pairs = [(r, value_of(r, reference_of(r, o["normalise"], index))) for r in rs]
+                    pairs = [(r, v) for r, v in pairs if math.isfinite(v[0])]
+                    if not pairs:
+                        continue
+                    xs = [position[r["swept"][key]] if categorical else r["swept"][key] for r, _ in pairs]
+                    y = [v[0] / div for _, v in pairs]
+                    err = [[max(0.0, v[0] / div - (v[1][0] / div if v[1] else v[0] / div)) for _, v in pairs],
+                           [max(0.0, (v[1][1] / div if v[1] else v[0] / div) - v[0] / div) for _, v in pairs]]
+                    name = label + (" ({})".format(others) if others else "")
+                    h = ax.errorbar(xs, y, yerr=err if any(any(e) for e in err) else None, color=colour(ckey),
+                                    linestyle=style, marker="o", markersize=3, capsize=2, label=name)
+                    handles.setdefault(name, h)
                 if categorical:
                     ax.set_xticks(range(len(values)), ["{:g}".format(v) for v in values])
                 else:
@@ -341,14 +438,26 @@ def swept_figures(sweep, runs, out):
                         ax.set_xscale("log")
                     ax.set_xticks(values, [tick_label(v, unit) for v in values])
                     ax.minorticks_off()
-                ax.set_xlabel(key + (" (GB/s)" if unit == "B/s" else ""))
-                ax.set_ylabel(ylabel)
+                if ri == len(rows) - 1:
+                    ax.set_xlabel(key + (" (GB/s)" if unit == "B/s" else ""))
+                if pi == 0:
+                    ax.set_ylabel(words.format(u=shown, ref=o["normalise"]), fontsize=8)
+                if p == "speedup":
+                    ax.axhline(1.0, color="grey", lw=0.8)
                 ax.set_ylim(bottom=0)
                 ax.grid(alpha=0.3)
-            axes[0][pi].set_title("{}, {}".format(scene, res), fontsize=10)
+                if ri == 0:
+                    ax.set_title(title, fontsize=10)
+            # Panels of a row compare: one y axis, unless absolute values
+            # are to keep their own (scenes' frame times differ several fold).
+            if p in ("speedup",) or not o["own_y"]:
+                top = max(ax.get_ylim()[1] for ax in axes[ri])
+                for ax in axes[ri]:
+                    ax.set_ylim(0, top)
         fig.legend(list(handles.values()), list(handles.keys()), loc="center right", fontsize=7, frameon=False)
         fig.tight_layout(rect=(0, 0, 1 - legend_in / width, 1))
-        made.append((key, save(fig, out, "sweep-{}-{}".format(slug(sweep["name"]), slug(key)), layout=False)))
+        made.append((key, [p for p, _ in rows],
+                     save(fig, out, "sweep-{}-{}".format(slug(sweep["name"]), slug(key)), layout=False)))
     return made
 
 
@@ -423,7 +532,9 @@ def main():
     with open(claims_path) as f:
         claims = json.load(f)
     ORDER[:] = claims["scheme_order"]
+    options = options_of(claims)
     con, runs, sweeps = load(db)
+    index = reference_index(runs.values())
     values = claim_values(claims["claims"])
 
     body = ["<h1>oovr report</h1>",
@@ -437,13 +548,15 @@ def main():
         body.append("<p>{} points from <code>{}</code>; run as <code>{}</code>.</p>".format(
             s["points"], html.escape(s["file"]), html.escape(s["command"])))
         body.append("<details><summary>sweep file</summary><pre>{}</pre></details>".format(html.escape(s["definition"])))
-        for key, name in swept_figures(s, runs, out):
-            body.append(figure(name, "frame latency and inter-GPM traffic against " + key))
+        for key, plotted, name in swept_figures(s, runs, out, options):
+            words = {"latency": "frame latency", "speedup": "speed-up over " + options["normalise"],
+                     "throughput": "throughput", "traffic": "inter-GPM traffic", "energy": "memory-system energy"}
+            body.append(figure(name, "{} against {}, per {} (bars: the lowest and highest of the measured frames)".format(
+                ", ".join(words[p] for p in plotted), key, "scheme" if options["group"] == "scheme" else "scene")))
         mine = [r for r in runs.values() if r["sweep"] == s["name"]]
-        base = {same_setup_key(r): r for r in mine if r["scheme"] == "baseline" and r["status"] == "done"}
         rows = []
         for r in sorted(mine, key=lambda r: r["position"]):
-            b = base.get(same_setup_key(r))
+            b = reference_of(r, options["normalise"], index) if r["status"] == "done" else None
             lat = metric(r, "frame", "latency")
             rows.append([r["id"], r["scene"], r["scheme"], r["resolution"]]
                         + [readable(r["config"].get(k)) for k in s["keys"]]
@@ -452,10 +565,12 @@ def main():
                            "{:.1f}".format(metric(r, "frame", "throughput")) if r["status"] == "done" else "",
                            "{:.2f}".format(metric(r, "frame", "inter_gpm_bytes") / 1e6) if r["status"] == "done" else "",
                            "{:.2f}".format(metric(r, "frame", "best_to_worst")) if r["status"] == "done" else "",
+                           "{:.3f}".format(metric(r, "frame", "energy") * 1e3)
+                           if r["status"] == "done" and math.isfinite(metric(r, "frame", "energy")) else "",
                            r["error"]])
         body.append(table(["id", "scene", "scheme", "resolution"] + s["keys"]
-                          + ["status", "latency (ms)", "speed-up over baseline", "frames/s", "inter-GPM (MB/frame)",
-                             "best/worst", "error"], rows))
+                          + ["status", "latency (ms)", "speed-up over " + options["normalise"], "frames/s",
+                             "inter-GPM (MB/frame)", "best/worst", "energy (mJ/frame)", "error"], rows))
 
     # The paper's claims after the study: those the database has runs for in
     # the open, the others (most, for a study of its own) collapsed.

@@ -11,6 +11,10 @@ namespace {
 
 bool power_of_two(uint64_t v) { return v && !(v & (v - 1)); }
 
+// Far above any quoted figure (250 pJ a bit between nodes), so that no
+// energy computed from one overflows.
+constexpr Joules kMaxEnergyPerBit{1e-6};
+
 // `max`: the largest size simulated; every instance (an L1 per SM) holds a
 // tag per line, so a size without bound is memory without bound
 // (cache.l1.size=1GB once ended in std::bad_alloc). Real GPUs' largest are
@@ -23,6 +27,7 @@ CacheSpec cache(const Config& c, const std::string& prefix, const CacheSpec& def
   s.ways = int(c.get_int(prefix + ".ways", def.ways, 1, 1024));
   s.replacement = c.get_choice(prefix + ".replacement", def.replacement, ReplacementPolicies::names());
   s.latency = c.get_time(prefix + ".latency", def.latency);
+  s.energy_per_bit = c.get_energy(prefix + ".energy_per_bit", def.energy_per_bit, kMaxEnergyPerBit);
   if (!(s.latency.value >= 0 && s.latency.value <= 1e-3))
     throw Error("configuration key '" + prefix + ".latency' must be from 0 to 1 ms");
   const uint64_t lines = s.size.value / line.value;
@@ -71,6 +76,8 @@ MemorySpec MemorySpec::from_config(const Config& c) {
     throw Error("configuration key 'memory.copies.capacity' must be 0 (no limit) or at least a page (" + format_bytes(s.page) +
                 "), not " + format_bytes(s.copy_capacity));
   s.copy_eviction = c.get_choice("memory.copies.eviction", d.copy_eviction, {"lru", "fifo"});
+  s.link_energy_per_bit = c.get_energy("link.energy_per_bit", d.link_energy_per_bit, kMaxEnergyPerBit);
+  s.dram_energy_per_bit = c.get_energy("dram.energy_per_bit", d.dram_energy_per_bit, kMaxEnergyPerBit);
   return s;
 }
 
@@ -80,7 +87,8 @@ std::vector<ConfigKey> cache_keys(const std::string& prefix, const std::string& 
   return {{prefix + ".size", what + ": capacity"},
           {prefix + ".ways", what + ": associativity"},
           {prefix + ".replacement", what + ": replacement policy (memory/replacement/impl)"},
-          {prefix + ".latency", what + ": time from a request to its data on a hit"}};
+          {prefix + ".latency", what + ": time from a request to its data on a hit"},
+          {prefix + ".energy_per_bit", what + ": energy per bit of a lookup's line (docs/model.md, Energy)"}};
 }
 
 std::vector<ConfigKey> memory_keys() {
@@ -97,6 +105,8 @@ std::vector<ConfigKey> memory_keys() {
       {"link.bandwidth", "each inter-GPM link, per direction (Table 1: 64 GB/s NVLink)"},
       {"link.latency", "one way, per hop (assumed)"},
       {"link.topology", "how GPMs are joined (memory/topology/impl)"},
+      {"link.energy_per_bit", "energy per bit a link carries (the paper's citation: 10pJ on a board, 250pJ between nodes)"},
+      {"dram.energy_per_bit", "energy per bit read or written in a GPM's DRAM (GDDR5: 14pJ; HBM2: 3.97pJ)"},
       {"memory.copies.capacity", "a cap on the copies each GPM keeps ahead of use, for studies (0: none but the DRAM)"},
       {"memory.copies.eviction", "which copy gives way when copies need room: least recently used or oldest"}};
   for (auto [prefix, what] : {std::pair{"cache.l1", "L1 per SM"}, std::pair{"cache.l2", "L2 per GPM"},

@@ -1,6 +1,7 @@
 #include "oovr/memory/memory_system.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "oovr/core/error.h"
 #include "oovr/core/host.h"
@@ -196,7 +197,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   // Hit counters stay in registers; the hot path (an L1 hit) touches only
   // the L1's own arrays.
   uint64_t l1_hits = 0, l2_hits = 0, l2_read_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0, local_delivered = 0,
-           remote_dram = 0, hops = 0;
+           remote_dram = 0, hops = 0, l1_lookups = 0, l2_lookups = 0, remote_lookups = 0;
   const uint64_t dram_before = out.dram_lines;
   const uint64_t now = ++m_clock;
   for (const LineAccess& a : lines) {
@@ -206,6 +207,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     Cache::Eviction ev;
     if (uses_l1(a.category) && !a.write) {
       // An L1 hit means the page was touched before: its home is known.
+      ++l1_lookups;
       if (l1.access(line, false, a.category, ev)) {
         ++l1_hits;
         continue;
@@ -216,6 +218,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     if (h == gpm || (m_copies[page] & me)) {
       // Local: this GPM's L2, then its DRAM.
       if (m_copy_lru && h != gpm) m_copy_stamp[page * uint64_t(m_spec.gpms) + uint64_t(gpm)] = now;
+      ++l2_lookups;
       if (l2.access(line, a.write, a.category, ev)) {
         ++l2_hits;
         l2_read_hits += !a.write;
@@ -232,15 +235,18 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
       // Write-through to the home over the links; a cached copy is dropped.
       rc.invalidate(line);
       move(gpm, h, m_line_bytes, a.category, out);
+      ++l2_lookups;
       serve(h, line, true, a.category, out);
       continue;
     }
+    ++remote_lookups;
     if (rc.access(line, false, a.category, ev)) {
       ++remote_hits;
       continue;
     }
     const int src = nearest_holder(page, gpm);
     const uint64_t before = out.dram_lines;
+    ++l2_lookups;
     serve(src, line, false, a.category, out);
     if (out.dram_lines == before) ++home_l2_hits;
     else ++remote_dram;
@@ -265,6 +271,9 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   m_totals.l2_hits += l2_hits;
   m_totals.remote_hits += remote_hits;
   m_totals.home_l2_hits += home_l2_hits;
+  m_totals.l1_lookups += l1_lookups;
+  m_totals.l2_lookups += l2_lookups;
+  m_totals.remote_lookups += remote_lookups;
 }
 
 bool MemorySystem::drop_copy(int gpm, bool any) {
@@ -400,16 +409,30 @@ void MemorySystem::report(Stats& out) const {
   out.count("remote_cache", "served", t.remote_hits);
   out.count("home_l2", "served", t.home_l2_hits);
   out.count("dram", "served", t.dram_lines);
+  // Energy (docs/model.md, "Energy"): what each lookup, and each bit a
+  // DRAM or link moves, costs; metrics_of integrates them over the counts
+  // (run/result_metrics.h, energy_of), so the counts stay exact.
+  const double line_bits = double(m_line_bytes) * 8;
+  for (const auto& [location, lookups, spec] :
+       {std::tuple{"l1", t.l1_lookups, &m_spec.l1}, std::tuple{"l2", t.l2_lookups, &m_spec.l2},
+        std::tuple{"remote_cache", t.remote_lookups, &m_spec.remote}}) {
+    out.count(location, "lookups", lookups);
+    out.add(location, "energy_per_lookup", spec->energy_per_bit.value * line_bits, "J", Merge::max);
+  }
   const auto gpm = [](int g) { return "gpm[" + std::to_string(g) + "]"; };
   const auto sum = [](const PerCategory& c) {
     uint64_t s = 0;
     for (uint64_t b : c) s += b;
     return s;
   };
-  for (int g = 0; g < m_spec.gpms; ++g)
+  for (int g = 0; g < m_spec.gpms; ++g) {
     out.count(gpm(g) + ".dram", "bytes", sum(t.dram_read_bytes[size_t(g)]) + sum(t.dram_write_bytes[size_t(g)]), "B");
-  for (size_t l = 0; l < t.link_bytes.size(); ++l)
+    out.add(gpm(g) + ".dram", "energy_per_bit", m_spec.dram_energy_per_bit.value, "J/bit", Merge::max);
+  }
+  for (size_t l = 0; l < t.link_bytes.size(); ++l) {
     out.count(m_topology->link_location(int(l)), "bytes", sum(t.link_bytes[l]), "B");
+    out.add(m_topology->link_location(int(l)), "energy_per_bit", m_spec.link_energy_per_bit.value, "J/bit", Merge::max);
+  }
   const size_t n = size_t(m_spec.gpms);
   for (size_t from = 0; from < n; ++from)
     for (size_t to = 0; to < n; ++to)

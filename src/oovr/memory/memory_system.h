@@ -79,6 +79,10 @@ struct TrafficTotals {
   // traffic matrix.
   std::vector<uint64_t> moved;
   uint64_t accesses = 0, l1_hits = 0, l2_hits = 0, remote_hits = 0, home_l2_hits = 0, dram_lines = 0;
+  // Lookups in each level's arrays, hits and misses alike (the energy they
+  // take): the L2s count their own GPM's accesses and those they serve for
+  // others (reads a remote cache missed, writes through to the home).
+  uint64_t l1_lookups = 0, l2_lookups = 0, remote_lookups = 0;
   uint64_t copies_evicted = 0;  // pre-allocated pages dropped to make room for others
   uint64_t copies_refused = 0;  // pages not copied: their GPM's room was taken by the same batch
 };

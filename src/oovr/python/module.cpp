@@ -292,6 +292,7 @@ py::dict simulate(const py::handle& scene, const py::list& schemes, const std::o
     d["inter-GPM MB"] = c.inter_gpm_mb;
     d["traffic"] = c.traffic_ratio;
     d["best/worst"] = c.best_to_worst;
+    d["energy mJ"] = c.energy_mj;
     rows.append(d);
   }
   out["rows"] = rows;

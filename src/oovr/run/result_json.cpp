@@ -138,6 +138,10 @@ nlohmann::ordered_json to_json(const SchemeResult& r) {
   j["inter_gpm_bytes_by_category"] = cat;
   j["local_dram_bytes"] = r.local_dram_bytes;
   j["footprint_bytes"] = r.footprint_bytes;
+  // The memory system's energy per frame, in joules (result_metrics.h,
+  // energy_of); absent from a result stored before oovr counted it.
+  if (const Energy e = energy_of(r); e.known)
+    j["energy_j"] = {{"total", e.total()}, {"caches", e.caches}, {"dram", e.dram}, {"links", e.links}};
   nlohmann::ordered_json busy = nlohmann::ordered_json::array();
   for (double b : r.gpm_busy_s) busy.push_back(b * r.frequency_hz);
   j["gpm_busy_cycles"] = busy;
@@ -247,6 +251,7 @@ nlohmann::ordered_json stored_result_json(const SchemeResult& r) {
   j.erase("stats");
   j.erase("memory");
   j.erase("scheme_metrics");
+  j.erase("energy_j");  // the metrics rows' formulas give it back
   return j;
 }
 

@@ -23,6 +23,31 @@ double utilisation_of(const SchemeResult& r, const std::string& location) {
   return used && capacity->value > 0 ? used->value * r.throughput_fps / capacity->value : 0.0;
 }
 
+double energy_at(const SchemeResult& r, const std::string& location) {
+  if (const Stat* per_lookup = r.stats.find(location, "energy_per_lookup")) {
+    const Stat* lookups = r.stats.find(location, "lookups");
+    return lookups ? lookups->value * per_lookup->value : 0.0;
+  }
+  if (const Stat* per_bit = r.stats.find(location, "energy_per_bit")) {
+    const Stat* bytes = r.stats.find(location, "bytes");
+    return bytes ? bytes->value * 8 * per_bit->value : 0.0;
+  }
+  return std::nan("");
+}
+
+Energy energy_of(const SchemeResult& r) {
+  Energy e;
+  for (const Stat& s : r.stats.all()) {
+    if (s.name != "energy_per_lookup" && s.name != "energy_per_bit") continue;
+    const double j = energy_at(r, s.location);
+    e.known = true;
+    if (s.name == "energy_per_lookup") e.caches += j;
+    else if (s.location.rfind("link[", 0) == 0) e.links += j;
+    else e.dram += j;
+  }
+  return e;
+}
+
 std::string link_name_at(const std::string& location) {
   const auto arrow = location.find("->");
   if (location.rfind("link[", 0) != 0 || location.back() != ']' || arrow == std::string::npos) return location;
@@ -58,6 +83,12 @@ std::vector<Metric> metrics_of(const SchemeResult& r) {
   add("frame", "vertices_transformed", double(r.vertices), "");
   add("frame", "covered_fragments", double(r.covered_fragments), "");
   add("frame", "work_units", double(r.units), "");
+  if (const Energy e = energy_of(r); e.known) {
+    add("frame", "energy", e.total(), "J");
+    add("frame", "energy.caches", e.caches, "J");
+    add("frame", "energy.dram", e.dram, "J");
+    add("frame", "energy.links", e.links, "J");
+  }
   for (size_t k = 0; k < r.frame_latencies_s.size(); ++k)
     add("frame[" + std::to_string(k) + "]", "latency", r.frame_latencies_s[k], "s");
   for (size_t g = 0; g < r.gpm_busy_s.size(); ++g) add(gpm(g), "busy", r.gpm_busy_s[g], "s");
@@ -69,13 +100,14 @@ std::vector<Metric> metrics_of(const SchemeResult& r) {
     if (s.name == "served" && accesses)
       add(s.location, "served_share", accesses->value > 0 ? s.value / accesses->value : 0.0, "");
     if (s.name == "capacity") add(s.location, "utilisation", utilisation_of(r, s.location), "");
+    if (s.name == "energy_per_lookup" || s.name == "energy_per_bit") add(s.location, "energy", energy_at(r, s.location), "J");
   }
   return out;
 }
 
 bool is_stat_row(const Metric& m) {
   if (m.location == "frame" || m.location.rfind("frame[", 0) == 0) return false;
-  if (m.metric == "served_share" || m.metric == "utilisation") return false;
+  if (m.metric == "served_share" || m.metric == "utilisation" || m.metric == "energy") return false;
   const bool gpm_itself = m.location.rfind("gpm[", 0) == 0 && m.location.back() == ']' &&
                           m.location.find_first_not_of("0123456789", 4) == m.location.size() - 1;
   return !(gpm_itself && m.metric == "busy");

@@ -24,14 +24,32 @@ struct Metric {
 // time), then every statistic (r.stats, core/stats.h) in the order its
 // owners registered it, with the formulas evaluated at output time: after
 // each level's reads `served`, its `served_share` of the accesses; after
-// each resource's `capacity`, its `utilisation` (utilisation_of). Bytes
-// and counts are per frame (the window's mean).
+// each resource's `capacity`, its `utilisation` (utilisation_of); after
+// each energy figure (`energy_per_lookup`, `energy_per_bit`), the
+// location's `energy` (energy_at), and on the frame its total `energy`
+// and its parts (`energy.caches`, `energy.dram`, `energy.links`). Bytes,
+// counts and energies are per frame (the window's mean).
 std::vector<Metric> metrics_of(const SchemeResult& r);
 // Whether a row of metrics_of is one of the run's statistics, not a figure
 // of the frame (location "frame" or "frame[k]", a GPM's "busy") or a
 // formula (`served_share`, `utilisation`): the rows a stored result's
 // statistics are read back from (scheme_result_from_stored).
 bool is_stat_row(const Metric& m);
+
+// The memory system's energy per frame (docs/model.md, "Energy"), each
+// location's integrated from what it counted: a cache's lookups times its
+// energy_per_lookup, a DRAM's or link's bytes times 8 times its
+// energy_per_bit. Not the SMs' arithmetic: what moving data costs, where
+// the schemes differ. All zero, and `known` false, for a result stored
+// before oovr counted energy.
+struct Energy {
+  double caches = 0, dram = 0, links = 0;  // J per frame
+  bool known = false;
+  double total() const { return caches + dram + links; }
+};
+Energy energy_of(const SchemeResult& r);
+// A location's energy per frame (J), or NaN when it has no energy figure.
+double energy_at(const SchemeResult& r, const std::string& location);
 
 // A resource's use per frame at the run's frame rate over its capacity:
 // of a link or a DRAM, the bytes the memory system counted (exact) at the

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+
+#include "oovr/run/result_metrics.h"
 
 #include "oovr/scene/formats/gl_trace.h"
 
@@ -30,6 +33,7 @@ std::vector<ComparisonRow> comparison_rows(const std::vector<SchemeResult>& resu
     row.frames_per_s = r.throughput_fps;
     row.inter_gpm_mb = double(r.total_inter_gpm_bytes()) / 1e6;
     row.best_to_worst = r.best_to_worst();
+    if (const Energy e = energy_of(r); e.known) row.energy_mj = e.total() * 1e3;
     if (base) {
       row.speedup = base->frame_latency_s / r.frame_latency_s;
       row.throughput_ratio = r.throughput_fps / base->throughput_fps;
@@ -75,14 +79,15 @@ std::string comparison_text(const Simulation& s) {
   out += captured_frames_text(*f.scene, s.frame, s.frames);
   size_t w = 13;  // the scheme column fits the longest name
   for (const auto& r : s.results) w = std::max(w, r.scheme.size());
-  out += fmt::format("  {:<{}} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8}\n", "scheme", w, "latency ms", "speed-up", "frames/s",
-                     "throughput", "inter-GPM", "traffic", "best/worst");
+  out += fmt::format("  {:<{}} {:>10} {:>9} {:>9} {:>10} {:>9} {:>11} {:>8} {:>9}\n", "scheme", w, "latency ms", "speed-up",
+                     "frames/s", "throughput", "inter-GPM", "traffic", "best/worst", "energy mJ");
   // Without the baseline in the list there is nothing to normalise to.
   const auto ratio = [&](double v) { return base ? fmt::format("{:.2f}x", v) : std::string("-"); };
   for (const ComparisonRow& r : comparison_rows(s.results))
-    out += fmt::format("  {:<{}} {:>10.3f} {:>9} {:>9.1f} {:>10} {:>9} {:>11} {:>8.2f}\n", r.scheme, w, r.latency_ms,
+    out += fmt::format("  {:<{}} {:>10.3f} {:>9} {:>9.1f} {:>10} {:>9} {:>11} {:>8.2f} {:>9}\n", r.scheme, w, r.latency_ms,
                        ratio(r.speedup), r.frames_per_s, ratio(r.throughput_ratio), fmt::format("{:.2f} MB", r.inter_gpm_mb),
-                       ratio(r.traffic_ratio), r.best_to_worst);
+                       ratio(r.traffic_ratio), r.best_to_worst,
+                       std::isnan(r.energy_mj) ? std::string("-") : fmt::format("{:.3f}", r.energy_mj));
   return out;
 }
 
@@ -111,6 +116,10 @@ std::string simulation_text(const Simulation& s, size_t i) {
   out +=
       fmt::format("  front ends      {} draws received, {} vertices transformed (all GPMs, all frames)\n", r.draws, r.vertices);
   out += fmt::format("  footprint       {} resident in GPM memories\n", mb(r.footprint_bytes));
+  if (const Energy e = energy_of(r); e.known)
+    out += fmt::format(
+        "  energy          {:.3f} mJ: caches {:.3f}, DRAM {:.3f}, links {:.3f} (moving data; not the SMs' arithmetic)\n",
+        e.total() * 1e3, e.caches * 1e3, e.dram * 1e3, e.links * 1e3);
   for (const auto& n : r.notes) out += fmt::format("  note: {}\n", n);
   if (s.frames > 1) {
     out += "  frame latencies ";

@@ -23,6 +23,7 @@ struct ComparisonRow {
   double inter_gpm_mb = 0;        // bytes moved between GPMs per frame, in 10^6 bytes
   double traffic_ratio = NAN;     // over the baseline's
   double best_to_worst = 0;       // busiest GPM's busy time over the least busy one's
+  double energy_mj = NAN;         // the memory system's energy per frame (energy_of), NaN when not counted
 };
 std::vector<ComparisonRow> comparison_rows(const std::vector<SchemeResult>& results);
 

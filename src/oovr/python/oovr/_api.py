@@ -337,7 +337,7 @@ def compare(scene: Union[str, Scene], schemes: Optional[Sequence[Union[str, Sche
 # How `oovr compare` prints each column (run/result_text.cpp).
 _CLI_FORMAT = {
     "latency ms": "{:.3f}", "speed-up": "{:.2f}x", "frames/s": "{:.1f}", "throughput": "{:.2f}x",
-    "inter-GPM MB": "{:.2f}", "traffic": "{:.2f}x", "best/worst": "{:.2f}",
+    "inter-GPM MB": "{:.2f}", "traffic": "{:.2f}x", "best/worst": "{:.2f}", "energy mJ": "{:.3f}",
 }
 _table_class = None
 _table_lock = threading.Lock()  # two threads' first tables make one class
