@@ -681,6 +681,28 @@ TEST(SweepRun, AStoredResultReadsBackExactly) {
 namespace oovr {
 namespace {
 
+// What oovr checks of the executable the nodes will run, before it writes
+// anything: this process's own passes; a relative path, a missing file (a
+// build removed or replaced while oovr ran), a folder and a file that is
+// not executable are refused, naming it.
+TEST(Sweep, SlurmSubmitsOnlyAnExecutableThatIsThere) {
+  EXPECT_NO_THROW(check_slurm_executable(this_executable()));
+  test::TempDir dir;
+  const std::string plain = dir.file("plain", "#!/bin/sh\n");
+  std::filesystem::permissions(plain, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  const std::string runnable = dir.file("runnable", "#!/bin/sh\n");
+  std::filesystem::permissions(runnable, std::filesystem::perms::owner_all);
+  EXPECT_NO_THROW(check_slurm_executable(runnable));
+  for (const auto& [exe, says] : {std::pair<std::string, std::string>{"build/oovr", "not an absolute path"},
+                                  {dir.file("gone"), "is not a file here"},
+                                  {dir.path().string(), "is not a file here"},
+                                  {plain, "is not executable"}}) {
+    const std::string why = message_of([&] { check_slurm_executable(exe); });
+    EXPECT_NE(why.find(says), std::string::npos) << exe << ": " << why;
+    EXPECT_NE(why.find(exe), std::string::npos) << why;
+  }
+}
+
 TEST(Sweep, SlurmTasksRunATraceGroupEachByDefault) {
   // 2 scenes x 2 resolutions x 3 schemes: 4 trace groups of 3 points, the
   // schemes innermost.

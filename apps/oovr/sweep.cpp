@@ -51,7 +51,8 @@ int print_collect(const CollectReport& rep, const std::string& db_path, const Sw
                        "; job {} still has {} task{} queued or running (squeue -j {}): collect again once it has "
                        "ended, and only then run what is still missing with --resume",
                        job.job_id, job.tasks_left, job.tasks_left == 1 ? "" : "s", job.job_id)
-                 : "; run the sweep again with --resume for the rest";
+                 : "; run the sweep again with --resume for the rest (with --backend slurm to submit them again, once "
+                   "the notes above are seen to)";
     }
     fmt::print("sweep '{}': {} of {} points in the database, {} of them failed{}\n", s->name, s->points.size() - missing,
                s->points.size(), failed, rest);
@@ -83,7 +84,10 @@ int sweep(const SweepArgs& a) {
     fmt::print("sweep '{}': {} points\n", s.name, s.points.size());
     return 0;
   }
-  if (a.backend == "slurm" && !a.collect) check_slurm_scenes(s);  // before the database or the job folder is made
+  if (a.backend == "slurm" && !a.collect) {  // before the database or the job folder is made
+    check_slurm_scenes(s);
+    check_slurm_executable(this_executable());
+  }
   const std::string db_path = default_db(a);
   const std::string slurm_dir = a.slurm_dir.empty() ? db_path + ".slurm" : a.slurm_dir;
   const DatabaseLock lock(db_path);  // the one writer, until this command ends (its children share it)

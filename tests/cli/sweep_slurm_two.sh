@@ -2,7 +2,9 @@
 # `oovr sweep --backend slurm` on a two-node SLURM (two slurmd on localhost,
 # each with its own port, spool, pid file and log, one CPU each): the
 # default chunking gives each trace group a task, the two tasks run one on
-# each node, and the collected database equals the local backend's. Exits
+# each node, and the collected database equals the local backend's; a job
+# whose oovr is gone from the nodes' path has each node say so, and
+# --collect shows it. Exits
 # 77 ("skipped", with the reason) when SLURM is not installed or cannot
 # start.
 # Usage: sweep_slurm_two.sh OOVR WORKDIR
@@ -34,4 +36,19 @@ dump() { sh "$here/dump_runs.sh" "$1" gpms; }
 dump local.db > local.dump
 dump slurm.db > slurm.dump
 cmp local.dump slurm.dump || { diff local.dump slurm.dump | cut -c 1-300 | head -20; exit 1; }
-echo "two-node SLURM sweep equals the local one: 8 runs in 2 tasks, one on each node"
+# The oovr the nodes run is not there when the tasks start (a build folder
+# the nodes do not share): each node says so in its task's log, and
+# --collect shows it for each task that wrote nothing.
+cp "$oovr" "$PWD/vanishing-oovr"
+"$PWD/vanishing-oovr" sweep two.toml --db gone.db --backend slurm --slurm-dir gone.slurm --sbatch-arg=--hold > gone.log 2>&1 || {
+  cat gone.log; exit 1; }
+job=$(sed -n "s/.*submitted job \([0-9][0-9]*\):.*/\1/p" gone.log)
+[ -n "$job" ] || { cat gone.log; exit 1; }
+rm "$PWD/vanishing-oovr"
+scontrol release "$job"
+n=0
+while [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] && [ $n -lt 150 ]; do sleep 0.2; n=$((n + 1)); done
+if "$oovr" sweep two.toml --db gone.db --slurm-dir gone.slurm --collect > gone-collect.log 2>&1; then cat gone-collect.log; exit 1; fi
+[ "$(grep -c "wrote nothing .*its log ends: oovr: node node[12] has no executable $PWD/vanishing-oovr: the nodes need this oovr" gone-collect.log)" -eq 2 ] || {
+  cat gone-collect.log; tail -n 3 gone.slurm/task-*.log; exit 1; }
+echo "two-node SLURM sweep equals the local one: 8 runs in 2 tasks, one on each node; a node without the oovr says so"

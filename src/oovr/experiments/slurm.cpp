@@ -48,11 +48,31 @@ int run_command(const std::vector<std::string>& words, std::string& output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+}  // namespace
+
 std::string this_executable() {
   std::error_code ec;
   const fs::path p = fs::read_symlink("/proc/self/exe", ec);
   if (ec) throw Error("cannot find this oovr's path (/proc/self/exe): " + ec.message());
   return p.string();
+}
+
+namespace {
+
+// The last line of a task's log with text on it, printable and at most 300
+// characters: what a task that wrote no results said (the node's check of
+// the executable below, the loader's missing library, a crash). Empty when
+// there is no log.
+std::string last_log_line(const std::string& path) {
+  const FileRead f = read_regular_file(path, uint64_t(1) << 20, true);
+  if (f.failure != FileRead::Failure::none) return "";
+  size_t end = f.bytes.find_last_not_of(" \n\r\t");
+  if (end == std::string::npos) return "";
+  const size_t begin = f.bytes.rfind('\n', end);
+  std::string line =
+      f.bytes.substr(begin == std::string::npos ? 0 : begin + 1, end + 1 - (begin == std::string::npos ? 0 : begin + 1));
+  if (line.size() > 300) line = line.substr(0, 300) + "...";
+  return printable(line);
 }
 
 nlohmann::json read_manifest(const std::string& dir) {
@@ -131,6 +151,24 @@ std::vector<std::vector<size_t>> slurm_tasks(const Sweep& s, const std::vector<s
   return tasks;
 }
 
+void check_slurm_executable(const std::string& exe) {
+  // What can be checked here of the oovr the nodes will run: that it is a
+  // program, at an absolute path, and still the file this path names (a
+  // build replaced while this process ran leaves "/proc/self/exe" naming
+  // "... (deleted)"). Whether the nodes see the same path, only they can
+  // say: job.sbatch checks it first on each.
+  const fs::path p(exe);
+  if (!p.is_absolute()) throw Error("the oovr the nodes would run, '" + printable(exe) + "', is not an absolute path");
+  std::error_code ec;
+  const auto st = fs::status(p, ec);
+  if (ec || !fs::is_regular_file(st))
+    throw Error("the oovr the nodes would run, '" + printable(exe) +
+                "', is not a file here (was it rebuilt or removed while this one ran?): run oovr sweep again with the "
+                "current build");
+  if ((st.permissions() & fs::perms::owner_exec) == fs::perms::none)
+    throw Error("the oovr the nodes would run, '" + printable(exe) + "', is not executable");
+}
+
 void check_slurm_scenes(const Sweep& s) {
   // What can be checked here of what the nodes need: the game data the
   // points' scenes read. Missing here, it is most likely missing there, and
@@ -184,6 +222,7 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
   write_output_file((dir / "manifest.json").string(), m.dump(1) + "\n", "SLURM job manifest");
 
   const std::string exe = o.executable.empty() ? this_executable() : o.executable;
+  check_slurm_executable(exe);  // checked before the database was made too; it may have gone since
   // sbatch reads the #SBATCH lines and sh the rest: nothing written into
   // them may hold a control character (a new line would start a command),
   // and every word is quoted.
@@ -207,6 +246,12 @@ SlurmSubmission submit_slurm(const Sweep& s, const std::string& sweep_path, cons
   script += "#SBATCH --cpus-per-task=" + std::to_string(o.cpus_per_task) + "\n";
   if (!o.partition.empty()) script += "#SBATCH --partition=" + quote(o.partition) + "\n";
   if (!o.time_limit.empty()) script += "#SBATCH --time=" + quote(o.time_limit) + "\n";
+  // On the node, first: is this oovr there? A node without it (a build
+  // folder not on a shared file system) says so in the task's log, which
+  // --collect shows, rather than sh's bare "not found".
+  script += "if [ ! -x " + quote(exe) + " ]; then printf 'oovr: node %s has no executable %s: the nodes need this oovr at " +
+            "the same path (docs/sweeps.md, What a node needs)\\n' \"${SLURMD_NODENAME:-$(hostname)}\" " + quote(exe) +
+            " >&2; exit 2; fi\n";
   script += "exec " + quote(exe) + " sweep --task \"$SLURM_ARRAY_TASK_ID\" --slurm-dir " + quote(dir.string()) + " --jobs " +
             std::to_string(o.cpus_per_task) + "\n";
   const std::string script_path = (dir / "job.sbatch").string();
@@ -344,7 +389,9 @@ CollectReport collect_slurm(const std::string& dir, ResultsDb& db) {
     const std::string path = task_file(dir, int(t));
     const FileRead f = read_regular_file(path, kMaxResultsFile, false);
     if (f.failure == FileRead::Failure::missing) {
-      rep.problems.push_back("task " + std::to_string(t) + " wrote nothing (" + path + " is missing)");
+      const std::string said = last_log_line((fs::path(dir) / ("task-" + std::to_string(t) + ".log")).string());
+      rep.problems.push_back("task " + std::to_string(t) + " wrote nothing (" + path + " is missing)" +
+                             (said.empty() ? "" : "; its log ends: " + said));
       continue;
     }
     if (f.failure != FileRead::Failure::none) {

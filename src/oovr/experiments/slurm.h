@@ -54,6 +54,12 @@ std::vector<std::vector<size_t>> slurm_tasks(const Sweep& s, const std::vector<s
 // those scenes would fail on the nodes: Error naming each scene and where
 // its data was looked for.
 void check_slurm_scenes(const Sweep& s);
+// The oovr the tasks will run (`exe`, this one by default): an absolute
+// path to an executable file that is still there. Error otherwise. That the
+// nodes see it at the same path job.sbatch checks on each node, first.
+void check_slurm_executable(const std::string& exe);
+// This process's executable, by /proc/self/exe.
+std::string this_executable();
 
 // Writes the job folder (a copy of the sweep file, the manifest of each
 // task's points, the sbatch script) and submits it with sbatch. Throws
