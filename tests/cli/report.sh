@@ -108,4 +108,22 @@ grep -q "oovr report" dom.html || exit 1
 grep -q "<title>oovr report</title>" dom.html || { echo "the page's title was changed: script ran"; exit 1; }
 if grep -q PWNED dom.html && ! grep -q "&lt;img src=x onerror=" dom.html; then echo "markup ran in Chromium"; exit 1; fi
 grep -q "<img src=\"sweep-small-gpms.png\"" dom.html || exit 1
-echo "Chromium shows the report: $tables tables, markup from the database shown as text, not run"
+# Each figure as Chromium draws its SVG (the page links them), kept beside
+# the page's screenshot to be looked at: none blank.
+figures=0
+for svg in rep/sweep-*.svg rep/paper-*.svg opt/sweep-*.svg; do
+  name=$(basename "$(dirname "$svg")")-$(basename "$svg" .svg)
+  run_chromium --screenshot="$work/figure-$name.png" --window-size=1400,1400 "file://$work/$svg" > /dev/null ||
+    { tail chromium.err; exit 1; }
+  /usr/bin/python3 - "$work/figure-$name.png" <<'PY' || { echo "figure $svg is blank in Chromium"; exit 1; }
+import sys
+import matplotlib.image as mpimg
+import numpy as np
+img = mpimg.imread(sys.argv[1])[:, :, :3]
+colours = len(np.unique((img * 255).astype(np.uint8).reshape(-1, 3), axis=0))
+sys.exit(0 if colours > 20 and float((img.sum(axis=2) < 2.9).mean()) > 0.01 else 1)
+PY
+  figures=$((figures + 1))
+done
+[ "$figures" -ge 4 ] || { echo "only $figures figures drawn"; exit 1; }
+echo "Chromium shows the report: $tables tables, $figures figures (figure-*.png), markup from the database shown as text, not run"

@@ -117,6 +117,8 @@ def test_rows_panels_and_axes_follow_the_options(tmp_path, monkeypatch):
     for row in axes:
         assert len({ax.get_ylim() for ax in row}) == 1, "each row's panels share their y axis"
     assert [ax.get_title() for ax in axes[0]] == ["a, 64x32", "b, 64x32"]
+    # Both schemes' latencies; the speed-ups of OO-VR only (the baseline's own is the line at 1).
+    assert [len(axes[0][0].containers), len(axes[1][0].containers)] == [2, 1]
     # Grouped by scheme, with two rows asked for and their own y axes.
     opts = report.options_of({"options": {"plots": ["energy", "speedup"], "group": "scheme", "own_y": True}})
     made = report.swept_figures(sweep, runs, str(tmp_path), opts)

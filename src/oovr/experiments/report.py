@@ -20,6 +20,7 @@ import urllib.parse
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.lines as mlines  # noqa: E402
 import matplotlib.patches as mpatches  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -203,7 +204,10 @@ def claim_figures(values, out):
         ax.set_xticklabels(["{}: {}".format(c["id"], v["label"]) for c, v, _ in items], rotation=20, ha="right", fontsize=8)
         measures = sorted({v["measure"] for _, v, _ in items})
         unit = "bits" if measures == ["engine_storage"] else "ratio (x)"
-        ax.set_ylabel("{} ({})".format(", ".join(measures), unit) if unit != "bits" else "storage (bits)")
+        words = {"speedup": "speed-up", "latency": "latency", "throughput": "throughput", "traffic": "inter-GPM traffic",
+                 "best_to_worst": "best-to-worst GPM time", "energy": "memory-system energy", "link_energy": "link energy"}
+        ax.set_ylabel("{} ({})".format(", ".join(words.get(m, m) for m in measures), unit) if unit != "bits"
+                      else "storage (bits)", fontsize=8)
         if unit != "bits":
             ax.axhline(1.0, color="grey", lw=0.8)
         ax.set_title(title, fontsize=10)
@@ -218,6 +222,7 @@ def claim_figures(values, out):
 # schemes). The other swept keys' values are told apart by line style.
 PALETTE = [matplotlib.colormaps["tab20"](i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9, 11, 13, 15, 17, 19)]
 STYLES = ["-", "--", ":", "-."]
+MARKERS = ["o", "s", "^", "D", "v", "P"]
 
 
 def scheme_colour(scheme):
@@ -411,14 +416,20 @@ def swept_figures(sweep, runs, out, options=None):
         width = 3.8 * len(panels) + legend_in
         fig, axes = plt.subplots(len(rows), len(panels), figsize=(width, 2.9 * len(rows) + 0.4), squeeze=False)
         handles = {}
+        # A line style and marker per setting of the other keys, the same in
+        # every panel (so a setting reads alike across the figure and in grey).
+        # (In the order swept_lines gives them: numerically by their values.)
+        settings = list(dict.fromkeys(others for _, ls in panels for _, _, others, _ in ls))
+        look = {o: (STYLES[i % len(STYLES)], MARKERS[i % len(MARKERS)]) for i, o in enumerate(settings)}
         for ri, (p, ys) in enumerate(rows):
             words, base_unit, value_of = PLOTS[p]
             div, shown = scale_for(base_unit, ys) if base_unit else (1, "")
             for pi, (title, ls) in enumerate(panels):
                 ax = axes[ri][pi]
-                styles = {}
                 for ckey, label, others, rs in ls[:20]:
-                    style = styles.setdefault(others, STYLES[len(styles) % len(STYLES)])
+                    style, marker = look[others]
+                    if p == "speedup" and rs[0]["scheme"] == o["normalise"]:
+                        continue  # the reference itself: the line at 1
                     pairs = [(r, value_of(r, reference_of(r, o["normalise"], index))) for r in rs]
                     pairs = [(r, v) for r, v in pairs if math.isfinite(v[0])]
                     if not pairs:
@@ -429,7 +440,7 @@ def swept_figures(sweep, runs, out, options=None):
                            [max(0.0, (v[1][1] / div if v[1] else v[0] / div) - v[0] / div) for _, v in pairs]]
                     name = label + (" ({})".format(others) if others else "")
                     h = ax.errorbar(xs, y, yerr=err if any(any(e) for e in err) else None, color=colour(ckey),
-                                    linestyle=style, marker="o", markersize=3, capsize=2, label=name)
+                                    linestyle=style, marker=marker, markersize=3.5, capsize=2, label=name)
                     handles.setdefault(name, h)
                 if categorical:
                     ax.set_xticks(range(len(values)), ["{:g}".format(v) for v in values])
@@ -454,8 +465,21 @@ def swept_figures(sweep, runs, out, options=None):
                 top = max(ax.get_ylim()[1] for ax in axes[ri])
                 for ax in axes[ri]:
                     ax.set_ylim(0, top)
-        fig.legend(list(handles.values()), list(handles.keys()), loc="center right", fontsize=7, frameon=False)
         fig.tight_layout(rect=(0, 0, 1 - legend_in / width, 1))
+        # Beside the panels, not over the data; factorised where lines
+        # differ in more than their colour: one entry per colour (scheme or
+        # scene) and one per setting (its line style and marker, in grey).
+        right = max(ax.get_position().x1 for ax in axes[0])
+        colours = list(dict.fromkeys((ckey, label) for _, ls in panels for ckey, label, _, _ in ls))
+        if len(settings) > 1:
+            entries = [mlines.Line2D([], [], color=colour(c), lw=2) for c, _ in colours]
+            names = [label for _, label in colours]
+            entries += [mlines.Line2D([], [], color="black", linestyle=look[x][0], marker=look[x][1], markersize=4)
+                        for x in settings]
+            names += [x for x in settings]
+        else:
+            entries, names = list(handles.values()), list(handles.keys())
+        fig.legend(entries, names, loc="center left", bbox_to_anchor=(right + 0.01, 0.5), fontsize=7, frameon=False)
         made.append((key, [p for p, _ in rows],
                      save(fig, out, "sweep-{}-{}".format(slug(sweep["name"]), slug(key)), layout=False)))
     return made
