@@ -32,8 +32,9 @@ packages=(
   libsnappy-dev
   # the results database (and its command-line shell, for queries and tests)
   libsqlite3-dev sqlite3
-  # oovr report's plots
-  python3-matplotlib python3-numpy
+  # oovr report's plots; oovr paper's and beyond's charts as PDF and PNG
+  # beside their SVG (rsvg-convert)
+  python3-matplotlib python3-numpy librsvg2-bin
   # the Python module (docs/python.md): pybind11 and Python's headers to
   # build it, pandas for DataFrames, pytest for its tests
   pybind11-dev python3-pybind11 python3-dev python3-pandas python3-pytest

@@ -160,6 +160,42 @@ TEST(Timeline, GpupdMarksEachBatchsProjectionAndRenderingPerGpm) {
   EXPECT_EQ(frames.size(), r.frame_latencies_s.size());
 }
 
+// What Perfetto's and chrome://tracing's importers need of complete ("X")
+// events: on one thread, each span either follows the one before or lies
+// wholly inside it (a stack); a span that overlaps another's end is
+// dropped or misdrawn. Every scheme that marks spans, with waits inside
+// units: spans nest or follow on every track, to rounding.
+TEST(Timeline, SpansNestOrFollowOnEveryTrackAsViewersRequire) {
+  for (const char* scheme : {"oo-vr", "chopin", "gpupd", "baseline", "afr"}) {
+    const SchemeResult r = run(scheme, true);
+    const nlohmann::json j = nlohmann::json::parse(timeline_json(r, 1'000'000).json);
+    std::map<std::pair<int, int>, std::vector<std::pair<double, double>>> tracks;
+    size_t spans = 0;
+    for (const auto& e : j["traceEvents"]) {
+      ASSERT_TRUE(e.contains("ph") && e.contains("pid") && e.contains("name")) << e.dump();
+      if (e["ph"] != "X") continue;
+      ASSERT_TRUE(e.contains("ts") && e.contains("dur") && e.contains("tid")) << e.dump();
+      tracks[{e["pid"], e["tid"]}].emplace_back(double(e["ts"]), double(e["ts"]) + double(e["dur"]));
+      ++spans;
+    }
+    EXPECT_GT(spans, 0u) << scheme;
+    const double eps = 1e-6;  // µs: the rounding of two sums of the same times
+    for (auto& [track, v] : tracks) {
+      // Longer first at one start, as a viewer stacks them.
+      std::sort(v.begin(), v.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first || (a.first == b.first && a.second > b.second); });
+      std::vector<double> open;  // ends of the spans enclosing the current one
+      for (const auto& [a, b] : v) {
+        while (!open.empty() && open.back() <= a + eps) open.pop_back();
+        if (!open.empty())
+          EXPECT_LE(b, open.back() + eps) << scheme << ": a span on pid " << track.first << " tid " << track.second << " from "
+                                          << a << " to " << b << " overlaps the end (" << open.back() << ") of one it starts in";
+        open.push_back(b);
+      }
+    }
+  }
+}
+
 TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
   const SchemeResult r = run("oo-vr", true);
   const TimelineText t = timeline_json(r, 1'000'000);

@@ -13,6 +13,7 @@
 #include "oovr/experiments/beyond.h"
 #include "oovr/experiments/paper.h"
 #include "oovr/experiments/results_db.h"
+#include "oovr/experiments/svg_chart.h"
 #include "oovr/experiments/sweep.h"
 #include "progress.h"
 
@@ -80,15 +81,28 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
   // beside it, so that it can be committed without the raw results.
   const std::string out_plots = (fs::path(a.out) / "img" / e.plots).string();
   e.plot(r, o, out_plots);
+  // For a paper or a slide: each chart as PDF and PNG too, here only (the
+  // document in the repository shows the SVG).
+  // Without rsvg-convert (librsvg2-bin) the run's results are not lost for
+  // it: the charts stay SVG only, and the last line says why.
+  size_t converted = 0;
+  std::string unconverted;
+  try {
+    converted = write_pdf_and_png(out_plots);
+  } catch (const Error& err) {
+    unconverted = err.what();
+  }
   e.write_doc(r, o, (fs::path(a.out) / e.doc).string(), out_plots);
   if (!a.doc.empty()) {
     const std::string plots = (fs::absolute(a.doc).parent_path() / "img" / e.plots).string();
     e.plot(r, o, plots);
     e.write_doc(r, o, a.doc, plots);
   }
-  fmt::print("{} scenes ({} skipped), {} runs ({} run now) in {:.0f} s; database, results, CSV, plots and {} in {}{}\n",
-             r.scenes.size(), r.skipped.size(), r.runs.size(), r.ran, r.seconds, e.doc, a.out,
-             a.doc.empty() ? "" : "; document also in " + a.doc);
+  fmt::print("{} scenes ({} skipped), {} runs ({} run now) in {:.0f} s; database, results, CSV, plots ({}) and {} in {}{}\n",
+             r.scenes.size(), r.skipped.size(), r.runs.size(), r.ran, r.seconds,
+             unconverted.empty() ? fmt::format("{} charts as SVG, PDF and PNG", converted) : std::string("SVG only"), e.doc,
+             a.out, a.doc.empty() ? "" : "; document also in " + a.doc);
+  if (!unconverted.empty()) fmt::print("  note: {}\n", unconverted);
   for (const auto& s : r.skipped) fmt::print("  skipped: {}\n", s);
   return 0;
 }

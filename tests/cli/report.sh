@@ -56,6 +56,8 @@ grep -q "no matching runs" rep/index.html || exit 1
 # 4-GPM runs; P14's need single-gpm, so they are not measured.
 grep -Eq "<tr><td>P7, direction</td>.*<td>(agrees|differs)</td><td></td></tr>" rep/index.html || { echo "P7 not judged"; exit 1; }
 grep -q "<tr><td>P14, direction</td>.*<td>not measured</td>" rep/index.html || { echo "P14 judged without its runs"; exit 1; }
+# The schemes' colours are oovr's, the paper charts' (svg_chart.h), handed to the script.
+grep -q '"scheme_colours": {' rep/claims.json && grep -q '"baseline": "#1f77b4"' rep/claims.json || { echo "no scheme colours"; exit 1; }
 # Energy is in the study's table and figure (each run's memory-system energy).
 grep -q "<th>energy (mJ/frame)</th>" rep/index.html || { echo "no energy column"; exit 1; }
 grep -q "frame latency, speed-up over baseline, inter-GPM traffic, memory-system energy against gpms" rep/index.html ||

@@ -37,6 +37,18 @@ def order():
     report.ORDER[:] = ["baseline", "oo-vr"]
 
 
+def test_oovr_gives_the_colours_its_paper_charts_use():
+    report.COLOURS.update({"oo-vr": "#9467bd"})
+    try:
+        assert report.scheme_colour("oo-vr") == "#9467bd"
+    finally:
+        report.COLOURS.clear()
+    # Without oovr's, the same palette: tab20's dark shades first.
+    import matplotlib.colors
+    assert matplotlib.colors.to_hex(report.PALETTE[0]) == "#1f77b4"
+    assert matplotlib.colors.to_hex(report.PALETTE[10]) == "#aec7e8"
+
+
 def test_a_scheme_keeps_its_colour_and_schemes_differ():
     assert report.scheme_colour("oo-vr") == report.scheme_colour("oo-vr")
     colours = [report.scheme_colour(s) for s in ("baseline", "oo-vr")]

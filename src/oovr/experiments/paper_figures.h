@@ -136,6 +136,22 @@ struct Figures {
     const SchemeResult* b = r.find(scene, res, against, against_variant);
     return a && b ? b->frame_latency_s / a->frame_latency_s : std::nan("");
   }
+  // The lowest and highest of the frame-by-frame speed-ups (the reference's
+  // frame k over the run's), where both measured the same frames; NaNs
+  // otherwise. Figure 15's whiskers.
+  std::pair<double, double> speedup_range(const std::string& scene, const std::string& res, const std::string& scheme) const {
+    const SchemeResult* a = r.find(scene, res, scheme);
+    const SchemeResult* b = r.find(scene, res, "baseline");
+    double lo = std::nan(""), hi = std::nan("");
+    if (!a || !b || a->frame_latencies_s.size() != b->frame_latencies_s.size()) return {lo, hi};
+    for (size_t k = 0; k < a->frame_latencies_s.size(); ++k) {
+      if (!(a->frame_latencies_s[k] > 0)) continue;
+      const double x = b->frame_latencies_s[k] / a->frame_latencies_s[k];
+      lo = std::isnan(lo) ? x : std::min(lo, x);
+      hi = std::isnan(hi) ? x : std::max(hi, x);
+    }
+    return {lo, hi};
+  }
   double traffic(const std::string& scene, const std::string& res, const std::string& scheme,
                  const std::string& against = "baseline", const std::string& variant = "") const {
     const SchemeResult* a = r.find(scene, res, scheme, variant);

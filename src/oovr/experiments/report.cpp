@@ -13,6 +13,7 @@
 #include "oovr/core/text.h"
 #include "oovr/experiments/claims.h"
 #include "oovr/experiments/results_db.h"
+#include "oovr/experiments/svg_chart.h"
 #include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
@@ -94,6 +95,9 @@ std::string write_report(const ReportOptions& o) {
     if (on_paper_setup(r, r.scheme, nlohmann::ordered_json::object())) paper_setup.push_back(r.id);
   context["paper_setup"] = paper_setup;
   context["scheme_order"] = schemes_in_order();
+  nlohmann::ordered_json colours = nlohmann::ordered_json::object();
+  for (const std::string& name : schemes_in_order()) colours[name] = scheme_colour(name);
+  context["scheme_colours"] = colours;  // the paper's charts' colours (svg_chart.h), so every figure agrees
   context["options"] = {{"plots", o.plots}, {"x", o.x}, {"group", o.group}, {"normalise", o.normalise}, {"own_y", o.own_y}};
   write_output_file(claims, context.dump(1) + "\n", "claims");
 

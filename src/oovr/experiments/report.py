@@ -216,16 +216,21 @@ def claim_figures(values, out):
     return made
 
 
-# One colour per scheme, the same in every figure: the registered schemes
-# in their order, then any other by a stable hash of its name (twenty
-# colours of tab20, which repeats no colour within a figure of up to twenty
-# schemes). The other swept keys' values are told apart by line style.
+# One colour per scheme, the same in every figure: oovr's (claims.json's
+# scheme_colours, which its paper charts use too: svg_chart.h), else the
+# registered schemes in their order, then any other by a stable hash of its
+# name (twenty colours of tab20, which repeats no colour within a figure of
+# up to twenty schemes). The other swept keys' values are told apart by
+# line style and marker.
+COLOURS = {}
 PALETTE = [matplotlib.colormaps["tab20"](i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9, 11, 13, 15, 17, 19)]
 STYLES = ["-", "--", ":", "-."]
 MARKERS = ["o", "s", "^", "D", "v", "P"]
 
 
 def scheme_colour(scheme):
+    if scheme in COLOURS:
+        return COLOURS[scheme]
     if scheme in ORDER:
         return PALETTE[ORDER.index(scheme) % len(PALETTE)]
     return PALETTE[(len(ORDER) + sum(scheme.encode()) * 7) % len(PALETTE)]
@@ -556,6 +561,8 @@ def main():
     with open(claims_path) as f:
         claims = json.load(f)
     ORDER[:] = claims["scheme_order"]
+    COLOURS.clear()
+    COLOURS.update(claims.get("scheme_colours") or {})
     options = options_of(claims)
     con, runs, sweeps = load(db)
     index = reference_index(runs.values())
