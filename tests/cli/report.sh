@@ -76,6 +76,19 @@ for bad in "--plots joules:no plot 'joules'" "--x link.bandwidth:do not sweep 'l
   grep -qF -e "${bad#*:}" badopt.log || { echo "$flag:"; cat badopt.log; exit 1; }
   [ ! -e badopt ] || { echo "$flag wrote the folder"; exit 1; }
 done
+# A key swept with words, not numbers, is no figure's x axis: said, not silently left out.
+cat > words.toml <<'TOML'
+name = "words"
+scenes = ["crowd"]
+schemes = ["baseline"]
+resolutions = ["160x128"]
+frames = 1
+[sweep]
+"memory.placement" = ["first-touch", "interleaved"]
+TOML
+"$oovr" sweep words.toml --db words.db > words.log 2>&1 || { cat words.log; exit 1; }
+if "$oovr" report words.db --out wordsrep --x memory.placement > wordsrep.log 2>&1; then echo "plotted against words"; exit 1; fi
+grep -q "'memory.placement' is swept with values that are not numbers" wordsrep.log || { cat wordsrep.log; exit 1; }
 # A database that is not one: one clear error.
 echo "not a database" > bad.db
 if "$oovr" report bad.db --out bad > bad.log 2>&1; then echo "reported a bad database"; exit 1; fi

@@ -33,9 +33,12 @@ void check_options(const ReportOptions& o, const std::vector<RunRecord>& runs) {
   for (const std::string& p : o.plots)
     if (!plots.count(p)) throw Error("--plots: no plot '" + p + "' (latency, speedup, throughput, traffic, energy)");
   if (o.group != "scene" && o.group != "scheme") throw Error("--group: '" + o.group + "' is not scene or scheme");
-  std::set<std::string> swept, schemes;
+  std::set<std::string> swept, numeric, schemes;
   for (const RunRecord& r : runs) {
-    for (const auto& [key, value] : r.swept) swept.insert(key);
+    for (const auto& [key, value] : r.swept) {
+      swept.insert(key);
+      if (value.is_number()) numeric.insert(key);
+    }
     if (r.status == "done") schemes.insert(r.scheme);
   }
   const auto listed = [](const std::set<std::string>& s) {
@@ -43,8 +46,14 @@ void check_options(const ReportOptions& o, const std::vector<RunRecord>& runs) {
     for (const std::string& x : s) out += (out.empty() ? "" : ", ") + x;
     return out.empty() ? std::string("none") : out;
   };
-  for (const std::string& k : o.x)
+  for (const std::string& k : o.x) {
     if (!swept.count(k)) throw Error("--x: the database's sweeps do not sweep '" + k + "' (they sweep " + listed(swept) + ")");
+    // A figure's x axis is a number (a placement policy is a table's column).
+    if (!numeric.count(k))
+      throw Error("--x: '" + k +
+                  "' is swept with values that are not numbers, which no figure plots against (the numeric ones: " +
+                  listed(numeric) + ")");
+  }
   const bool asked = o.normalise != "baseline" || std::count(o.plots.begin(), o.plots.end(), "speedup");
   if (asked && !schemes.count(o.normalise))
     throw Error("--normalise: the database has no done runs of '" + o.normalise + "' (it has " + listed(schemes) + ")");
