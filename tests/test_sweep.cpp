@@ -697,7 +697,8 @@ TEST(Sweep, SlurmSubmitsOnlyAnExecutableThatIsThere) {
                                   {dir.file("gone"), "is not a file here"},
                                   {dir.path().string(), "is not a file here"},
                                   {plain, "is not executable"}}) {
-    const std::string why = message_of([&] { check_slurm_executable(exe); });
+    const std::string path = exe;  // (Clang 14 cannot capture a structured binding.)
+    const std::string why = message_of([&] { check_slurm_executable(path); });
     EXPECT_NE(why.find(says), std::string::npos) << exe << ": " << why;
     EXPECT_NE(why.find(exe), std::string::npos) << why;
   }
