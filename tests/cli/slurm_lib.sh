@@ -12,6 +12,18 @@ slurm_test() {
   export OOVR_CACHE_DIR="$work/cache"
 }
 
+# submitted_job LOG: the job id `oovr sweep --backend slurm` printed in LOG
+# ("submitted job N: ..."), empty when none.
+submitted_job() { sed -n "s/.*submitted job \([0-9][0-9]*\):.*/\1/p" "$1"; }
+
+# release_and_wait JOB: releases a held job, then waits (up to 30 s) until
+# squeue no longer lists it.
+release_and_wait() {
+  scontrol release "$1"
+  n=0
+  while [ -n "$(squeue -h -j "$1" -o %i 2>/dev/null)" ] && [ $n -lt 150 ]; do sleep 0.2; n=$((n + 1)); done
+}
+
 # start_slurm NODES: a SLURM cluster on localhost with NODES nodes, each a
 # slurmd of its own (slurmd -N NAME, its own port, spool, pid file and log:
 # node-local paths), slurmctld and the nodes on ports of this test only (away

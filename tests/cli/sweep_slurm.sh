@@ -60,14 +60,12 @@ done
 # Collected before the job has run (held), the missing points are said to be
 # coming, not to be run with --resume; released and ended, they are collected.
 "$oovr" sweep one.toml --db held.db --backend slurm --sbatch-arg=--hold > held.log 2>&1 || { cat held.log; exit 1; }
-job=$(sed -n "s/.*submitted job \([0-9][0-9]*\):.*/\1/p" held.log)
+job=$(submitted_job held.log)
 [ -n "$job" ] || { cat held.log; exit 1; }
 if "$oovr" sweep one.toml --db held.db --collect > early.log 2>&1; then cat early.log; exit 1; fi
 grep -q "0 of 1 points in the database, 0 of them failed; job $job still has 1 task queued or running (squeue -j $job): collect again once it has ended" early.log || {
   cat early.log; exit 1; }
-scontrol release "$job"
-n=0
-while [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] && [ $n -lt 150 ]; do sleep 0.2; n=$((n + 1)); done
+release_and_wait "$job"
 "$oovr" sweep one.toml --db held.db --collect > late.log 2>&1 || { cat late.log; tail -n 20 held.db.slurm/task-*.log; exit 1; }
 grep -q "collected 1 runs from 1 task files" late.log || { cat late.log; exit 1; }
 echo "SLURM sweep equals the local one: 8 runs in 3 array tasks, a hostile sweep name refused, a hostile job folder quoted, an early collect told to wait"

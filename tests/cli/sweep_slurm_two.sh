@@ -42,12 +42,10 @@ cmp local.dump slurm.dump || { diff local.dump slurm.dump | cut -c 1-300 | head 
 cp "$oovr" "$PWD/vanishing-oovr"
 "$PWD/vanishing-oovr" sweep two.toml --db gone.db --backend slurm --slurm-dir gone.slurm --sbatch-arg=--hold > gone.log 2>&1 || {
   cat gone.log; exit 1; }
-job=$(sed -n "s/.*submitted job \([0-9][0-9]*\):.*/\1/p" gone.log)
+job=$(submitted_job gone.log)
 [ -n "$job" ] || { cat gone.log; exit 1; }
 rm "$PWD/vanishing-oovr"
-scontrol release "$job"
-n=0
-while [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] && [ $n -lt 150 ]; do sleep 0.2; n=$((n + 1)); done
+release_and_wait "$job"
 if "$oovr" sweep two.toml --db gone.db --slurm-dir gone.slurm --collect > gone-collect.log 2>&1; then cat gone-collect.log; exit 1; fi
 [ "$(grep -c "wrote nothing .*its log ends: oovr: node node[12] has no executable $PWD/vanishing-oovr: the nodes need this oovr" gone-collect.log)" -eq 2 ] || {
   cat gone-collect.log; tail -n 3 gone.slurm/task-*.log; exit 1; }
