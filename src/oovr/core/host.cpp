@@ -1,13 +1,18 @@
 #include "oovr/core/host.h"
 
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include "oovr/core/error.h"
 #include "oovr/core/out_of_memory.h"
+#include "oovr/core/text.h"
 
 namespace oovr {
 
@@ -15,6 +20,19 @@ std::string host_name() {
   char buf[256] = {};
   if (::gethostname(buf, sizeof buf - 1) != 0) return "";
   return buf;
+}
+
+int run_command(const std::vector<std::string>& words, std::string& output) {
+  std::vector<const char*> argv;
+  for (const auto& w : words) argv.push_back(w.c_str());
+  const std::string line = shell_command_line(int(argv.size()), argv.data()) + " 2>&1";
+  FILE* p = popen(line.c_str(), "r");
+  if (!p) throw Error("cannot run '" + words.front() + "': " + std::strerror(errno));
+  char buf[4096];
+  size_t n = 0;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
 namespace {

@@ -5,11 +5,18 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace oovr {
 
 // gethostname(), or "" when the system will not say.
 std::string host_name();
+
+// Runs a program (words quoted for the shell) and waits for it: its exit
+// status (127: not found; 128 + N: killed by signal N), with what it printed
+// on both streams appended to `output`. Throws Error when it cannot start a
+// shell at all.
+int run_command(const std::vector<std::string>& words, std::string& output);
 
 // The bytes this process may still allocate before the kernel refuses or
 // kills it, and what bounds them ("the cgroup's memory.max"): the least of

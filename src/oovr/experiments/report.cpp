@@ -1,16 +1,13 @@
 #include "oovr/experiments/report.h"
 
-#include <sys/wait.h>
-
 #include <algorithm>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
-#include "oovr/core/text.h"
+#include "oovr/core/host.h"
 #include "oovr/experiments/claims.h"
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/svg_chart.h"
@@ -115,16 +112,8 @@ std::string write_report(const ReportOptions& o) {
     const char* env = std::getenv("OOVR_PYTHON");
     python = env && *env ? env : "/usr/bin/python3";
   }
-  const char* words[] = {python.c_str(), script.c_str(), o.db.c_str(), o.out.c_str(), claims.c_str()};
-  const std::string command = shell_command_line(5, words) + " 2>&1";
-  FILE* p = popen(command.c_str(), "r");
-  if (!p) throw Error("cannot run " + python);
   std::string output;
-  char buf[4096];
-  size_t n = 0;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
-  const int status = pclose(p);
-  const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const int rc = run_command({python, script, o.db, o.out, claims}, output);
   while (!output.empty() && output.back() == '\n') output.pop_back();
   if (rc != 0) {
     if (rc == 127) throw Error("cannot run " + python + " (set OOVR_PYTHON to a Python 3 with matplotlib)");

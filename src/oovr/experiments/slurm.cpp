@@ -14,6 +14,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/host.h"
 #include "oovr/core/text.h"
 #include "oovr/experiments/sweep_run.h"
 #include "oovr/run/result_json.h"
@@ -31,21 +32,6 @@ constexpr uint64_t kMaxResultsFile = uint64_t(1) << 34;
 
 std::string task_file(const std::string& dir, int task) {
   return (fs::path(dir) / ("task-" + std::to_string(task) + ".jsonl")).string();
-}
-
-// Runs a command (words quoted for the shell), returning its exit status
-// and what it printed on both streams.
-int run_command(const std::vector<std::string>& words, std::string& output) {
-  std::vector<const char*> argv;
-  for (const auto& w : words) argv.push_back(w.c_str());
-  const std::string line = shell_command_line(int(argv.size()), argv.data()) + " 2>&1";
-  FILE* p = popen(line.c_str(), "r");
-  if (!p) throw Error("cannot run '" + words.front() + "': " + std::strerror(errno));
-  char buf[4096];
-  size_t n = 0;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
 }  // namespace

@@ -1,18 +1,15 @@
 #include "oovr/experiments/svg_chart.h"
 
 #include <fmt/core.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <utility>
 
 #include "oovr/core/error.h"
+#include "oovr/core/host.h"
 #include "oovr/core/text.h"
 #include "oovr/schemes/i_scheme.h"
 
@@ -195,22 +192,14 @@ size_t write_pdf_and_png(const std::string& dir) {
     for (const auto& [format, ext] : {std::pair{"pdf", ".pdf"}, std::pair{"png", ".png"}}) {
       const std::string in = svg.string(), out = fs::path(svg).replace_extension(ext).string();
       // PNG at twice the SVG's size: sharp on a slide or a high-density screen.
-      const char* words[] = {"rsvg-convert", "--format",  format,    "--zoom", std::string(format) == "png" ? "2" : "1",
-                             "--output",     out.c_str(), in.c_str()};
-      const std::string line = shell_command_line(8, words) + " 2>&1";
-      FILE* p = popen(line.c_str(), "r");
-      if (!p) throw Error("cannot run rsvg-convert: " + std::string(std::strerror(errno)));
       std::string said;
-      char buf[1024];
-      size_t n = 0;
-      while ((n = fread(buf, 1, sizeof buf, p)) > 0)
-        if (said.size() < 4096) said.append(buf, std::min(n, 4096 - said.size()));
-      const int status = pclose(p);
-      const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      const int rc = run_command(
+          {"rsvg-convert", "--format", format, "--zoom", std::string(format) == "png" ? "2" : "1", "--output", out, in}, said);
       if (rc == 127)
         throw Error(
             "rsvg-convert is not installed, so the charts are SVG only (librsvg2-bin; scripts/install-deps.sh installs it)");
-      if (rc != 0) throw Error("rsvg-convert could not convert '" + in + "' to " + format + ": " + printable(said));
+      if (rc != 0)
+        throw Error("rsvg-convert could not convert '" + in + "' to " + format + ": " + printable(said.substr(0, 4096)));
     }
   return charts.size();
 }
