@@ -835,19 +835,18 @@ class Doc {
     energy();
   }
 
-  // The energy the traffic above costs (P18): the memory system's per
-  // frame, by part, and the same runs with links between nodes. Link
-  // energy is linear in its price, so the 250 pJ/bit column is the links'
-  // energy scaled from the run's own price, not another run.
+  // A scheme's memory-system energy per frame on scene `s`.
   Energy energy(const std::string& s, const std::string& scheme) const { return energy_of(get(s, scheme)); }
-  // The links' price per bit in these runs (the machine's, one for all links).
-  double link_price() const { return get(r.scenes.front(), "baseline").stats.at("link[0->1]", "energy_per_bit"); }
+  // The links' price per bit: the machine's, one for all links.
+  double link_price() const { return o.spec.memory.link_energy_per_bit.value; }
   // A run's energy with its links priced between nodes (250 pJ/bit): link
   // energy is linear in its price, so this is the run's own links scaled.
   double between_nodes(const Energy& x) const { return x.total() - x.links + x.links * 250e-12 / link_price(); }
 
+  // The energy the traffic above costs (P18): the memory system's per
+  // frame, by part, and the same runs with links between nodes (the 250
+  // pJ/bit columns: between_nodes, not another run).
   void energy() {
-    const auto e = [&](const std::string& s, const std::string& scheme) { return energy(s, scheme); };
     const double price = link_price();
     out += fmt::format(
         "### Energy (P18)\n\nThe memory system's energy per frame at {} (caches, DRAM and links at {:g} pJ/bit; "
@@ -861,7 +860,7 @@ class Doc {
     const auto mj = [](double j) { return fmt::format("{:.2f} mJ", j * 1e3); };
     std::vector<double> total, links, nodes;
     for (const auto& s : r.scenes) {
-      const Energy b = e(s, "baseline"), ob = e(s, "object"), oo = e(s, "oo-vr");
+      const Energy b = energy(s, "baseline"), ob = energy(s, "object"), oo = energy(s, "oo-vr");
       out += "| `" + s + "` | " + mj(b.total()) + " | " + mj(b.links) + " | " + times(ob.total() / b.total()) + " | " +
              times(oo.total() / b.total()) + " | " + times(oo.links / b.links) + " | " + times(oo.dram / b.dram) + " | " +
              mj(between_nodes(b)) + " | " + times(between_nodes(oo) / between_nodes(b)) + " |\n";
