@@ -40,6 +40,7 @@ struct Args {
   std::string timeline;
   std::string durations;
   bool no_cache = false;
+  bool no_share = false;
 };
 
 std::optional<double> parse_number(const std::string& text) {
@@ -119,6 +120,7 @@ int main(int argc, char** argv) {
   app.add_option("--timeline", a.timeline, "Write every load and point as CSV here");
   app.add_option("--durations", a.durations, "Predict from this timeline (written with --jobs 1) instead of running");
   app.add_flag("--no-cache", a.no_cache, "Render every trace instead of reading the trace cache");
+  app.add_flag("--no-share", a.no_share, "Run every point's memory replay, even where points differ only in timing");
   CLI11_PARSE(app, argc, argv);
   try {
     std::vector<unsigned> workers;
@@ -148,6 +150,7 @@ int main(int argc, char** argv) {
     SweepRunOptions o;
     o.jobs = a.jobs;
     o.use_cache = !a.no_cache;
+    o.share_replays = !a.no_share;
     o.command = "oovr-sweep-schedule";
     o.on_record = [&](const RunRecord& r) { ++(r.status == "done" ? done : failed); };
     o.on_task = [&](const SweepTask& t) { tasks.push_back(t); };
@@ -159,12 +162,28 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     double load_s = 0, point_s = 0;
-    for (const SweepTask& t : tasks) (t.kind == SweepTask::Kind::load ? load_s : point_s) += t.end_s - t.start_s;
+    std::map<SharedReplay::Use, std::pair<size_t, double>> replays;  // points and their seconds
+    for (const SweepTask& t : tasks) {
+      (t.kind == SweepTask::Kind::load ? load_s : point_s) += t.end_s - t.start_s;
+      if (t.kind == SweepTask::Kind::point) {
+        ++replays[t.replay].first;
+        replays[t.replay].second += t.end_s - t.start_s;
+      }
+    }
     const std::vector<GroupDurations> groups = group_durations(tasks);
     fmt::print(
         "{} points ({} done, {} failed) in {} groups: {:.2f} s wall; loads {:.2f} s, points {:.2f} s; "
         "workers busy {:.1f}% of the wall time\n",
         which.size(), done, failed, groups.size(), wall, load_s, point_s, 100.0 * (load_s + point_s) / (wall * double(a.jobs)));
+    // How the points' memory replays went (schemes/memory_tape.h).
+    const auto replay = [&](SharedReplay::Use u, const char* what) {
+      const auto [n, seconds] = replays[u];
+      if (n) fmt::print("  {} points {}: {:.2f} s, {:.3f} s a point\n", n, what, seconds, seconds / double(n));
+    };
+    replay(SharedReplay::Use::none, "with a replay of their own");
+    replay(SharedReplay::Use::recorded, "recorded a replay for others");
+    replay(SharedReplay::Use::played, "played another's replay back");
+    replay(SharedReplay::Use::mismatched, "ran in full after their calls differed from the recording");
     if (!a.timeline.empty()) {
       std::string csv = "kind,group,point,scene,scheme,resolution,worker,start_s,end_s\n";
       for (const SweepTask& t : tasks) {

@@ -406,6 +406,69 @@ TEST(ResultsDb, OtherFilesAreRefused) {
   EXPECT_NE(message_of([&] { ResultsDb db(dir.path().string()); }).find("is not a plain file"), std::string::npos);
 }
 
+TEST(SweepRun, PointsThatDifferOnlyInTimingShareOneMemoryReplay) {
+  // A link bandwidth sweep: the baseline's points (and baseline-1tb's,
+  // which replays as the baseline) share one memory replay per GPM count;
+  // OO-VR's runtime follows the timing, so its played runs differ from the
+  // recording and are run in full. The records are those of a sweep that
+  // shares nothing, whatever the jobs.
+  Sweep s = parse(R"(
+scenes = ["crowd"]
+schemes = ["baseline", "baseline-1tb", "oo-vr"]
+resolutions = ["96x64"]
+frames = 4
+[sweep]
+gpms = [2, 4]
+"link.bandwidth" = ["32GBps", "64GBps", "128GBps"]
+)");
+  resolve_all(s);
+  const auto run = [&](unsigned jobs, bool share, std::vector<SweepTask>* tasks) {
+    std::vector<RunRecord> records;
+    SweepRunOptions o;
+    o.jobs = jobs;
+    o.share_replays = share;
+    o.on_record = [&](const RunRecord& r) { records.push_back(r); };
+    o.on_task = [&](const SweepTask& t) {
+      if (tasks && t.kind == SweepTask::Kind::point) tasks->push_back(t);
+    };
+    std::vector<size_t> all(s.points.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+    run_points(s, all, o);
+    std::sort(records.begin(), records.end(), [](const RunRecord& a, const RunRecord& b) { return a.id < b.id; });
+    return records;
+  };
+  std::vector<SweepTask> none;
+  const std::vector<RunRecord> alone = run(1, false, &none);
+  ASSERT_EQ(alone.size(), 18u);
+  for (const SweepTask& t : none) EXPECT_EQ(t.replay, SharedReplay::Use::none);
+  for (unsigned jobs : {1u, 2u}) {
+    std::vector<SweepTask> tasks;
+    const std::vector<RunRecord> shared = run(jobs, true, &tasks);
+    ASSERT_EQ(shared.size(), alone.size());
+    for (size_t i = 0; i < alone.size(); ++i) {
+      EXPECT_EQ(shared[i].status, "done") << shared[i].error;
+      EXPECT_EQ(shared[i].result.dump(), alone[i].result.dump()) << shared[i].scheme << ", " << jobs << " jobs";
+      ASSERT_EQ(shared[i].metrics.size(), alone[i].metrics.size());
+      for (size_t k = 0; k < alone[i].metrics.size(); ++k) EXPECT_EQ(shared[i].metrics[k].value, alone[i].metrics[k].value);
+    }
+    // Per GPM count: the baseline's six points (three bandwidths, and
+    // baseline-1tb's three) are one recording and five played; OO-VR's
+    // three, one recording and two played or run in full (on two GPMs its
+    // runtime may send the same work wherever the links are slower; on
+    // four, not).
+    std::map<std::pair<std::string, SharedReplay::Use>, int> uses;
+    for (const SweepTask& t : tasks) {
+      const std::string scheme = s.points[t.point].scheme == "oo-vr" ? "oo-vr" : "baseline";
+      ++uses[{scheme, t.replay}];
+    }
+    EXPECT_EQ((uses[{"baseline", SharedReplay::Use::recorded}]), 2) << jobs << " jobs";
+    EXPECT_EQ((uses[{"baseline", SharedReplay::Use::played}]), 10) << jobs << " jobs";
+    EXPECT_EQ((uses[{"oo-vr", SharedReplay::Use::recorded}]), 2) << jobs << " jobs";
+    EXPECT_EQ((uses[{"oo-vr", SharedReplay::Use::mismatched}] + uses[{"oo-vr", SharedReplay::Use::played}]), 4) << jobs;
+    EXPECT_GE((uses[{"oo-vr", SharedReplay::Use::mismatched}]), 1) << jobs << " jobs";
+  }
+}
+
 TEST(SweepRun, PointsRunDoneOrFailedAndTheSameWhateverTheJobs) {
   Sweep s = parse(R"(
 scenes = ["crowd", "no-such-scene.obj"]

@@ -32,6 +32,7 @@
 #include "oovr/run/result_metrics.h"
 #include "oovr/scene/load.h"
 #include "oovr/scene/stereo.h"
+#include "oovr/schemes/memory_tape.h"
 
 namespace oovr {
 
@@ -137,9 +138,29 @@ RunRecord failed_record(const Sweep& s, size_t index, const std::string& error, 
 namespace {
 
 // One group of points over the same traces (trace_group), as the pool holds it.
+// Calls `f` when it goes out of scope, however the scope is left.
+template <class F>
+struct OnExit {
+  F f;
+  ~OnExit() { f(); }
+};
+
+// Points of a group that may share one memory replay (schemes/memory_tape.h):
+// the first to run records it, the others play it back.
+struct SharedReplaySlot {
+  size_t leader = 0;  // the point that records it
+  size_t left = 0;    // points that have not finished with it
+  std::promise<std::shared_ptr<const MemoryTape>> recorded;
+  std::shared_future<std::shared_ptr<const MemoryTape>> tape;  // null: recorded none (the leader failed)
+};
+
 struct Group {
-  std::vector<size_t> points;         // sweep indices, in the order given
-  std::optional<FrameWindow> frames;  // while loaded and held, unless the load failed
+  // Sweep indices: the first point of each shared replay first, then the
+  // others (so that no point waits for a recording not yet begun), each
+  // part in the order given.
+  std::vector<size_t> points;
+  std::optional<FrameWindow> frames;                           // while loaded and held, unless the load failed
+  std::map<size_t, std::shared_ptr<SharedReplaySlot>> shared;  // by sweep index, the points that share
 };
 
 // The sweep's points as one pool of work over all groups, handed out as
@@ -154,7 +175,7 @@ class PointPool {
       : m_sweep(s),
         m_options(o),
         m_start(std::chrono::steady_clock::now()),
-        m_schedule(group_points(s, which, m_groups), workers, trace_memory_budget()) {}
+        m_schedule(group_points(s, which, o.share_replays, m_groups), workers, trace_memory_budget()) {}
 
   void work(unsigned worker) {
     std::unique_lock<std::mutex> lock(m_mutex);
@@ -202,7 +223,8 @@ class PointPool {
  private:
   // Groups of the points in `which`, in the order their first point comes;
   // returns their sizes.
-  static std::vector<size_t> group_points(const Sweep& s, const std::vector<size_t>& which, std::vector<Group>& groups) {
+  static std::vector<size_t> group_points(const Sweep& s, const std::vector<size_t>& which, bool share,
+                                          std::vector<Group>& groups) {
     std::map<std::string, size_t> index;
     for (size_t i : which) {
       const SweepPoint& p = s.points.at(i);
@@ -210,9 +232,52 @@ class PointPool {
       if (added) groups.emplace_back();
       groups[it->second].points.push_back(i);
     }
+    if (share)
+      for (Group& g : groups) share_replays(s, g);
     std::vector<size_t> sizes;
     for (const Group& g : groups) sizes.push_back(g.points.size());
     return sizes;
+  }
+
+  // Finds the points of `g` whose runs may share a memory replay (equal
+  // shared_replay_key and window: points that differ only in timing, such
+  // as a link bandwidth sweep of the baseline) and puts each key's first
+  // point before the others.
+  static void share_replays(const Sweep& s, Group& g) {
+    std::map<std::string, std::vector<size_t>> by_key;
+    std::vector<std::string> keys;
+    for (size_t i : g.points) {
+      const SweepPoint& p = s.points[i];
+      std::string key;
+      try {
+        key = shared_replay_key(find_scheme(p.scheme), p.machine) + "\nwindow=" + std::to_string(p.window);
+      } catch (const Error&) {
+        // An unknown scheme: the point fails when it runs, alone.
+      }
+      keys.push_back(key);
+      if (!key.empty()) by_key[key].push_back(i);
+    }
+    std::vector<size_t> first, rest;
+    for (size_t k = 0; k < g.points.size(); ++k) {
+      const size_t i = g.points[k];
+      const auto it = keys[k].empty() ? by_key.end() : by_key.find(keys[k]);
+      if (it == by_key.end() || it->second.size() < 2) {
+        first.push_back(i);
+        continue;
+      }
+      if (it->second.front() == i) {
+        auto slot = std::make_shared<SharedReplaySlot>();
+        slot->leader = i;
+        slot->left = it->second.size();
+        slot->tape = slot->recorded.get_future().share();
+        for (size_t j : it->second) g.shared[j] = slot;
+        first.push_back(i);
+      } else {
+        rest.push_back(i);
+      }
+    }
+    g.points = first;
+    g.points.insert(g.points.end(), rest.begin(), rest.end());
   }
 
   // Runs `f` with the pool's lock released (the caller released it) and
@@ -314,9 +379,35 @@ class PointPool {
     RunRecord r = record_of(m_sweep, i, m_options.command);
     const double t0 = seconds();
     flight({i}, true);
+    // A shared replay: the leader records it and hands it on however its
+    // run ends (a failed one hands on none: the others run in full); the
+    // others wait for it, and the last to finish lets it go.
+    std::shared_ptr<SharedReplaySlot> slot;
+    std::shared_future<std::shared_ptr<const MemoryTape>> tape;
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      const auto it = m_groups[index].shared.find(i);
+      if (it != m_groups[index].shared.end()) {
+        slot = it->second;
+        tape = slot->tape;
+      }
+    }
+    SharedReplay share;
+    bool handed_on = false;
+    const auto hand_on = [&] {
+      if (!slot || handed_on) return;
+      handed_on = true;
+      if (slot->leader == i) slot->recorded.set_value(share.use == SharedReplay::Use::recorded ? share.tape : nullptr);
+      std::lock_guard<std::mutex> lock(m_mutex);
+      if (--slot->left == 0) slot->tape = {};
+    };
+    const OnExit<decltype(hand_on)&> guard{hand_on};
+    if (slot && slot->leader != i) share.tape = tape.get();
+    SharedReplay* shared = slot && (slot->leader == i || share.tape) ? &share : nullptr;
     inject_fault(p.id);
     try {
-      const SchemeResult result = run_scheme_window(find_scheme(p.scheme), *frames.scene, *frames.frames, p.machine, p.window);
+      const SchemeResult result =
+          run_scheme_window(find_scheme(p.scheme), *frames.scene, *frames.frames, p.machine, p.window, nullptr, shared);
       r.status = "done";
       r.result = stored_result_json(result);  // its statistics are its metrics rows
       r.metrics = metrics_of(result);
@@ -329,10 +420,11 @@ class PointPool {
       r.status = "failed";
       r.error = out_of_memory_message("simulating " + p.scheme + " on " + p.scene);
     }
+    hand_on();
     const double t1 = seconds();
     r.wall_s = t1 - t0;
     emit(r);
-    task({SweepTask::Kind::point, index, i, worker, t0, t1});
+    task({SweepTask::Kind::point, index, i, worker, t0, t1, share.use});
   }
 
   const Sweep& m_sweep;

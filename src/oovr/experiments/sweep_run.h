@@ -17,6 +17,7 @@
 
 #include "oovr/experiments/results_db.h"
 #include "oovr/experiments/sweep.h"
+#include "oovr/schemes/i_scheme.h"
 
 namespace oovr {
 
@@ -30,12 +31,19 @@ struct SweepTask {
   size_t point;  // the point run, or the group's first point for a load
   unsigned worker;
   double start_s, end_s;
+  // A point's memory replay (schemes/memory_tape.h): none (not shared),
+  // recorded for points that differ from it only in timing, played back
+  // from such a point's recording, or run in full after its calls differed.
+  SharedReplay::Use replay = SharedReplay::Use::none;
 };
 
 struct SweepRunOptions {
   unsigned jobs = 0;      // points run at once (0: every core)
   bool use_cache = true;  // the trace cache ($OOVR_CACHE_DIR)
-  std::string command;    // the command line, recorded with every run
+  // Points that differ only in timing share one memory replay (the results
+  // are the same either way; off only to measure what sharing saves).
+  bool share_replays = true;
+  std::string command;  // the command line, recorded with every run
   // Called once per point, as it finishes, one call at a time (from worker
   // threads): store or write the record here.
   std::function<void(const RunRecord&)> on_record;

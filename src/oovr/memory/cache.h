@@ -48,6 +48,11 @@ class Cache {
     insert(line, write, category, ev, first);
     return false;
   }
+  // Hits on the most recently used line of a set, found by the caller
+  // without a lookup (MemorySystem::access): counted, nothing else, since
+  // such a hit changes no set's order and replacement policies read only
+  // the order of the ages (replacement/i_replacement.h).
+  void count_repeated_hits(uint64_t n) { s_hits += n; }
   // True when the line is cached; changes nothing.
   bool contains(uint64_t line) const;
   // Drops the line if cached (no write-back: used for write-through copies).

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <future>
+#include <map>
 
 #include "oovr/core/parallel.h"
 #include "oovr/scene/load.h"
@@ -37,12 +39,42 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
                            load_window(std::make_shared<const Scene>(load_scene(r.scene)), r.rig, machine, w));
   const auto t1 = std::chrono::steady_clock::now();
   // Schemes are independent runs: in parallel, each into its own slot.
-  s.results.resize(schemes.size());
+  // Schemes whose runs may share a memory replay (the baseline and
+  // baseline-1tb: schemes/memory_tape.h) share it: the first of them
+  // records it, the others play it back once it is made. The first of
+  // each key starts before any other, so that nobody waits for a run not
+  // yet begun.
+  const size_t n = schemes.size();
+  std::vector<std::string> keys(n);
+  std::map<std::string, size_t> first;
+  std::vector<size_t> order, sharing(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    keys[i] = shared_replay_key(schemes[i], machine);
+    if (first.emplace(keys[i], i).second) order.push_back(i);
+    ++sharing[first[keys[i]]];
+  }
+  for (size_t i = 0; i < n; ++i)
+    if (first[keys[i]] != i) order.push_back(i);
+  std::vector<std::promise<std::shared_ptr<const MemoryTape>>> recorded(n);
+  std::vector<std::shared_future<std::shared_ptr<const MemoryTape>>> tapes;
+  for (auto& p : recorded) tapes.push_back(p.get_future().share());
+  s.results.resize(n);
   std::atomic<size_t> done{0};
-  say(fmt::format("simulating {} scheme{} on {}", schemes.size(), schemes.size() == 1 ? "" : "s", frames));
-  parallel_for(schemes.size(), r.jobs, [&](size_t i) {
-    s.results[i] = run_scheme_window(schemes[i], *s.window->scene, *s.window->frames, machine, s.frames);
-    say(fmt::format("{} of {} schemes simulated ({} done)", ++done, schemes.size(), schemes[i].name));
+  say(fmt::format("simulating {} scheme{} on {}", n, n == 1 ? "" : "s", frames));
+  parallel_for(n, r.jobs, [&](size_t k) {
+    const size_t i = order[k], leader = first[keys[i]];
+    SharedReplay share;
+    if (leader != i) share.tape = tapes[leader].get();
+    const bool shares = leader != i ? bool(share.tape) : sharing[i] > 1;
+    try {
+      s.results[i] = run_scheme_window(schemes[i], *s.window->scene, *s.window->frames, machine, s.frames, nullptr,
+                                       shares ? &share : nullptr);
+    } catch (...) {
+      if (leader == i) recorded[i].set_value(nullptr);  // the others run in full
+      throw;
+    }
+    if (leader == i) recorded[i].set_value(share.tape);
+    say(fmt::format("{} of {} schemes simulated ({} done)", ++done, n, schemes[i].name));
   });
   const auto t2 = std::chrono::steady_clock::now();
   s.trace_s = std::chrono::duration<double>(t1 - t0).count();

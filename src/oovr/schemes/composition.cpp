@@ -137,7 +137,7 @@ void Composer::place_final_frame() {
   for (int ty = 0; ty < f.tiles_y; ++ty)
     for (int tx = 0; tx < f.tiles_x; ++tx)
       for (uint32_t region : {m_sim.colour(0), m_sim.depth(0)})
-        m_sim.memory().place(layout.frame_line(region, tx, ty, 0), m_owner(tx, ty));
+        m_sim.place(layout.frame_line(region, tx, ty, 0), m_owner(tx, ty));
 }
 
 bool Composer::deferred() const {

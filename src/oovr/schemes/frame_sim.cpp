@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 
 #include "oovr/core/error.h"
@@ -54,6 +55,9 @@ std::vector<ObjectRecords> records_by_object(const FrameTrace& t, size_t objects
 namespace {
 
 std::atomic<bool> g_law_checks{true};
+
+// What each memory call folds into the calls' hash first (FrameSim::mix).
+enum CallTag : uint64_t { kEndFrame = 1, kEndDraw, kPlace, kGeometry, kRecord, kJob, kTransfer, kPreallocate, kFinish, kCopies };
 
 }  // namespace
 
@@ -123,7 +127,12 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_timing_spec = in.spec->timing;
   const FrameTrace& f = *in.frames[0];
   CarriedState* carried = in.carried.get();
-  if (carried && carried->memory) {
+  if (carried) {
+    m_recording = carried->recording.get();
+    m_playing = carried->playing.get();
+    m_calls = carried->calls;
+  }
+  if (carried && carried->layout) {
     // The frame before left the memory system as it is: pages stay where
     // they were placed. The frame boundary invalidates what the
     // configuration says it does (remote caches).
@@ -131,11 +140,15 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
     m_map = carried->map;
     m_layout = carried->layout;
     m_memory = carried->memory;
+    m_topology = carried->topology;
     m_colour = carried->colour;
     m_depth = carried->depth;
-    m_memory->end_frame();
-    m_before = m_memory->totals();
-    m_memory->report(m_stats_before);
+    mix(kEndFrame);
+    if (m_memory) {
+      m_memory->end_frame();
+      m_before = m_memory->totals();
+      m_memory->report(m_stats_before);
+    }
   } else {
     m_map = std::make_shared<AddressMap>(m_memory_spec.page, m_memory_spec.line);
     m_layout = std::make_shared<SceneLayout>(*m_map, *in.scene, f);
@@ -145,19 +158,26 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
       m_colour.push_back(m_map->add("frame" + std::to_string(k) + ".colour", Category::colour, m_layout->frame_bytes()));
       m_depth.push_back(m_map->add("frame" + std::to_string(k) + ".depth", Category::depth, m_layout->frame_bytes()));
     }
-    m_memory = std::make_shared<MemorySystem>(m_memory_spec, *m_map);
-    m_before = m_memory->totals();
-    m_memory->report(m_stats_before);
+    if (m_playing) {
+      // The played run's links, for its timing; no caches.
+      m_topology = Topologies::find(m_memory_spec.topology)->make(gpms());
+    } else {
+      m_memory = std::make_shared<MemorySystem>(m_memory_spec, *m_map);
+      m_topology = std::shared_ptr<const Topology>(m_memory, &m_memory->topology());
+      m_before = m_memory->totals();
+      m_memory->report(m_stats_before);
+    }
     if (carried) {
       carried->map = m_map;
       carried->layout = m_layout;
       carried->memory = m_memory;
+      carried->topology = m_topology;
       carried->framebuffers = framebuffers;
       carried->colour = m_colour;
       carried->depth = m_depth;
     }
   }
-  m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, m_memory->topology(), m_engine);
+  m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, topology(), m_engine);
   m_last.assign(size_t(gpms()), -1);
   m_draw.assign(size_t(gpms()), -1);
   m_draw_ends.assign(size_t(gpms()), {});
@@ -165,6 +185,36 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   m_result.tile_inter_gpm_bytes.assign(size_t(f.tiles_x) * size_t(f.tiles_y), 0);
   m_result.config = in.spec->entries;
   if (law_checks()) m_ledger = std::make_unique<RunLedger>(in.frames);
+}
+
+MemorySystem& FrameSim::memory() {
+  if (!m_memory) throw TapeMismatch("the scheme reads the memory system, which a played run does not have");
+  return *m_memory;
+}
+
+FrameSim::Copies FrameSim::copies() {
+  mix(kCopies);
+  Copies c;
+  if (m_playing) {
+    c.evicted = m_playing->value(m_calls);
+    c.refused = m_playing->value(m_calls);
+    c.peak_bytes = m_playing->value(m_calls);
+    return c;
+  }
+  c.evicted = m_memory->totals().copies_evicted;
+  c.refused = m_memory->totals().copies_refused;
+  for (int g = 0; g < gpms(); ++g) c.peak_bytes = std::max(c.peak_bytes, m_memory->copy_peak_bytes(g));
+  if (m_recording)
+    for (uint64_t v : {c.evicted, c.refused, c.peak_bytes}) m_recording->value(m_calls, v);
+  return c;
+}
+
+void FrameSim::place(uint64_t address, int gpm) {
+  gpm_arg(gpm, "place");
+  mix(kPlace);
+  mix(address);
+  mix(uint64_t(gpm));
+  if (m_memory) (void)m_memory->place(address, gpm);
 }
 
 int FrameSim::last_unit(int gpm) const { return m_last[size_t(gpm_arg(gpm, "last_unit"))]; }
@@ -176,7 +226,7 @@ void FrameSim::declare_repeats(int times) {
 
 UnitTraffic FrameSim::empty_traffic() const {
   UnitTraffic t;
-  t.reset(gpms(), int(m_memory->topology().links().size()));
+  t.reset(gpms(), int(topology().links().size()));
   return t;
 }
 
@@ -234,7 +284,9 @@ void FrameSim::end_draw(int gpm) {
   // when it had no work here) is.
   const int last = m_last[size_t(gpm)];
   m_draw_ends[size_t(gpm)].push_back(std::max(last, m_draw[size_t(gpm)]));
-  m_memory->end_draw(gpm);
+  mix(kEndDraw);
+  mix(uint64_t(gpm));
+  if (m_memory) m_memory->end_draw(gpm);
 }
 
 int FrameSim::geometry(int gpm, uint32_t object, int vertex_passes, uint64_t triangles, std::vector<int> after, int frame_k) {
@@ -276,18 +328,26 @@ const Object& FrameSim::object_arg(uint32_t object, const FrameTrace& f, const c
 int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double begin, double end, uint64_t vertices,
                             uint64_t triangles, std::vector<int> after) {
   if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
-  const Mesh& mesh = scene().meshes[size_t(o.mesh)];
-  m_scratch.clear();
-  const uint64_t line = m_memory_spec.line.value;
-  // The lines holding bytes [begin, end) of a buffer of `bytes`.
-  const auto lines = [&](uint64_t base, uint64_t bytes, Category c) {
-    const uint64_t from = uint64_t(std::floor(begin * double(bytes))), to = uint64_t(std::ceil(end * double(bytes)));
-    for (uint64_t a = from / line * line; a < to; a += line) m_scratch.push_back({base + a, c, false});
-  };
-  lines(m_map->region(m_layout->vertex_region(o.mesh)).base, mesh.vertex_bytes(), Category::vertex);
-  lines(m_map->region(m_layout->index_region(o.mesh)).base, mesh.indices.size() * sizeof(uint32_t), Category::index);
   UnitTraffic t = empty_traffic();
-  m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
+  for (uint64_t x : {uint64_t(kGeometry), uint64_t(gpm), uint64_t(object), uint64_t(o.mesh), std::bit_cast<uint64_t>(begin),
+                     std::bit_cast<uint64_t>(end)})
+    mix(x);
+  if (m_playing) {
+    m_playing->traffic(m_calls, t);
+  } else {
+    const Mesh& mesh = scene().meshes[size_t(o.mesh)];
+    m_scratch.clear();
+    const uint64_t line = m_memory_spec.line.value;
+    // The lines holding bytes [begin, end) of a buffer of `bytes`.
+    const auto lines = [&](uint64_t base, uint64_t bytes, Category c) {
+      const uint64_t from = uint64_t(std::floor(begin * double(bytes))), to = uint64_t(std::ceil(end * double(bytes)));
+      for (uint64_t a = from / line * line; a < to; a += line) m_scratch.push_back({base + a, c, false});
+    };
+    lines(m_map->region(m_layout->vertex_region(o.mesh)).base, mesh.vertex_bytes(), Category::vertex);
+    lines(m_map->region(m_layout->index_region(o.mesh)).base, mesh.indices.size() * sizeof(uint32_t), Category::index);
+    m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
+    tape_traffic(t);
+  }
   WorkCounts w;
   w.vertices = vertices;
   w.triangles = triangles;
@@ -300,28 +360,35 @@ int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double be
 void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
                       WorkCounts& w) {
   if (m_ledger) m_ledger->rasterised(frame, r, gpm, m_draw[size_t(gpm)], colour_fb);
-  m_scratch.clear();
-  for (uint32_t k = 0; k < r.tex_count; ++k)
-    m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + k]), Category::texture, false});
-  for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
-    const uint32_t bit = 1u << l;
-    if (r.depth_read_mask & bit)
-      m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, false});
-    if (r.colour_read_mask & bit)  // blending reads the frame's colour
-      m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, false});
-    if (r.depth_write_mask & bit)
-      m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, true});
-    if (r.colour_write_mask & bit)
-      m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, true});
-  }
-  UnitTraffic t = empty_traffic();
   const uint32_t tile = uint32_t(r.tile_y) * uint32_t(frame.tiles_x) + r.tile_x;
-  m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, t);
-  if (&frame == m_in.frames[0]) {
-    m_result.tile_inter_gpm_bytes[tile] += t.total_inter_gpm_bytes();
-    m_owner_log.push_back({{r.object, tile}, gpm});
+  if (&frame == m_in.frames[0]) m_owner_log.push_back({{r.object, tile}, gpm});
+  // The record names its lines: which one of which frame, on which GPM and
+  // framebuffers.
+  const uint64_t k = uint64_t(std::find(m_in.frames.begin(), m_in.frames.end(), &frame) - m_in.frames.begin());
+  for (uint64_t x :
+       {uint64_t(kRecord), uint64_t(gpm), k, uint64_t(&r - frame.tiles.data()), uint64_t(colour_fb), uint64_t(depth_fb)})
+    mix(x);
+  if (!m_playing) {
+    m_scratch.clear();
+    for (uint32_t i = 0; i < r.tex_count; ++i)
+      m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + i]), Category::texture, false});
+    for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
+      const uint32_t bit = 1u << l;
+      if (r.depth_read_mask & bit)
+        m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, false});
+      if (r.colour_read_mask & bit)  // blending reads the frame's colour
+        m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, false});
+      if (r.depth_write_mask & bit)
+        m_scratch.push_back({m_layout->frame_line(depth(depth_fb), r.tile_x, r.tile_y, l), Category::depth, true});
+      if (r.colour_write_mask & bit)
+        m_scratch.push_back({m_layout->frame_line(colour(colour_fb), r.tile_x, r.tile_y, l), Category::colour, true});
+    }
+    // Straight into the unit's total (access adds to it); the record's
+    // own inter-GPM bytes are what the total gained.
+    const uint64_t before = total.total_inter_gpm_bytes();
+    m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, total);
+    if (&frame == m_in.frames[0]) m_result.tile_inter_gpm_bytes[tile] += total.total_inter_gpm_bytes() - before;
   }
-  total += t;
   w.covered += r.covered;
   w.quads += r.quads;
   w.fragment_instructions += uint64_t(r.quads) * 4 * frame.objects[r.object].fragment_instructions;
@@ -381,6 +448,12 @@ std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const
       const int depth_fb = job.depth_fbs.empty() ? colour_fb : job.depth_fbs[k];
       replay(job.gpm, *job.records[k], colour_fb, depth_fb, frame, traffic[j], work[j]);
     }
+  // Each job's traffic, the sum over its records, is one answer.
+  for (size_t j = 0; j < n; ++j) {
+    mix(kJob);
+    if (m_playing) m_playing->traffic(m_calls, traffic[j]);
+    else tape_traffic(traffic[j]);
+  }
   std::vector<int> units;
   for (size_t j = 0; j < n; ++j) {
     TimelineUnit info;
@@ -396,14 +469,20 @@ int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector
   gpm_arg(to, "transfer", "to_gpm");
   after_arg(after, "transfer");
   UnitTraffic t = empty_traffic();
-  m_memory->transfer(from, to, bytes, c, t);
+  for (uint64_t x : {uint64_t(kTransfer), uint64_t(from), uint64_t(to), bytes, uint64_t(c)}) mix(x);
+  if (m_playing) {
+    m_playing->traffic(m_calls, t);
+  } else {
+    m_memory->transfer(from, to, bytes, c, t);
+    tape_traffic(t);
+  }
   // A transfer between GPMs waits for the link latency of every hop.
   TimelineUnit info;
   info.kind = TimelineUnit::Kind::transfer;
   info.gpm = to;
   info.from = from;
   return add_movement(m_machine->transfer_demand(t), std::move(after),
-                      m_memory_spec.link_latency.value * double(m_memory->topology().route(from, to).size()), info);
+                      m_memory_spec.link_latency.value * double(topology().route(from, to).size()), info);
 }
 
 int FrameSim::add_movement(std::vector<std::pair<int, double>> demand, std::vector<int> after, double latency,
@@ -424,11 +503,23 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
   gpm_arg(gpm, "preallocate");
   after_arg(after, "preallocate");
   UnitTraffic t = empty_traffic();
-  m_memory->begin_batch();
+  mix(kPreallocate);
+  mix(uint64_t(gpm));
+  for (uint32_t r : regions) mix(r);
   uint64_t copied = 0;
-  for (uint32_t r : regions) {
-    const Region& reg = m_map->region(r);
-    copied += m_memory->preallocate(reg.base, reg.bytes, gpm, t);
+  if (m_playing) {
+    copied = m_playing->value(m_calls);
+    m_playing->traffic(m_calls, t);
+  } else {
+    m_memory->begin_batch();
+    for (uint32_t r : regions) {
+      const Region& reg = m_map->region(r);
+      copied += m_memory->preallocate(reg.base, reg.bytes, gpm, t);
+    }
+    if (m_recording) {
+      m_recording->value(m_calls, copied);
+      m_recording->traffic(m_calls, t);
+    }
   }
   if (copied == 0) return -1;
   // The copies' DRAM reads and writes and their links.
@@ -518,21 +609,37 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
   s.owner.clear();
   for (size_t i = 0; i < m_owner_log.size(); ++i)
     if (i + 1 == m_owner_log.size() || m_owner_log[i + 1].first != m_owner_log[i].first) s.owner.push_back(m_owner_log[i]);
-  // This frame's traffic: the totals since it began.
-  const TrafficTotals& t = m_memory->totals();
-  for (int c = 0; c < kCategories; ++c)
-    s.inter_gpm_bytes[size_t(c)] = t.inter_gpm_bytes[size_t(c)] - m_before.inter_gpm_bytes[size_t(c)];
-  s.local_dram_bytes = 0;
-  for (int g = 0; g < gpms(); ++g)
+  // This frame's traffic: the totals since it began; the footprint; the
+  // memory system's statistics since the frame began (or all of them, as
+  // the recording read them).
+  mix(kFinish);
+  if (m_playing) {
+    const MemoryTape::FrameEnd& e = m_playing->frame_end(m_calls);
+    s.inter_gpm_bytes = e.inter_gpm_bytes;
+    s.local_dram_bytes = e.local_dram_bytes;
+    s.footprint_bytes = e.footprint_bytes;
+    s.stats = e.stats;
+    if (e.tile_inter_gpm_bytes.size() != s.tile_inter_gpm_bytes.size())
+      throw TapeMismatch("the recording's frame has another number of tiles");
+    s.tile_inter_gpm_bytes = e.tile_inter_gpm_bytes;
+  } else {
+    const TrafficTotals& t = m_memory->totals();
     for (int c = 0; c < kCategories; ++c)
-      s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
-                            t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
-  s.footprint_bytes = m_memory->footprint_bytes();
-  // This frame's statistics: the memory system's since the frame began,
-  // the engine's of this run.
-  Stats now;
-  m_memory->report(now);
-  s.stats = now.since(m_stats_before);
+      s.inter_gpm_bytes[size_t(c)] = t.inter_gpm_bytes[size_t(c)] - m_before.inter_gpm_bytes[size_t(c)];
+    s.local_dram_bytes = 0;
+    for (int g = 0; g < gpms(); ++g)
+      for (int c = 0; c < kCategories; ++c)
+        s.local_dram_bytes += t.dram_read_bytes[size_t(g)][size_t(c)] - m_before.dram_read_bytes[size_t(g)][size_t(c)] +
+                              t.dram_write_bytes[size_t(g)][size_t(c)] - m_before.dram_write_bytes[size_t(g)][size_t(c)];
+    s.footprint_bytes = m_memory->footprint_bytes();
+    Stats now;
+    m_memory->report(now);
+    s.stats = now.since(m_stats_before);
+    if (m_recording)
+      m_recording->frame_end(m_calls,
+                             {s.inter_gpm_bytes, s.local_dram_bytes, s.footprint_bytes, s.stats, s.tile_inter_gpm_bytes});
+  }
+  if (m_in.carried) m_in.carried->calls = m_calls;
   m_engine.report(r, s.stats);
   // Never seen so far; said when it happens rather than hidden.
   if (m_engine.unconverged())

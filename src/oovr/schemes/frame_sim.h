@@ -20,9 +20,11 @@
 #include <span>
 #include <vector>
 
+#include "oovr/core/rng.h"
 #include "oovr/memory/memory_system.h"
 #include "oovr/schemes/conservation.h"
 #include "oovr/schemes/i_scheme.h"
+#include "oovr/schemes/memory_tape.h"
 #include "oovr/timing/engine.h"
 #include "oovr/timing/gpm_model.h"
 
@@ -36,6 +38,15 @@ struct CarriedState {
   std::vector<uint32_t> colour, depth;  // framebuffer regions
   // Values a scheme keeps between frames (e.g. a predictor's fitted rates).
   std::map<std::string, std::vector<double>> values;
+  // A memory replay shared with runs that differ only in timing
+  // (schemes/memory_tape.h): the window's runs record their memory system's
+  // answers on `recording`, or play `playing` back instead of having a
+  // memory system (then `memory` stays null and `topology` is the links').
+  // `calls`: the running hash of the window's memory calls.
+  std::shared_ptr<MemoryTape> recording;
+  std::shared_ptr<MemoryTape::Player> playing;
+  std::shared_ptr<const Topology> topology;
+  uint64_t calls = 0;
 };
 
 // Every method checks its arguments (GPMs, framebuffers, objects, frames,
@@ -52,7 +63,10 @@ class FrameSim {
 
   int gpms() const { return m_memory_spec.gpms; }
   int sms() const { return m_memory_spec.sms_per_gpm; }
-  MemorySystem& memory() { return *m_memory; }
+  // The memory system itself, for a scheme that reads it directly (its
+  // copies' totals). A run playing a shared memory replay has none: it
+  // throws TapeMismatch, and the run is made again in full.
+  MemorySystem& memory();
   const SceneLayout& layout() const { return *m_layout; }
   const MachineModel& machine() const { return *m_machine; }
   const TimingSpec& timing() const { return m_timing_spec; }
@@ -141,6 +155,18 @@ class FrameSim {
   // GPM `gpm`'s pipeline's last unit so far (-1: none yet): where work that
   // must follow everything the GPM was given starts (composition rounds).
   int last_unit(int gpm) const;
+  // The memory system's copies made ahead of use (pre-allocation, Section
+  // 5.2; MemorySystem::preallocate): pages dropped for room and refused for
+  // want of it since the memory system was built, and the most bytes of
+  // copies one GPM has held. A played run reads them from the tape.
+  struct Copies {
+    uint64_t evicted = 0, refused = 0, peak_bytes = 0;
+  };
+  Copies copies();
+  // Makes `gpm` the home of the page holding `address` if nobody has
+  // touched it yet (MemorySystem::place): a buffer the application maps
+  // into a GPM's DRAM, as a sort-last scheme maps its final frame.
+  void place(uint64_t address, int gpm);
   // The scheme renders some records up to `times` times by design (the
   // conservation check allows it; schemes/conservation.h).
   void declare_repeats(int times);
@@ -186,13 +212,25 @@ class FrameSim {
   void replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, const FrameTrace& frame, UnitTraffic& total,
               WorkCounts& w);
   UnitTraffic empty_traffic() const;
+  const Topology& topology() const { return *m_topology; }
+  // The memory calls' running hash (CarriedState::calls): every argument
+  // that decides what the memory system answers is folded in.
+  void mix(uint64_t x) { m_calls = mix64(m_calls ^ x); }
+  // A unit's traffic: recorded when recording, played back when playing.
+  void tape_traffic(const UnitTraffic& t) {
+    if (m_recording) m_recording->traffic(m_calls, t);
+  }
 
   SchemeInput m_in;
   MemorySpec m_memory_spec;
   TimingSpec m_timing_spec;
   std::shared_ptr<AddressMap> m_map;
   std::shared_ptr<SceneLayout> m_layout;
-  std::shared_ptr<MemorySystem> m_memory;
+  std::shared_ptr<MemorySystem> m_memory;      // null while playing a tape
+  std::shared_ptr<const Topology> m_topology;  // the memory system's, or the played run's own
+  MemoryTape* m_recording = nullptr;
+  MemoryTape::Player* m_playing = nullptr;
+  uint64_t m_calls = 0;    // carried back at finish
   TrafficTotals m_before;  // the memory system's totals when this frame began
   Stats m_stats_before;    // and its statistics
   TimingEngine m_engine;

@@ -29,6 +29,7 @@ namespace oovr {
 // stay where first touch or pre-allocation put them, as a GPU's memory does
 // between frames, and values a scheme learns at run time.
 struct CarriedState;
+class MemoryTape;
 
 struct SchemeInput {
   const Scene* scene = nullptr;
@@ -141,6 +142,12 @@ struct SchemeFactory {
   // The configuration sections of its own it reads (ConfigSection::
   // scheme_section, e.g. OO-VR's "oo"), besides the machine's.
   std::vector<std::string> sections = {};
+  // The scheme whose distribution and placement this one's are, on a
+  // machine that differs only in timing (baseline-1tb is the baseline with
+  // faster links): their runs may share one memory replay
+  // (SharedReplay). Empty: its own. A wrong claim costs time, never a
+  // result: a played run whose calls differ is run again in full.
+  std::string replays_as = {};
 };
 using Schemes = Registry<SchemeFactory>;
 
@@ -228,8 +235,29 @@ class FramesInMemory final : public FrameSequence {
 // (frames[0]). `runs`, when given, receives every run's own result. Throws
 // Error when `window` is not a multiple of m or frames are missing.
 // Only the frames of the group being run are held at a time.
+//
+// `share`, when given, shares the window's memory replay with other runs
+// (schemes/memory_tape.h): with no tape, the run records one into it; with
+// one (recorded by a run with the same shared_replay_key), the run plays it
+// back instead of simulating the caches, and is run again in full if its
+// calls differ from the recording's. Either way the result is what a run
+// without `share` gives, bit for bit.
+struct SharedReplay {
+  std::shared_ptr<const MemoryTape> tape;
+  enum class Use { none, recorded, played, mismatched } use = Use::none;
+  std::string why;  // with mismatched: the first difference
+};
 SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
-                               int window, std::vector<SchemeResult>* runs = nullptr);
+                               int window, std::vector<SchemeResult>* runs = nullptr, SharedReplay* share = nullptr);
+// Runs that may share a memory replay have equal keys: the scheme's
+// replays_as, and every key of the machine its run reads (after its
+// configure()) but those that only set timing (timing_only_key) and the
+// composition's (which schemes that compose check by their calls).
+std::string shared_replay_key(const SchemeRef& scheme, const MachineSpec& spec);
+// Whether a configuration key only sets timing: the memory system never
+// sees it (bandwidths, latencies, the GPMs' clock and throughputs, the
+// timing model's switches).
+bool timing_only_key(const std::string& key);
 SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const Config& config,
                                int window, std::vector<SchemeResult>* runs = nullptr);
 SchemeResult run_scheme_window(const std::string& name, const Scene& scene, const FrameSequence& frames, const Config& config,

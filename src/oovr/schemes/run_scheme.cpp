@@ -1,7 +1,10 @@
 // Running a scheme (by name or as a SchemeRef), on one frame or over a window of frames in
 // sequence (i_scheme.h).
 #include <algorithm>
+#include <cstdint>
+#include <functional>
 #include <new>
+#include <set>
 
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
@@ -122,8 +125,11 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
   return run_scheme_window(scheme, scene, frames, MachineSpec::from_config(config), window, runs);
 }
 
-SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
-                               int window, std::vector<SchemeResult>* runs) {
+namespace {
+
+// The window's runs; `tape` sets up their carried state's shared replay.
+SchemeResult run_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
+                        int window, std::vector<SchemeResult>* runs, const std::function<void(CarriedState&)>& tape) {
   const std::string& name = scheme.name;
   // Configured once for the window's runs.
   const std::shared_ptr<const MachineSpec> machine = configured(scheme, spec);
@@ -148,6 +154,7 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
     return run_configured(scheme, scene, group, machine, carried);
   };
   const auto carried = std::make_shared<CarriedState>();
+  if (tape) tape(*carried);
   std::vector<SchemeResult> all;
   try {
     for (size_t i = 0; i < size_t(window / m); ++i) (void)run_group(i, carried);
@@ -172,10 +179,10 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
       u.offset = offset;
       s.timeline.push_back(u);
     }
-    for (TimelineMark m : all[k].marks) {
-      m.frame = int(k);
-      m.offset = offset;
-      s.marks.push_back(std::move(m));
+    for (TimelineMark mark : all[k].marks) {
+      mark.frame = int(k);
+      mark.offset = offset;
+      s.marks.push_back(std::move(mark));
     }
     offset += all[k].frame_latency_s;
   }
@@ -207,6 +214,79 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
   s.throughput_fps = double(window) / time;
   if (runs) *runs = std::move(all);
   return s;
+}
+
+}  // namespace
+
+bool timing_only_key(const std::string& key) {
+  // The timing section's keys (timing/gpm_model.cpp) but the set-up
+  // triangles' bytes, which the links carry; the bandwidths and latencies
+  // of the memory section, which only the timing reads.
+  static const std::set<std::string> keys{"frequency",
+                                          "gpm.lanes",
+                                          "gpm.texture_units",
+                                          "gpm.rops",
+                                          "gpm.rop_pixels_per_clock",
+                                          "gpm.raster_fragments_per_clock",
+                                          "gpm.setup_triangles_per_clock",
+                                          "gpm.requests_in_flight",
+                                          "gpm.draw_cycles",
+                                          "gpm.draws_ahead",
+                                          "shader.vertex_instructions",
+                                          "shader.fragment_instructions",
+                                          "timing.sharing",
+                                          "link.bandwidth",
+                                          "link.latency",
+                                          "dram.bandwidth",
+                                          "dram.latency",
+                                          "cache.l1.latency",
+                                          "cache.l2.latency",
+                                          "cache.remote.latency"};
+  return keys.count(key) > 0;
+}
+
+std::string shared_replay_key(const SchemeRef& scheme, const MachineSpec& spec) {
+  const SchemeFactory* f = Schemes::find(scheme.name);
+  // A scheme outside the registry (Python) is keyed by its object: runs of
+  // the same object only.
+  std::string key = f ? (f->replays_as.empty() ? scheme.name : f->replays_as)
+                      : "@" + std::to_string(reinterpret_cast<uintptr_t>(scheme.impl.get()));
+  const std::shared_ptr<const MachineSpec> machine = configured(scheme, spec);
+  for (const auto& [k, e] : machine->entries)
+    if (!timing_only_key(k) && !k.starts_with("composition.")) key += "\n" + k + "=" + e.value;
+  return key;
+}
+
+SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
+                               int window, std::vector<SchemeResult>* runs, SharedReplay* share) {
+  if (!share || !FrameSim::law_checks()) return run_window(scheme, scene, frames, spec, window, runs, nullptr);
+  const std::string key = shared_replay_key(scheme, spec);
+  if (!share->tape) {
+    auto recording = std::make_shared<MemoryTape>(key);
+    SchemeResult r = run_window(scheme, scene, frames, spec, window, runs, [&](CarriedState& c) { c.recording = recording; });
+    share->tape = std::move(recording);
+    share->use = SharedReplay::Use::recorded;
+    return r;
+  }
+  if (share->tape->key() != key) {
+    share->use = SharedReplay::Use::mismatched;
+    share->why = "the tape was recorded for another scheme or memory system";
+    return run_window(scheme, scene, frames, spec, window, runs, nullptr);
+  }
+  try {
+    std::shared_ptr<MemoryTape::Player> player;
+    SchemeResult r = run_window(scheme, scene, frames, spec, window, runs, [&](CarriedState& c) {
+      player = std::make_shared<MemoryTape::Player>(share->tape);
+      c.playing = player;
+    });
+    if (!player->at_end()) throw TapeMismatch("the run made fewer memory calls than the recording");
+    share->use = SharedReplay::Use::played;
+    return r;
+  } catch (const TapeMismatch& m) {
+    share->use = SharedReplay::Use::mismatched;
+    share->why = m.what();
+  }
+  return run_window(scheme, scene, frames, spec, window, runs, nullptr);
 }
 
 }  // namespace oovr

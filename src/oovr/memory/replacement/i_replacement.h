@@ -21,7 +21,10 @@ struct WayState {
 class ReplacementPolicy {
  public:
   virtual ~ReplacementPolicy() = default;
-  // The way of a full set to evict.
+  // The way of a full set to evict. It may read the order of the ways'
+  // counters, not their values: a read of a set's most recently used line
+  // again is not counted (MemorySystem::access skips its lookup), which
+  // changes no order but does change the counters' values.
   virtual int victim(const WayState* ways, int n) = 0;
 };
 

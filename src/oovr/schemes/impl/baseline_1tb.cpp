@@ -20,7 +20,8 @@ class Baseline1Tb final : public Scheme {
   }
 };
 
-const Schemes::Add reg("baseline-1tb", {"the baseline with 1 TB/s links", [] { return std::make_unique<Baseline1Tb>(); }, 20});
+const Schemes::Add reg("baseline-1tb",
+                       {"the baseline with 1 TB/s links", [] { return std::make_unique<Baseline1Tb>(); }, 20, {}, "baseline"});
 
 }  // namespace
 }  // namespace oovr

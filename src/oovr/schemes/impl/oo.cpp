@@ -202,8 +202,7 @@ class OO final : public Scheme {
     FrameSim sim(in, sort_last_framebuffers(n));
     // Copies dropped and refused during this frame (the memory system's
     // totals run on from frame to frame).
-    const TrafficTotals& totals = sim.memory().totals();
-    const uint64_t evicted = totals.copies_evicted, refused = totals.copies_refused;
+    const FrameSim::Copies before = sim.copies();
     const FrameTrace& f = sim.frame();
     // DHC is direct send to vertical strips; sort_last.composition, when
     // configured, overrides the switch.
@@ -266,7 +265,8 @@ class OO final : public Scheme {
       runtime.on_finish(unit);
       close();
     });
-    copies(r, sim, totals.copies_evicted - evicted, totals.copies_refused - refused);
+    const FrameSim::Copies after = sim.copies();
+    copies(r, after.peak_bytes, after.evicted - before.evicted, after.refused - before.refused);
     if (carried && runtime.fitted()) {
       const Rates& x = *runtime.fitted();
       carried->values[kRatesKey] = {x.c0, x.c1, x.c2};
@@ -280,9 +280,7 @@ class OO final : public Scheme {
   // (with no cap, where the scene's copies fit); this frame's copies dropped
   // for room and pages refused for want of it are the memory system's
   // statistics, and a note when there are any.
-  static void copies(SchemeResult& r, FrameSim& sim, uint64_t evicted, uint64_t refused) {
-    uint64_t peak = 0;
-    for (int g = 0; g < sim.gpms(); ++g) peak = std::max(peak, sim.memory().copy_peak_bytes(g));
+  static void copies(SchemeResult& r, uint64_t peak, uint64_t evicted, uint64_t refused) {
     r.add_own("copies.peak_bytes", double(peak), "B");
     if (evicted || refused)
       r.notes.push_back("copies: " + std::to_string(evicted) + " pages dropped for room, " + std::to_string(refused) +

@@ -1,0 +1,233 @@
+// One memory replay shared by runs that differ only in timing
+// (schemes/memory_tape.h): a played run is the run, bit for bit; runs whose
+// calls or memory systems differ are run in full; every timing key of the
+// configuration is one the memory system never sees.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <set>
+
+#include "oovr/core/config_sections.h"
+#include "oovr/run/result_json.h"
+#include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/i_scheme.h"
+#include "test_util.h"
+
+namespace oovr {
+namespace {
+
+const test::RenderedFrames& courtyard() {
+  static const std::unique_ptr<test::RenderedFrames> r = test::render_builtin("courtyard", 320, 480, 30, 4);
+  return *r;
+}
+
+// Everything a run says, its per-tile bytes and owners included.
+std::string everything(const SchemeResult& r) {
+  nlohmann::ordered_json j = to_json(r);
+  j["tile_inter_gpm_bytes"] = r.tile_inter_gpm_bytes;
+  nlohmann::ordered_json owners = nlohmann::ordered_json::array();
+  for (const auto& [key, gpm] : r.owner) owners.push_back({key.first, key.second, gpm});
+  j["owner"] = owners;
+  return j.dump();
+}
+
+std::string everything(const SchemeResult& r, const std::vector<SchemeResult>& runs) {
+  std::string s = everything(r);
+  for (const SchemeResult& run : runs) s += "\n" + everything(run);
+  return s;
+}
+
+// Equal, or where they first differ (the texts are long).
+testing::AssertionResult same(const std::string& a, const std::string& b) {
+  if (a == b) return testing::AssertionSuccess();
+  size_t i = 0;
+  while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
+  const size_t from = i < 80 ? 0 : i - 80;
+  return testing::AssertionFailure() << "they differ at character " << i << ":\n  " << a.substr(from, 160) << "\n  "
+                                     << b.substr(from, 160);
+}
+
+Config config_of(std::initializer_list<std::string> settings) {
+  Config c;
+  for (const std::string& s : settings) c.set(s);
+  return c;
+}
+
+// The scheme over the four frames (one window, after its warm-up pass),
+// sharing `share` when given: everything it says, and every run's.
+std::string run(const std::string& scheme, const Config& c, SharedReplay* share = nullptr) {
+  const test::RenderedFrames& r = courtyard();
+  std::vector<SchemeResult> runs;
+  const SchemeResult s =
+      run_scheme_window(find_scheme(scheme), r.scene, FramesInMemory(r.traces), MachineSpec::from_config(c), 4, &runs, share);
+  return everything(s, runs);
+}
+
+// A value other than the default for every key that only sets timing.
+const std::map<std::string, std::string> kTimingValues{
+    {"frequency", "1.4GHz"},
+    {"gpm.lanes", "32"},
+    {"gpm.texture_units", "2"},
+    {"gpm.rops", "4"},
+    {"gpm.rop_pixels_per_clock", "2"},
+    {"gpm.raster_fragments_per_clock", "8"},
+    {"gpm.setup_triangles_per_clock", "2"},
+    {"gpm.requests_in_flight", "0"},
+    {"gpm.draw_cycles", "0"},
+    {"gpm.draws_ahead", "2"},
+    {"shader.vertex_instructions", "40"},
+    {"shader.fragment_instructions", "60"},
+    {"timing.sharing", "equal"},
+    {"link.bandwidth", "32GBps"},
+    {"link.latency", "300ns"},
+    {"dram.bandwidth", "400GBps"},
+    {"dram.latency", "250ns"},
+    {"cache.l1.latency", "40ns"},
+    {"cache.l2.latency", "300ns"},
+    {"cache.remote.latency", "120ns"},
+};
+
+TEST(MemoryTape, EveryTimingKeyIsOneTheMemorySystemNeverSees) {
+  // The timing section's keys are timing-only, but the bytes of a set-up
+  // triangle, which the links carry; the memory section's bandwidths and
+  // latencies are too, and nothing else is.
+  const ConfigSection* timing = ConfigSections::find("timing");
+  ASSERT_NE(timing, nullptr);
+  for (const ConfigKey& k : timing->keys) EXPECT_EQ(timing_only_key(k.key), k.key != "shader.triangle_bytes") << k.key;
+  for (const auto& [key, value] : kTimingValues) EXPECT_TRUE(timing_only_key(key)) << key;
+  for (const char* key : {"gpms", "gpm.sms", "link.topology", "cache.l1.size", "memory.placement", "link.energy_per_bit",
+                          "shader.triangle_bytes", "composition.payload", "oo.predictor"})
+    EXPECT_FALSE(timing_only_key(key)) << key;
+}
+
+TEST(MemoryTape, APlayedRunIsTheRunBitForBit) {
+  // Every scheme, recorded on Table 1's machine, then on one whose every
+  // timing key differs: played back (or, where its calls differ, run in
+  // full), it says what the run without a tape says, to the last byte.
+  std::vector<std::string> settings;
+  for (const auto& [key, value] : kTimingValues) settings.push_back(key + "=" + value);
+  Config other;
+  for (const std::string& s : settings) other.set(s);
+  std::set<std::string> played;
+  for (const std::string& scheme : Schemes::names()) {
+    SharedReplay share;
+    const std::string recorded = run(scheme, Config{}, &share);
+    ASSERT_EQ(share.use, SharedReplay::Use::recorded) << scheme;
+    ASSERT_TRUE(share.tape) << scheme;
+    EXPECT_TRUE(same(recorded, run(scheme, Config{}))) << scheme << ": recording changed the run";
+    // On its own machine every scheme's calls are the recording's.
+    SharedReplay played_here = share;
+    EXPECT_TRUE(same(run(scheme, Config{}, &played_here), recorded)) << scheme;
+    EXPECT_EQ(played_here.use, SharedReplay::Use::played) << scheme << ": " << played_here.why;
+    const std::string full = run(scheme, other);
+    ASSERT_FALSE(same(full, recorded)) << scheme << ": the timing keys changed nothing, so this test could not tell";
+    EXPECT_TRUE(same(run(scheme, other, &share), full)) << scheme << " (" << share.why << ")";
+    if (share.use == SharedReplay::Use::played) played.insert(scheme);
+    else EXPECT_EQ(share.use, SharedReplay::Use::mismatched) << scheme;
+  }
+  // The schemes whose distribution does not follow the timing play back;
+  // OO-VR's runtime does, and reads the memory system's copies.
+  for (const char* scheme : {"baseline", "baseline-paged", "afr", "sfr-v", "sfr-h", "object", "single-gpm", "two-pass", "ideal"})
+    EXPECT_TRUE(played.count(scheme)) << scheme;
+  EXPECT_FALSE(played.count("oo-vr"));
+}
+
+TEST(MemoryTape, EachTimingKeyAloneIsPlayedBack) {
+  SharedReplay share;
+  (void)run("baseline", Config{}, &share);
+  for (const auto& [key, value] : kTimingValues) {
+    const Config c = config_of({key + "=" + value});
+    SharedReplay s = share;
+    EXPECT_TRUE(same(run("baseline", c, &s), run("baseline", c))) << key;
+    EXPECT_EQ(s.use, SharedReplay::Use::played) << key << ": " << s.why;
+  }
+}
+
+TEST(MemoryTape, TheBaselineWithFasterLinksPlaysTheBaselines) {
+  // baseline-1tb replays as the baseline (SchemeFactory::replays_as).
+  const MachineSpec table1 = MachineSpec::from_config(Config{});
+  EXPECT_EQ(shared_replay_key(find_scheme("baseline"), table1), shared_replay_key(find_scheme("baseline-1tb"), table1));
+  EXPECT_NE(shared_replay_key(find_scheme("baseline"), table1), shared_replay_key(find_scheme("sfr-v"), table1));
+  SharedReplay share;
+  (void)run("baseline", Config{}, &share);
+  EXPECT_TRUE(same(run("baseline-1tb", Config{}, &share), run("baseline-1tb", Config{})));
+  EXPECT_EQ(share.use, SharedReplay::Use::played) << share.why;
+}
+
+TEST(MemoryTape, AnotherMemorySystemIsNotPlayedBack) {
+  // A cache of another size answers otherwise: another key, a full run.
+  for (const std::string setting : {"cache.l1.size=32KB", "gpms=2", "link.energy_per_bit=250pJ", "shader.triangle_bytes=64"}) {
+    const Config c = config_of({setting});
+    EXPECT_NE(shared_replay_key(find_scheme("baseline"), MachineSpec::from_config(c)),
+              shared_replay_key(find_scheme("baseline"), MachineSpec::from_config(Config{})))
+        << setting;
+    SharedReplay share;
+    (void)run("baseline", Config{}, &share);
+    EXPECT_TRUE(same(run("baseline", c, &share), run("baseline", c))) << setting;
+    EXPECT_EQ(share.use, SharedReplay::Use::mismatched) << setting;
+  }
+}
+
+TEST(MemoryTape, ARunWhoseCallsDifferIsRunInFull) {
+  // The composition's payload is left out of the key (a scheme that does
+  // not compose shares across it); object-level SFR composes, so with
+  // depth in the payload its transfers differ from the recording's, the
+  // player says so, and the run is made in full.
+  const Config depth = config_of({"composition.payload=colour+depth"});
+  SharedReplay share;
+  (void)run("object", Config{}, &share);
+  EXPECT_EQ(shared_replay_key(find_scheme("object"), MachineSpec::from_config(depth)),
+            shared_replay_key(find_scheme("object"), MachineSpec::from_config(Config{})));
+  EXPECT_TRUE(same(run("object", depth, &share), run("object", depth)));
+  EXPECT_EQ(share.use, SharedReplay::Use::mismatched);
+  EXPECT_NE(share.why.find("differs from the recording"), std::string::npos) << share.why;
+  // The baseline composes nothing: it plays across the payload.
+  SharedReplay baseline;
+  (void)run("baseline", Config{}, &baseline);
+  EXPECT_TRUE(same(run("baseline", depth, &baseline), run("baseline", depth)));
+  EXPECT_EQ(baseline.use, SharedReplay::Use::played) << baseline.why;
+}
+
+TEST(MemoryTape, APlayerChecksEveryAnswersCallsAndKind) {
+  MemoryTape tape("k");
+  UnitTraffic t;
+  t.reset(2, 2);
+  t.accesses = 7;
+  t.link_bytes[1] = uint64_t(1) << 50;  // wider than a packed word
+  t.inter_gpm_bytes[2] = 128;
+  tape.traffic(11, t);
+  tape.value(12, 42);
+  MemoryTape::FrameEnd e;
+  e.local_dram_bytes = 5;
+  tape.frame_end(13, e);
+  const auto shared = std::make_shared<const MemoryTape>(std::move(tape));
+  {
+    MemoryTape::Player p(shared);
+    UnitTraffic back;
+    back.reset(2, 2);
+    back.l1_hits = 3;  // overwritten: every field comes from the tape
+    p.traffic(11, back);
+    EXPECT_EQ(back.accesses, 7u);
+    EXPECT_EQ(back.l1_hits, 0u);
+    EXPECT_EQ(back.link_bytes[1], uint64_t(1) << 50);
+    EXPECT_EQ(back.inter_gpm_bytes[2], 128u);
+    EXPECT_FALSE(p.at_end());
+    EXPECT_EQ(p.value(12), 42u);
+    EXPECT_EQ(p.frame_end(13).local_dram_bytes, 5u);
+    EXPECT_TRUE(p.at_end());
+    EXPECT_THROW(p.value(14), TapeMismatch);  // past the end
+  }
+  MemoryTape::Player wrong_hash(shared);
+  UnitTraffic back;
+  back.reset(2, 2);
+  EXPECT_THROW(wrong_hash.traffic(10, back), TapeMismatch);
+  MemoryTape::Player wrong_kind(shared);
+  EXPECT_THROW((void)wrong_kind.value(11), TapeMismatch);
+  MemoryTape::Player narrower(shared);
+  back.reset(2, 1);  // a machine with fewer links than the recording's
+  EXPECT_THROW(narrower.traffic(11, back), TapeMismatch);
+}
+
+}  // namespace
+}  // namespace oovr
