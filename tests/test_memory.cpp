@@ -1,7 +1,10 @@
 // The memory system, with exact expectations (given / when / then).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
+#include <string>
+#include <vector>
 
 #include "oovr/core/error.h"
 #include "oovr/core/rng.h"
@@ -50,6 +53,60 @@ struct Fixture {
     return u;
   }
 };
+
+TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
+  // A small cache (4 sets of 4 ways) against a reference kept as lists in
+  // order of use (LRU) or of insertion (FIFO), on a stream that re-reads
+  // the line just read half the time (the lookup Cache::access skips), and
+  // writes and invalidates now and then: the same hits, misses and dirty
+  // evictions, access by access.
+  for (const char* policy : {"lru", "fifo"}) {
+    CacheSpec spec;
+    spec.size = Bytes{16 * kLine};
+    spec.ways = 4;
+    spec.replacement = policy;
+    Cache cache(spec, kLine, "test");
+    std::vector<std::vector<std::pair<uint64_t, bool>>> sets(4);  // per set: (line, dirty), oldest first
+    const bool lru = std::string(policy) == "lru";
+    Rng rng(7);
+    uint64_t previous = 0, hits = 0, evictions = 0;
+    for (int k = 0; k < 20000; ++k) {
+      const uint64_t line = rng.below(2) ? previous : rng.below(40);
+      const bool write = rng.below(8) == 0;
+      auto& set = sets[line % 4];
+      if (rng.below(50) == 0) {
+        cache.invalidate(line);
+        std::erase_if(set, [&](const auto& e) { return e.first == line; });
+        continue;
+      }
+      Cache::Eviction ev;
+      const bool hit = cache.access(line, write, Category::texture, ev);
+      const auto it = std::find_if(set.begin(), set.end(), [&](const auto& e) { return e.first == line; });
+      ASSERT_EQ(hit, it != set.end()) << policy << ", access " << k;
+      bool dirty_out = false;
+      uint64_t out = 0;
+      if (hit) {
+        ++hits;
+        it->second = it->second || write;
+        if (lru) std::rotate(it, it + 1, set.end());
+      } else {
+        if (set.size() == 4) {
+          dirty_out = set.front().second;
+          out = set.front().first;
+          set.erase(set.begin());
+          ++evictions;
+        }
+        set.push_back({line, write});
+      }
+      ASSERT_EQ(ev.dirty, dirty_out) << policy << ", access " << k;
+      if (dirty_out) ASSERT_EQ(ev.line, out) << policy << ", access " << k;
+      previous = line;
+    }
+    // The stream exercised every path: hits, re-reads, evictions.
+    EXPECT_GT(hits, 8000u) << policy;
+    EXPECT_GT(evictions, 1000u) << policy;
+  }
+}
 
 TEST(Memory, ColdRemoteReadCrossesItsLinkExactlyOnce) {
   // Given a 64 KB texture pinned to GPM 1 and cold caches,

@@ -16,6 +16,7 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   m_dirty.assign(lines, 0);
   m_category.assign(lines, Category::command);
   m_state.resize(lines);
+  m_mru.assign(sets, kEmpty);
   const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
   if (!f) throw Error("cache " + m_name + ": unknown replacement policy '" + spec.replacement + "'");
   // Seeded by name: reproducible, different per cache.
@@ -33,10 +34,8 @@ void Cache::insert(uint64_t line, bool write, Category category, Eviction& ev, u
     }
   if (victim < 0) {
     victim = m_policy->victim(&m_state[first], m_assoc);
-    ++s_evictions;
     const uint64_t v = first + uint64_t(victim);
     if (m_dirty[v]) {
-      ++s_writebacks;
       ev.dirty = true;
       ev.line = m_tags[v];
       ev.category = m_category[v];
@@ -62,6 +61,7 @@ void Cache::invalidate(uint64_t line) {
     if (m_tags[first + uint64_t(i)] == line) {
       m_tags[first + uint64_t(i)] = kEmpty;
       m_dirty[first + uint64_t(i)] = 0;
+      if (m_mru[line & m_set_mask] == line) m_mru[line & m_set_mask] = kEmpty;
     }
 }
 
@@ -70,6 +70,7 @@ uint64_t Cache::invalidate_all() {
   for (uint8_t d : m_dirty) dirty += d;
   std::fill(m_tags.begin(), m_tags.end(), kEmpty);
   std::fill(m_dirty.begin(), m_dirty.end(), 0);
+  std::fill(m_mru.begin(), m_mru.end(), kEmpty);
   return dirty;
 }
 

@@ -31,7 +31,12 @@ class Cache {
   // evicting a victim when the set is full (reported in `ev` when dirty),
   // and returns false. Writes mark the line dirty.
   bool access(uint64_t line, bool write, Category category, Eviction& ev) {
-    const uint64_t first = (line & m_set_mask) * uint64_t(m_assoc);
+    const uint64_t set = line & m_set_mask, first = set * uint64_t(m_assoc);
+    // A read of the set's most recently used line hits and changes no
+    // set's order, so nothing else is done (replacement policies read only
+    // the order of the counters: replacement/i_replacement.h). Texture
+    // lines repeat from quad to quad, so this is most of an L1's reads.
+    if (m_mru[set] == line && !write) return true;
     const uint64_t* tags = &m_tags[first];
     ++m_clock;
     // Scan every way without an early exit: no hard-to-predict branch per
@@ -40,19 +45,14 @@ class Cache {
     for (int i = 0; i < m_assoc; ++i) hit = tags[i] == line ? i : hit;
     if (hit >= 0) {
       m_state[first + uint64_t(hit)].last_use = m_clock;
+      m_mru[set] = line;
       if (write) m_dirty[first + uint64_t(hit)] = 1;
-      ++s_hits;
       return true;
     }
-    ++s_misses;
     insert(line, write, category, ev, first);
+    m_mru[set] = line;
     return false;
   }
-  // Hits on the most recently used line of a set, found by the caller
-  // without a lookup (MemorySystem::access): counted, nothing else, since
-  // such a hit changes no set's order and replacement policies read only
-  // the order of the ages (replacement/i_replacement.h).
-  void count_repeated_hits(uint64_t n) { s_hits += n; }
   // True when the line is cached; changes nothing.
   bool contains(uint64_t line) const;
   // Drops the line if cached (no write-back: used for write-through copies).
@@ -62,7 +62,6 @@ class Cache {
 
   const std::string& name() const { return m_name; }
   uint64_t lines() const { return m_tags.size(); }
-  uint64_t s_hits = 0, s_misses = 0, s_evictions = 0, s_writebacks = 0;
 
  private:
   static constexpr uint64_t kEmpty = ~uint64_t(0);
@@ -77,6 +76,7 @@ class Cache {
   std::vector<uint8_t> m_dirty;
   std::vector<Category> m_category;
   std::vector<WayState> m_state;
+  std::vector<uint64_t> m_mru;  // per set: its most recently used line (kEmpty: not known)
   std::unique_ptr<ReplacementPolicy> m_policy;
   uint64_t m_clock = 0;
 };

@@ -200,13 +200,6 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
            remote_dram = 0, hops = 0, l1_lookups = 0, l2_lookups = 0, remote_lookups = 0;
   const uint64_t dram_before = out.dram_lines;
   const uint64_t now = ++m_clock;
-  // The line of this call's last L1 read: the most recently used of its
-  // set (a miss inserts it), so a read of it again is a hit that leaves
-  // the order of every set as it is. Texture lines repeat from quad to quad
-  // (the trace merges repeats within a quad only), so this skips about
-  // half the L1's lookups; the counts are the lookups'.
-  uint64_t l1_last = ~uint64_t(0);
-  uint64_t l1_repeats = 0;
   for (const LineAccess& a : lines) {
     if (a.address >= end) [[unlikely]]
       throw Error("memory access at address " + std::to_string(a.address) + ", past the address map");
@@ -215,12 +208,6 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     if (uses_l1(a.category) && !a.write) {
       // An L1 hit means the page was touched before: its home is known.
       ++l1_lookups;
-      if (line == l1_last) {
-        ++l1_hits;
-        ++l1_repeats;
-        continue;
-      }
-      l1_last = line;
       if (l1.access(line, false, a.category, ev)) {
         ++l1_hits;
         continue;
@@ -267,7 +254,6 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     move(src, gpm, m_line_bytes, a.category, out);
     m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
   }
-  l1.count_repeated_hits(l1_repeats);
   out.dram_lines += local_dram;
   out.accesses += lines.size();
   out.l1_hits += l1_hits;

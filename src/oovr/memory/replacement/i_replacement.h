@@ -23,7 +23,7 @@ class ReplacementPolicy {
   virtual ~ReplacementPolicy() = default;
   // The way of a full set to evict. It may read the order of the ways'
   // counters, not their values: a read of a set's most recently used line
-  // again is not counted (MemorySystem::access skips its lookup), which
+  // again is not counted (Cache::access returns at once), which
   // changes no order but does change the counters' values.
   virtual int victim(const WayState* ways, int n) = 0;
 };
