@@ -369,9 +369,11 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
        {uint64_t(kRecord), uint64_t(gpm), k, uint64_t(&r - frame.tiles.data()), uint64_t(colour_fb), uint64_t(depth_fb)})
     mix(x);
   if (!m_playing) {
-    m_scratch.clear();
-    for (uint32_t i = 0; i < r.tex_count; ++i)
-      m_scratch.push_back({m_layout->texture_line(frame.tex_lines[r.tex_begin + i]), Category::texture, false});
+    // The texture lines written in place (no push_back's check per line).
+    m_scratch.resize(r.tex_count);
+    const TexLine* in = frame.tex_lines.data() + r.tex_begin;
+    const SceneLayout& layout = *m_layout;
+    for (uint32_t i = 0; i < r.tex_count; ++i) m_scratch[i] = {layout.texture_line(in[i]), Category::texture, false};
     for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
       const uint32_t bit = 1u << l;
       if (r.depth_read_mask & bit)
