@@ -189,6 +189,32 @@ TEST(MemoryTape, ARunWhoseCallsDifferIsRunInFull) {
   EXPECT_EQ(baseline.use, SharedReplay::Use::played) << baseline.why;
 }
 
+TEST(MemoryTape, ATapeIsPlayedOnlyOnItsOwnFrames) {
+  // The same frames but for one record, which writes other depth lines:
+  // the scheme's calls are the recording's (the same records, in the same
+  // order), but the frames are folded into the calls' hash, so the run is
+  // made in full rather than given the recording's traffic.
+  const test::RenderedFrames& r = courtyard();
+  std::vector<FrameTrace> changed;
+  for (const FrameTrace* t : r.traces) changed.push_back(*t);
+  TileWork& w = changed[0].tiles[changed[0].tiles.size() / 2];
+  w.depth_write_mask = ~w.depth_write_mask;
+  std::vector<const FrameTrace*> frames;
+  for (const FrameTrace& t : changed) frames.push_back(&t);
+  const auto on_changed = [&](SharedReplay* share) {
+    std::vector<SchemeResult> runs;
+    const SchemeResult s = run_scheme_window(find_scheme("sfr-v"), r.scene, FramesInMemory(frames),
+                                             MachineSpec::from_config(Config{}), 4, &runs, share);
+    return everything(s, runs);
+  };
+  SharedReplay share;
+  const std::string recorded = run("sfr-v", Config{}, &share);
+  const std::string full = on_changed(nullptr);
+  ASSERT_FALSE(same(full, recorded)) << "the changed record changed nothing, so this test could not tell";
+  EXPECT_TRUE(same(on_changed(&share), full));
+  EXPECT_EQ(share.use, SharedReplay::Use::mismatched) << share.why;
+}
+
 TEST(MemoryTape, APlayerChecksEveryAnswersCallsAndKind) {
   MemoryTape tape("k");
   UnitTraffic t;

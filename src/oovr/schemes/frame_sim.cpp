@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "oovr/core/error.h"
+#include "oovr/core/hash.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/units.h"
 
@@ -177,6 +178,14 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
       carried->depth = m_depth;
     }
   }
+  // The frames themselves, so that a tape is played back only on the
+  // frames it was recorded on: their numbers, sizes and every record (a
+  // checksum; the texture lines' contents are left out, as long as the
+  // trace: frames with the same records and other lines are not made).
+  for (const FrameTrace* t : in.frames)
+    for (uint64_t x : {uint64_t(t->frame), uint64_t(t->tiles.size()), uint64_t(t->tex_lines.size()),
+                       checksum64({reinterpret_cast<const char*>(t->tiles.data()), t->tiles.size() * sizeof(TileWork)})})
+      mix(x);
   m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, topology(), m_engine);
   m_last.assign(size_t(gpms()), -1);
   m_draw.assign(size_t(gpms()), -1);

@@ -63,9 +63,11 @@ class FrameSim {
 
   int gpms() const { return m_memory_spec.gpms; }
   int sms() const { return m_memory_spec.sms_per_gpm; }
-  // The memory system itself, for a scheme that reads it directly (its
-  // copies' totals). A run playing a shared memory replay has none: it
-  // throws TapeMismatch, and the run is made again in full.
+  // The memory system itself, for a scheme or a test that reads it
+  // directly. Changing it through this would escape a shared replay's
+  // checks: schemes change it through the methods here only. A run playing
+  // a shared memory replay has none: it throws TapeMismatch, and the run is
+  // made again in full.
   MemorySystem& memory();
   const SceneLayout& layout() const { return *m_layout; }
   const MachineModel& machine() const { return *m_machine; }
