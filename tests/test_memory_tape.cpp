@@ -10,6 +10,7 @@
 
 #include "oovr/core/config_sections.h"
 #include "oovr/run/result_json.h"
+#include "oovr/run/simulation.h"
 #include "oovr/schemes/frame_sim.h"
 #include "oovr/schemes/i_scheme.h"
 #include "test_util.h"
@@ -153,6 +154,28 @@ TEST(MemoryTape, TheBaselineWithFasterLinksPlaysTheBaselines) {
   (void)run("baseline", Config{}, &share);
   EXPECT_TRUE(same(run("baseline-1tb", Config{}, &share), run("baseline-1tb", Config{})));
   EXPECT_EQ(share.use, SharedReplay::Use::played) << share.why;
+}
+
+TEST(MemoryTape, ACompareSharesTheBaselinesReplay) {
+  // oovr compare's simulation: baseline-1tb plays the baseline's replay
+  // back and says what it says alone.
+  SimulationRequest r;
+  r.scene = "courtyard";
+  r.rig.eye_width = 160;
+  r.rig.eye_height = 240;
+  r.frame = 30;
+  r.frames = 4;
+  r.use_cache = false;
+  r.jobs = 2;
+  const Simulation both =
+      run_simulation(r, {find_scheme("baseline"), find_scheme("baseline-1tb"), find_scheme("sfr-v")}, Config{});
+  const Simulation alone = run_simulation(r, {find_scheme("baseline-1tb")}, Config{});
+  ASSERT_EQ(both.replays.size(), 3u);
+  EXPECT_EQ(both.replays[0], SharedReplay::Use::recorded);
+  EXPECT_EQ(both.replays[1], SharedReplay::Use::played);
+  EXPECT_EQ(both.replays[2], SharedReplay::Use::none);
+  EXPECT_EQ(alone.replays[0], SharedReplay::Use::none);
+  EXPECT_TRUE(same(everything(both.results[1]), everything(alone.results[0])));
 }
 
 TEST(MemoryTape, AnotherMemorySystemIsNotPlayedBack) {

@@ -59,6 +59,7 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
   std::vector<std::shared_future<std::shared_ptr<const MemoryTape>>> tapes;
   for (auto& p : recorded) tapes.push_back(p.get_future().share());
   s.results.resize(n);
+  s.replays.assign(n, SharedReplay::Use::none);
   std::atomic<size_t> done{0};
   say(fmt::format("simulating {} scheme{} on {}", n, n == 1 ? "" : "s", frames));
   parallel_for(n, r.jobs, [&](size_t k) {
@@ -74,6 +75,7 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
       throw;
     }
     if (leader == i) recorded[i].set_value(share.tape);
+    s.replays[i] = share.use;
     say(fmt::format("{} of {} schemes simulated ({} done)", ++done, n, schemes[i].name));
   });
   const auto t2 = std::chrono::steady_clock::now();

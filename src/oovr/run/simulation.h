@@ -38,8 +38,12 @@ struct Simulation {
   int frame = 0;                      // first frame measured
   int frames = 0;                     // frames measured
   std::vector<SchemeResult> results;  // in the order the schemes were given
-  double trace_s = 0;                 // getting the traces
-  double simulation_s = 0;            // replaying them
+  // How each scheme's memory replay went (schemes/memory_tape.h): none,
+  // recorded for another scheme, played back from one, or run in full
+  // after its calls differed. The results are the same either way.
+  std::vector<SharedReplay::Use> replays;
+  double trace_s = 0;       // getting the traces
+  double simulation_s = 0;  // replaying them
 };
 
 // Checks every scheme against `config` (before any trace is rendered), gets
