@@ -58,7 +58,19 @@ namespace {
 std::atomic<bool> g_law_checks{true};
 
 // What each memory call folds into the calls' hash first (FrameSim::mix).
-enum CallTag : uint64_t { kEndFrame = 1, kEndDraw, kPlace, kGeometry, kRecord, kJob, kTransfer, kPreallocate, kFinish, kCopies };
+enum CallTag : uint64_t {
+  kEndFrame = 1,
+  kEndDraw,
+  kPlace,
+  kGeometry,
+  kRecord,
+  kJob,
+  kTransfer,
+  kPreallocate,
+  kFinish,
+  kCopies,
+  kTiles
+};
 
 }  // namespace
 
@@ -144,7 +156,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
     m_topology = carried->topology;
     m_colour = carried->colour;
     m_depth = carried->depth;
-    mix(kEndFrame);
+    mix({kEndFrame});
     if (m_memory) {
       m_memory->end_frame();
       m_before = m_memory->totals();
@@ -182,10 +194,10 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   // frames it was recorded on: their numbers, sizes and every record (a
   // checksum; the texture lines' contents are left out, as long as the
   // trace: frames with the same records and other lines are not made).
-  for (const FrameTrace* t : in.frames)
-    for (uint64_t x : {uint64_t(t->frame), uint64_t(t->tiles.size()), uint64_t(t->tex_lines.size()),
-                       checksum64({reinterpret_cast<const char*>(t->tiles.data()), t->tiles.size() * sizeof(TileWork)})})
-      mix(x);
+  if (taped())
+    for (const FrameTrace* t : in.frames)
+      mix({uint64_t(t->frame), uint64_t(t->tiles.size()), uint64_t(t->tex_lines.size()),
+           checksum64({reinterpret_cast<const char*>(t->tiles.data()), t->tiles.size() * sizeof(TileWork)})});
   m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, topology(), m_engine);
   m_last.assign(size_t(gpms()), -1);
   m_draw.assign(size_t(gpms()), -1);
@@ -202,27 +214,21 @@ MemorySystem& FrameSim::memory() {
 }
 
 FrameSim::Copies FrameSim::copies() {
-  mix(kCopies);
+  mix({kCopies});
   Copies c;
-  if (m_playing) {
-    c.evicted = m_playing->value(m_calls);
-    c.refused = m_playing->value(m_calls);
-    c.peak_bytes = m_playing->value(m_calls);
-    return c;
-  }
-  c.evicted = m_memory->totals().copies_evicted;
-  c.refused = m_memory->totals().copies_refused;
-  for (int g = 0; g < gpms(); ++g) c.peak_bytes = std::max(c.peak_bytes, m_memory->copy_peak_bytes(g));
-  if (m_recording)
-    for (uint64_t v : {c.evicted, c.refused, c.peak_bytes}) m_recording->value(m_calls, v);
+  c.evicted = answer_value([&] { return m_memory->totals().copies_evicted; });
+  c.refused = answer_value([&] { return m_memory->totals().copies_refused; });
+  c.peak_bytes = answer_value([&] {
+    uint64_t peak = 0;
+    for (int g = 0; g < gpms(); ++g) peak = std::max(peak, m_memory->copy_peak_bytes(g));
+    return peak;
+  });
   return c;
 }
 
 void FrameSim::place(uint64_t address, int gpm) {
   gpm_arg(gpm, "place");
-  mix(kPlace);
-  mix(address);
-  mix(uint64_t(gpm));
+  mix({kPlace, address, uint64_t(gpm)});
   if (m_memory) (void)m_memory->place(address, gpm);
 }
 
@@ -293,8 +299,7 @@ void FrameSim::end_draw(int gpm) {
   // when it had no work here) is.
   const int last = m_last[size_t(gpm)];
   m_draw_ends[size_t(gpm)].push_back(std::max(last, m_draw[size_t(gpm)]));
-  mix(kEndDraw);
-  mix(uint64_t(gpm));
+  mix({kEndDraw, uint64_t(gpm)});
   if (m_memory) m_memory->end_draw(gpm);
 }
 
@@ -338,12 +343,9 @@ int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double be
                             uint64_t triangles, std::vector<int> after) {
   if (m_ledger) m_ledger->work(gpm, m_draw[size_t(gpm)], object, "geometry");
   UnitTraffic t = empty_traffic();
-  for (uint64_t x : {uint64_t(kGeometry), uint64_t(gpm), uint64_t(object), uint64_t(o.mesh), std::bit_cast<uint64_t>(begin),
-                     std::bit_cast<uint64_t>(end)})
-    mix(x);
-  if (m_playing) {
-    m_playing->traffic(m_calls, t);
-  } else {
+  mix({kGeometry, uint64_t(gpm), uint64_t(object), uint64_t(o.mesh), std::bit_cast<uint64_t>(begin),
+       std::bit_cast<uint64_t>(end)});
+  answer_traffic(t, [&] {
     const Mesh& mesh = scene().meshes[size_t(o.mesh)];
     m_scratch.clear();
     const uint64_t line = m_memory_spec.line.value;
@@ -355,8 +357,7 @@ int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double be
     lines(m_map->region(m_layout->vertex_region(o.mesh)).base, mesh.vertex_bytes(), Category::vertex);
     lines(m_map->region(m_layout->index_region(o.mesh)).base, mesh.indices.size() * sizeof(uint32_t), Category::index);
     m_memory->access(gpm, int(object % uint32_t(sms())), m_scratch, t);
-    tape_traffic(t);
-  }
+  });
   WorkCounts w;
   w.vertices = vertices;
   w.triangles = triangles;
@@ -371,12 +372,9 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
   if (m_ledger) m_ledger->rasterised(frame, r, gpm, m_draw[size_t(gpm)], colour_fb);
   const uint32_t tile = uint32_t(r.tile_y) * uint32_t(frame.tiles_x) + r.tile_x;
   if (&frame == m_in.frames[0]) m_owner_log.push_back({{r.object, tile}, gpm});
-  // The record names its lines: which one of which frame, on which GPM and
-  // framebuffers.
-  const uint64_t k = uint64_t(std::find(m_in.frames.begin(), m_in.frames.end(), &frame) - m_in.frames.begin());
-  for (uint64_t x :
-       {uint64_t(kRecord), uint64_t(gpm), k, uint64_t(&r - frame.tiles.data()), uint64_t(colour_fb), uint64_t(depth_fb)})
-    mix(x);
+  // The record names its lines (its frame is mixed in by tiles_checked): which
+  // one, on which GPM and framebuffers.
+  mix({kRecord, uint64_t(gpm), uint64_t(&r - frame.tiles.data()), uint64_t(colour_fb), uint64_t(depth_fb)});
   if (!m_playing) {
     // The texture lines written in place (no push_back's check per line).
     m_scratch.resize(r.tex_count);
@@ -450,6 +448,8 @@ std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const
       after[j].push_back(transfer(job.from, job.gpm, job.incoming, Category::vertex, job.after));
     rounds = std::max(rounds, job.records.size());
   }
+  // Which of the run's frames the records are of.
+  mix({kTiles, uint64_t(std::find(m_in.frames.begin(), m_in.frames.end(), &frame) - m_in.frames.begin())});
   for (size_t k = 0; k < rounds; ++k)
     for (size_t i = 0; i < n; ++i) {
       const size_t j = (k + i) % n;
@@ -459,11 +459,11 @@ std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const
       const int depth_fb = job.depth_fbs.empty() ? colour_fb : job.depth_fbs[k];
       replay(job.gpm, *job.records[k], colour_fb, depth_fb, frame, traffic[j], work[j]);
     }
-  // Each job's traffic, the sum over its records, is one answer.
+  // Each job's traffic, the sum over its records (added up by replay when
+  // not playing), is one answer.
   for (size_t j = 0; j < n; ++j) {
-    mix(kJob);
-    if (m_playing) m_playing->traffic(m_calls, traffic[j]);
-    else tape_traffic(traffic[j]);
+    mix({kJob});
+    answer_traffic(traffic[j], [] {});
   }
   std::vector<int> units;
   for (size_t j = 0; j < n; ++j) {
@@ -480,13 +480,8 @@ int FrameSim::transfer(int from, int to, uint64_t bytes, Category c, std::vector
   gpm_arg(to, "transfer", "to_gpm");
   after_arg(after, "transfer");
   UnitTraffic t = empty_traffic();
-  for (uint64_t x : {uint64_t(kTransfer), uint64_t(from), uint64_t(to), bytes, uint64_t(c)}) mix(x);
-  if (m_playing) {
-    m_playing->traffic(m_calls, t);
-  } else {
-    m_memory->transfer(from, to, bytes, c, t);
-    tape_traffic(t);
-  }
+  mix({kTransfer, uint64_t(from), uint64_t(to), bytes, uint64_t(c)});
+  answer_traffic(t, [&] { m_memory->transfer(from, to, bytes, c, t); });
   // A transfer between GPMs waits for the link latency of every hop.
   TimelineUnit info;
   info.kind = TimelineUnit::Kind::transfer;
@@ -514,24 +509,19 @@ int FrameSim::preallocate(int gpm, std::span<const uint32_t> regions, std::vecto
   gpm_arg(gpm, "preallocate");
   after_arg(after, "preallocate");
   UnitTraffic t = empty_traffic();
-  mix(kPreallocate);
-  mix(uint64_t(gpm));
-  for (uint32_t r : regions) mix(r);
-  uint64_t copied = 0;
-  if (m_playing) {
-    copied = m_playing->value(m_calls);
-    m_playing->traffic(m_calls, t);
-  } else {
+  mix({kPreallocate, uint64_t(gpm)});
+  for (uint32_t r : regions) mix({r});
+  // The bytes copied, then the copies' traffic (which the first fills).
+  const uint64_t copied = answer_value([&] {
+    uint64_t bytes = 0;
     m_memory->begin_batch();
     for (uint32_t r : regions) {
       const Region& reg = m_map->region(r);
-      copied += m_memory->preallocate(reg.base, reg.bytes, gpm, t);
+      bytes += m_memory->preallocate(reg.base, reg.bytes, gpm, t);
     }
-    if (m_recording) {
-      m_recording->value(m_calls, copied);
-      m_recording->traffic(m_calls, t);
-    }
-  }
+    return bytes;
+  });
+  answer_traffic(t, [] {});
   if (copied == 0) return -1;
   // The copies' DRAM reads and writes and their links.
   TimelineUnit info;
@@ -623,7 +613,7 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
   // This frame's traffic: the totals since it began; the footprint; the
   // memory system's statistics since the frame began (or all of them, as
   // the recording read them).
-  mix(kFinish);
+  mix({kFinish});
   if (m_playing) {
     const MemoryTape::FrameEnd& e = m_playing->frame_end(m_calls);
     s.inter_gpm_bytes = e.inter_gpm_bytes;

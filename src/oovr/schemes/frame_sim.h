@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <span>
@@ -216,11 +217,28 @@ class FrameSim {
   UnitTraffic empty_traffic() const;
   const Topology& topology() const { return *m_topology; }
   // The memory calls' running hash (CarriedState::calls): every argument
-  // that decides what the memory system answers is folded in.
-  void mix(uint64_t x) { m_calls = mix64(m_calls ^ x); }
-  // A unit's traffic: recorded when recording, played back when playing.
-  void tape_traffic(const UnitTraffic& t) {
+  // that decides what the memory system answers is folded in, a call's tag
+  // first; only a run that records or plays a tape keeps it.
+  bool taped() const { return m_recording || m_playing; }
+  void mix(std::initializer_list<uint64_t> xs) {
+    if (taped())
+      for (uint64_t x : xs) m_calls = mix64(m_calls ^ x);
+  }
+  // The memory system's answer to the call just mixed in: played back from
+  // the tape, or asked of it by `ask` (which fills `t`, or returns the
+  // value) and put on the tape when recording.
+  template <class Ask>
+  void answer_traffic(UnitTraffic& t, Ask&& ask) {
+    if (m_playing) return m_playing->traffic(m_calls, t);
+    ask();
     if (m_recording) m_recording->traffic(m_calls, t);
+  }
+  template <class Ask>
+  uint64_t answer_value(Ask&& ask) {
+    if (m_playing) return m_playing->value(m_calls);
+    const uint64_t v = ask();
+    if (m_recording) m_recording->value(m_calls, v);
+    return v;
   }
 
   SchemeInput m_in;

@@ -6,13 +6,12 @@ namespace oovr {
 
 namespace {
 
-constexpr size_t kScalarsOf = 10;
+constexpr size_t kScalars = 10;
 // each_field names every field of a unit's traffic: a field added to
 // UnitTraffic must be added there too.
-static_assert(sizeof(UnitTraffic) == kScalarsOf * sizeof(uint64_t) + 3 * sizeof(std::vector<uint64_t>) + sizeof(PerCategory));
+static_assert(sizeof(UnitTraffic) == kScalars * sizeof(uint64_t) + 3 * sizeof(std::vector<uint64_t>) + sizeof(PerCategory));
 
 constexpr uint64_t kValueBits = 48, kWide = uint64_t(1) << 15;
-constexpr size_t kScalars = kScalarsOf;
 
 // A unit's traffic as one list of fields: its scalars, its bytes per
 // category, then per GPM and per link.
