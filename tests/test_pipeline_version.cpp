@@ -4,6 +4,11 @@
 // changes a trace must bump kPipelineVersion, or a trace cache would replay
 // the old output under the new code (the cache key holds the version, not
 // the executable); this test fails until it does, naming the frame.
+//
+// The same frames' images (colour and object ids) are held by hash too: an
+// optimisation of the renderer must leave every pixel as it was (issue 31's
+// vector fragment stage); a change that moves a pixel is a model change, to
+// be made with the reference comparison re-measured (docs/validation.md).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -20,8 +25,7 @@
 namespace oovr {
 namespace {
 
-uint64_t fnv1a(std::string_view bytes) {
-  uint64_t h = 1469598103934665603ull;
+uint64_t fnv1a(std::string_view bytes, uint64_t h = 1469598103934665603ull) {
   for (const char c : bytes) h = (h ^ uint8_t(c)) * 1099511628211ull;
   return h;
 }
@@ -32,24 +36,36 @@ struct Reference {
   const char* eye_resolution;
   uint64_t scene_hash;  // scene_fingerprint of the loaded scene
   uint64_t trace_hash;  // FNV-1a of serialize_trace of the rendered frame
+  uint64_t image_hash;  // FNV-1a of the colour image's bytes, then the object ids'
+  int max_anisotropy;   // 16 (the paper's, the default) or 1 (trilinear: the quad sampler)
   // Every pass given two fetch-only layers (a normal and a gloss map, as a
   // captured GLSL program's): what no loaded scene has.
   bool fetch_layers = false;
 };
 
-// Recorded with kPipelineVersion 2 (1 for all but the fetch layers' frame). When a frame's scene hash still matches
+// Recorded with kPipelineVersion 2 (1 for all but the fetch layers' frame and
+// the trilinear ones; the images' hashes at 178a519). When a frame's scene hash still matches
 // and its trace hash does not, the renderer changed: bump kPipelineVersion and
 // record the new trace hashes (with the version they belong to). When the
 // scene hash changed too, a loader or a scene changed instead: record both.
 constexpr uint32_t kRecordedVersion = 2;
 constexpr Reference kReferences[] = {
-    {"crowd", 0, "96x64", 7155168817299488758u, 16997077439721387403u},
-    {"courtyard", 5, "96x64", 6739315327548645814u, 11421391068056993798u},
-    {"oa:oa_dm4", 0, "96x64", 15964993765765942389u, 2787289683188192321u},
-    {"nexuiz:strength", 0, "96x64", 11821387306815008176u, 10426362947222672922u},
-    {"torcs:forza", 0, "96x64", 18442517620297510886u, 6131576962161297412u},
-    {"courtyard", 5, "96x64", 8638834991936059374u, 3747674295515319064u, true},
+    {"crowd", 0, "96x64", 7155168817299488758u, 16997077439721387403u, 1368127776875970968u, 16},
+    {"courtyard", 5, "96x64", 6739315327548645814u, 11421391068056993798u, 7157077205418575661u, 16},
+    {"oa:oa_dm4", 0, "96x64", 15964993765765942389u, 2787289683188192321u, 14305573863675941670u, 16},
+    {"nexuiz:strength", 0, "96x64", 11821387306815008176u, 10426362947222672922u, 5579434252969499986u, 16},
+    {"torcs:forza", 0, "96x64", 18442517620297510886u, 6131576962161297412u, 1799994838240830067u, 16},
+    {"courtyard", 5, "96x64", 8638834991936059374u, 3747674295515319064u, 7157077205418575661u, 16, true},
+    {"courtyard", 5, "96x64", 6739315327548645814u, 5869829498813623747u, 16803673726811024171u, 1},
+    {"oa:oa_dm4", 0, "96x64", 15964993765765942389u, 15878291614353100390u, 10771577858151602583u, 1},
+    {"nexuiz:strength", 0, "96x64", 11821387306815008176u, 12918620280778749103u, 11976852420045862991u, 1},
 };
+
+uint64_t image_fnv1a(const FrameOutput& out) {
+  const std::string_view colour(reinterpret_cast<const char*>(out.colour.rgba.data()), out.colour.rgba.size());
+  const std::string_view ids(reinterpret_cast<const char*>(out.object_id.data()), out.object_id.size() * sizeof(uint32_t));
+  return fnv1a(ids, fnv1a(colour));
+}
 
 bool installed(const std::string& scene) {
   if (scene.rfind("oa:", 0) == 0) return test::have_openarena();
@@ -70,17 +86,26 @@ TEST(PipelineVersion, ReferenceTracesAreThoseOfThisVersion) {
             for (LayerKind k : {LayerKind::normal, LayerKind::gloss})
               p.layers.push_back({k, 0, TexCoords::surface, Combine::fetch, 1.0f, {}});
     const StereoView view = make_stereo_view(scene.camera, r.frame, parse_eye_resolution(r.eye_resolution));
-    const FrameTrace trace = render_frame(scene, view, PipelineSettings{}, r.frame).trace;
-    const uint64_t scene_hash = scene_fingerprint(scene), trace_hash = fnv1a(serialize_trace(trace));
-    const std::string got = std::to_string(scene_hash) + "u, " + std::to_string(trace_hash) + "u";
+    PipelineSettings settings;
+    settings.max_anisotropy = r.max_anisotropy;
+    const FrameOutput out = render_frame(scene, view, settings, r.frame);
+    const uint64_t scene_hash = scene_fingerprint(scene), trace_hash = fnv1a(serialize_trace(out.trace));
+    const uint64_t image_hash = image_fnv1a(out);
+    const std::string got =
+        std::to_string(scene_hash) + "u, " + std::to_string(trace_hash) + "u, " + std::to_string(image_hash) + "u";
+    const std::string what =
+        std::string(r.scene) + " frame " + std::to_string(r.frame) + " (" + std::to_string(r.max_anisotropy) + "x anisotropic)";
     if (scene_hash != r.scene_hash) {
-      ADD_FAILURE() << r.scene << " frame " << r.frame << ": the scene's content changed (a loader or the scene); record " << got;
+      ADD_FAILURE() << what << ": the scene's content changed (a loader or the scene); record " << got;
     } else if (trace_hash != r.trace_hash) {
-      ADD_FAILURE() << r.scene << " frame " << r.frame << ": the renderer's output changed; "
+      ADD_FAILURE() << what << ": the renderer's output changed; "
                     << (kPipelineVersion == kRecordedVersion
                             ? "bump kPipelineVersion in src/oovr/pipeline/version.h, then record "
                             : "record, with kRecordedVersion = kPipelineVersion, ")
                     << got;
+    } else if (image_hash != r.image_hash) {
+      ADD_FAILURE() << what << ": the image changed, the trace did not; a change to the pixels is a model change "
+                    << "(re-measure the reference comparison), then record " << image_hash << "u";
     }
     ++checked;
   }
