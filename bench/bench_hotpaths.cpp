@@ -89,25 +89,25 @@ void texture_sample_quad(benchmark::State& state) {
   const detail::SamplerTexture tex = sampled_texture();
   Rng rng(7);
   struct Probe {
-    float u[4], v[4];
+    detail::Float4 u, v;
     detail::Derivs d;
   };
   std::vector<Probe> probes(1024);
   for (auto& p : probes) {
     const float scale = float(1 + rng.below(16)) / float(tex.levels[0].width);
     const float u = float(rng.below(1 << 16)) / 65536.0f, v = float(rng.below(1 << 16)) / 65536.0f;
-    p = {{u, u + scale, u, u + scale}, {v, v, v + scale, v + scale}, {scale, 0, 0, scale}};
+    p = {detail::Float4{u, u + scale, u, u + scale}, detail::Float4{v, v, v + scale, v + scale}, {scale, 0, 0, scale}};
   }
   detail::QuadLines lines;
   uint32_t samples = 0;
   float sum = 0;
   uint64_t n = 0;
-  detail::Rgba out[4];
+  detail::Float4 out[4];
   for (auto _ : state) {
     for (const Probe& p : probes) {
       const detail::Footprint f = detail::footprint(tex, p.d, 1);
       detail::sample_quad(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples, out);
-      sum += out[0].r + out[3].g;
+      sum += out[0][0] + out[3][1];
       lines.clear();
     }
     n += 4 * probes.size();

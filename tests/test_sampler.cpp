@@ -84,16 +84,18 @@ TEST(Sampler, QuadSamplesAreThoseOfFourPixels) {
       detail::QuadLines ql, sl;
       std::vector<TexLine> quad_lines, scalar_lines;
       uint32_t quad_samples = 0, scalar_samples = 0;
-      detail::Rgba got[4];
-      detail::sample_quad(st, u, v, lambda, live, &ql, quad_samples, got);
+      detail::Float4 got4[4];
+      detail::sample_quad(st, detail::Float4{u[0], u[1], u[2], u[3]}, detail::Float4{v[0], v[1], v[2], v[3]}, lambda, live, &ql,
+                          quad_samples, got4);
       ql.flush(quad_lines);
       for (int p = 0; p < 4; ++p) {
         if (!(live & (1u << p))) continue;
+        const detail::Rgba got = detail::to_rgba(got4[p]);
         const detail::Rgba want = detail::to_rgba(detail::sample_lod(st, u[p], v[p], lambda, &sl, scalar_samples));
-        ASSERT_EQ(bits(got[p].r), bits(want.r)) << "case " << ci << " quad " << q << " pixel " << p;
-        ASSERT_EQ(bits(got[p].g), bits(want.g));
-        ASSERT_EQ(bits(got[p].b), bits(want.b));
-        ASSERT_EQ(bits(got[p].a), bits(want.a));
+        ASSERT_EQ(bits(got.r), bits(want.r)) << "case " << ci << " quad " << q << " pixel " << p;
+        ASSERT_EQ(bits(got.g), bits(want.g));
+        ASSERT_EQ(bits(got.b), bits(want.b));
+        ASSERT_EQ(bits(got.a), bits(want.a));
         ++compared;
       }
       sl.flush(scalar_lines);

@@ -115,24 +115,30 @@ inline bool alpha_passes(AlphaFunc f, float a, float ref255) {
   return false;
 }
 
-// A blend factor (0..1) for one channel: s and d are the source and
-// destination colours (0..255), k the channel.
-inline float blend_factor(BlendFactor f, const detail::Rgba& s, const detail::Rgba& d, int k) {
-  const float sc = k == 0 ? s.r : k == 1 ? s.g : k == 2 ? s.b : s.a;
-  const float dc = k == 0 ? d.r : k == 1 ? d.g : k == 2 ? d.b : d.a;
+// A blend factor (0..1) per channel: s and d are the source and
+// destination colours (0..255) as channel vectors; each lane computes what
+// the channel's scalar factor would.
+inline Float4 blend_factor(BlendFactor f, Float4 s, Float4 d) {
+  const auto all = [](float x) { return Float4{x, x, x, x}; };
   switch (f) {
-    case BlendFactor::zero: return 0.0f;
-    case BlendFactor::one: return 1.0f;
-    case BlendFactor::src_colour: return sc / 255.0f;
-    case BlendFactor::one_minus_src_colour: return 1.0f - sc / 255.0f;
-    case BlendFactor::src_alpha: return s.a / 255.0f;
-    case BlendFactor::one_minus_src_alpha: return 1.0f - s.a / 255.0f;
-    case BlendFactor::dst_colour: return dc / 255.0f;
-    case BlendFactor::one_minus_dst_colour: return 1.0f - dc / 255.0f;
-    case BlendFactor::dst_alpha: return d.a / 255.0f;
-    case BlendFactor::one_minus_dst_alpha: return 1.0f - d.a / 255.0f;
+    case BlendFactor::zero: return all(0.0f);
+    case BlendFactor::one: return all(1.0f);
+    case BlendFactor::src_colour: return s / 255.0f;
+    case BlendFactor::one_minus_src_colour: return 1.0f - s / 255.0f;
+    case BlendFactor::src_alpha: return all(s[3] / 255.0f);
+    case BlendFactor::one_minus_src_alpha: return all(1.0f - s[3] / 255.0f);
+    case BlendFactor::dst_colour: return d / 255.0f;
+    case BlendFactor::one_minus_dst_colour: return 1.0f - d / 255.0f;
+    case BlendFactor::dst_alpha: return all(d[3] / 255.0f);
+    case BlendFactor::one_minus_dst_alpha: return all(1.0f - d[3] / 255.0f);
   }
-  return 0.0f;
+  return all(0.0f);
+}
+
+// std::clamp(x, 0, 255) per lane, NaN kept as std::clamp keeps it.
+inline Float4 clamp255(Float4 x) {
+  const Float4 lo{0, 0, 0, 0}, hi{255, 255, 255, 255};
+  return x < lo ? lo : (hi < x ? hi : x);
 }
 
 // Per-tile rasterisation and shading. Writes only the tile's own pixels.
@@ -212,7 +218,7 @@ class TileRasterizer {
     const bool early_z = !pass.alpha_tested();
     const bool reads_colour = pass.reads_colour(), blended = pass.blended();
     const bool test_depth = pass.depth_func != DepthFunc::always;
-    const float cr = pass.colour.x, cg = pass.colour.y, cb = pass.colour.z, ca = pass.colour.w;
+    const Float4 colour{pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w};
     const float ref255 = pass.alpha_ref * 255.0f;
     const bool record = m_settings.record_texture_lines;
     const int qx0 = x0 & ~1, qy0 = y0 & ~1;
@@ -239,27 +245,33 @@ class TileRasterizer {
         m_cur.covered += pixels_in(mask);
 
         // Barycentrics and interpolated values at all four pixels (helpers
-        // included: they provide the derivatives).
-        float z[4], u[4], v[4], lu[4], lv[4], lit[4][kLitVaryings];
+        // included: they provide the derivatives), pixel p in lane p. Each
+        // lane does the per-pixel scalar operations in their order (no fused
+        // multiply-add: -ffp-contract=off), so every value is that of the
+        // pixel-by-pixel code, bit for bit.
+        const Float4 b0 = Float4{float(e[0][0]), float(e[0][1]), float(e[0][2]), float(e[0][3])} * t.inv_area;
+        const Float4 b1 = Float4{float(e[1][0]), float(e[1][1]), float(e[1][2]), float(e[1][3])} * t.inv_area;
+        const Float4 b2 = Float4{float(e[2][0]), float(e[2][1]), float(e[2][2]), float(e[2][3])} * t.inv_area;
+        const Float4 w = 1.0f / (b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2]);
+        const Float4 u = (b0 * t.uw[0] + b1 * t.uw[1] + b2 * t.uw[2]) * w;
+        const Float4 v = (b0 * t.vw[0] + b1 * t.vw[1] + b2 * t.vw[2]) * w;
+        Float4 lu{}, lv{};
+        if (pp.lightmap_coords) {
+          lu = (b0 * t.luw[0] + b1 * t.luw[1] + b2 * t.luw[2]) * w;
+          lv = (b0 * t.lvw[0] + b1 * t.lvw[1] + b2 * t.lvw[2]) * w;
+        }
+        if (t.lit != SetupTri::kNoLit) {
+          const LitTri& L = m_lit[t.lit];
+          const int n = pp.coloured ? kColourVaryings : kLitVaryings;
+          for (int k = 0; k < n; ++k) m_lit4[k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
+        }
+        // Depth from the plane, evaluated and clamped as llvmpipe does; only
+        // covered pixels are tested.
+        float z[4];
         for (int p = 0; p < 4; ++p) {
-          const float b0 = float(e[0][p]) * t.inv_area;
-          const float b1 = float(e[1][p]) * t.inv_area;
-          const float b2 = float(e[2][p]) * t.inv_area;
-          // Depth from the plane, evaluated and clamped as llvmpipe does.
+          if (!(mask & (1u << p))) continue;
           const float zp = std::fma(t.dzdy, float(qy + (p >> 1)), std::fma(t.dzdx, float(qx + (p & 1)), t.z0));
           z[p] = std::max(std::min(zp, 1.0f), 0.0f);
-          const float w = 1.0f / (b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2]);
-          u[p] = (b0 * t.uw[0] + b1 * t.uw[1] + b2 * t.uw[2]) * w;
-          v[p] = (b0 * t.vw[0] + b1 * t.vw[1] + b2 * t.vw[2]) * w;
-          if (pp.lightmap_coords) {
-            lu[p] = (b0 * t.luw[0] + b1 * t.luw[1] + b2 * t.luw[2]) * w;
-            lv[p] = (b0 * t.lvw[0] + b1 * t.lvw[1] + b2 * t.lvw[2]) * w;
-          }
-          if (t.lit != SetupTri::kNoLit) {
-            const LitTri& L = m_lit[t.lit];
-            const int n = pp.coloured ? kColourVaryings : kLitVaryings;
-            for (int k = 0; k < n; ++k) lit[p][k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
-          }
         }
 
         unsigned live = mask;
@@ -277,102 +289,81 @@ class TileRasterizer {
 
         m_quad_lines.clear();
         detail::QuadLines* lines = record ? &m_quad_lines : nullptr;
-        detail::Rgba c[4];
-        for (int p = 0; p < 4; ++p) c[p] = {255, 255, 255, 255};
+        // Each pixel's colour as one vector of its channels (r, g, b, a).
+        Float4 c[4];
+        for (int p = 0; p < 4; ++p) c[p] = Float4{255, 255, 255, 255};
         bool first = true;
         const bool deluxe = pass.shading == Shading::deluxe;
         for (size_t li = 0; li < pp.layers.size(); ++li) {
           const PreparedLayer& L = pp.layers[li];
-          const float* su = L.lightmap_coords ? lu : u;
-          const float* sv = L.lightmap_coords ? lv : v;
-          float tu[4], tv[4];
-          for (int p = 0; p < 4; ++p) {
-            if (L.transformed) {
-              tu[p] = L.xf.a * su[p] + L.xf.b * sv[p] + L.xf.c;
-              tv[p] = L.xf.d * su[p] + L.xf.e * sv[p] + L.xf.f;
-            } else {
-              tu[p] = su[p];
-              tv[p] = sv[p];
-            }
-          }
+          const Float4 su = L.lightmap_coords ? lu : u;
+          const Float4 sv = L.lightmap_coords ? lv : v;
+          const Float4 tu = L.transformed ? L.xf.a * su + L.xf.b * sv + L.xf.c : su;
+          const Float4 tv = L.transformed ? L.xf.d * su + L.xf.e * sv + L.xf.f : sv;
           const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
           const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
           // The live pixels' samples, in pixel order (their lines are recorded so).
-          detail::Rgba texel[4];
+          Float4 texel[4];
           if (f.probes == 1) {
             detail::sample_quad(*L.texture, tu, tv, f.lambda, live, lines, m_cur.samples, texel);
           } else {
             for (int p = 0; p < 4; ++p)
-              if (live & (1u << p)) texel[p] = detail::sample(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
+              if (live & (1u << p))
+                texel[p] = detail::to_float4(detail::sample(*L.texture, tu[p], tv[p], f, lines, m_cur.samples));
           }
           if (L.combine == Combine::fetch && !deluxe) continue;  // sampled (counted), not combined
+          // The scalar combine's operations per channel: x * 1 and x / 1
+          // are exact, so a lane that a step leaves alone gets the value
+          // it had.
+          const float k = L.scale / 255.0f;
+          const Float4 scale3{L.scale, L.scale, L.scale, 1.0f};
+          const Float4 mod_mul{k, k, k, 1.0f}, mod_div{1.0f, 1.0f, 1.0f, 255.0f};
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
-            const detail::Rgba& s = texel[p];
+            const Float4 s = texel[p];
             if (deluxe) {
-              m_texel[p][li] = s;
+              m_texel[p][li] = detail::to_rgba(s);
               continue;
             }
-            detail::Rgba& o = c[p];
+            Float4& o = c[p];
             if (first) {
               // The first layer's texel starts the colour; the pass
               // colour and the vertex colour multiply it (unless it
               // replaces them).
               o = s;
-              if (L.scale != 1.0f) {
-                o.r *= L.scale;
-                o.g *= L.scale;
-                o.b *= L.scale;
-              }
-              if (!pp.replace) {
-                o.r *= cr;
-                o.g *= cg;
-                o.b *= cb;
-                o.a *= ca;
-              }
-              if (pp.coloured) {
-                o.r *= lit[p][0];
-                o.g *= lit[p][1];
-                o.b *= lit[p][2];
-                o.a *= lit[p][3];
-              }
+              if (L.scale != 1.0f) o = o * scale3;
+              if (!pp.replace) o = o * colour;
+              if (pp.coloured) o = o * vertex_colour(p);
             } else if (L.combine == Combine::modulate) {
-              const float k = L.scale / 255.0f;
-              o.r *= s.r * k;
-              o.g *= s.g * k;
-              o.b *= s.b * k;
-              o.a *= s.a / 255.0f;
+              // rgb *= s * (scale / 255); a *= s.a / 255
+              o = o * (s * mod_mul / mod_div);
             } else {
-              o.r += s.r * L.scale;
-              o.g += s.g * L.scale;
-              o.b += s.b * L.scale;
-              o.a *= s.a / 255.0f;
+              // rgb += s * scale; a *= s.a / 255
+              const float a = o[3] * (s[3] / 255.0f);
+              o = o + s * L.scale;
+              o[3] = a;
             }
           }
           first = false;
         }
         if (deluxe) {
-          for (int p = 0; p < 4; ++p)
-            if (live & (1u << p)) c[p] = shade_deluxe(pp, m_texel[p], lit[p]);
+          for (int p = 0; p < 4; ++p) {
+            if (!(live & (1u << p))) continue;
+            float lit[kLitVaryings];
+            for (int k = 0; k < kLitVaryings; ++k) lit[k] = m_lit4[k][p];
+            c[p] = detail::to_float4(shade_deluxe(pp, m_texel[p], lit));
+          }
         } else if (first) {  // no layers: the pass colour alone, times any vertex colour
           for (int p = 0; p < 4; ++p) {
-            c[p].r *= cr;
-            c[p].g *= cg;
-            c[p].b *= cb;
-            c[p].a *= ca;
-            if (pp.coloured) {
-              c[p].r *= lit[p][0];
-              c[p].g *= lit[p][1];
-              c[p].b *= lit[p][2];
-              c[p].a *= lit[p][3];
-            }
+            c[p] = c[p] * colour;
+            if (pp.coloured) c[p] = c[p] * vertex_colour(p);
           }
         }
 
         for (int p = 0; p < 4; ++p) {
           if (!(live & (1u << p))) continue;
           const int x = qx + (p & 1), y = qy + (p >> 1);
-          if (!alpha_passes(pass.alpha_func, c[p].a, ref255)) continue;  // discard
+          if (!alpha_passes(pass.alpha_func, c[p][3], ref255)) continue;  // discard
           const size_t pix = size_t(y) * m_frame_w + x;
           const uint32_t line = line_of_pixel(x, y);
           if (!early_z && test_depth) {
@@ -384,27 +375,18 @@ class TileRasterizer {
             m_cur.depth_write_mask |= 1u << line;
           }
           uint8_t* out = m_colour + pix * 4;
-          detail::Rgba src = c[p];
+          Float4 src = c[p];
           if (blended) {
             // Blending on the unorm frame: the shader's colour is clamped
             // to [0, 1] first (GL 4.5 Section 17.3.6).
-            src = {std::clamp(src.r, 0.0f, 255.0f), std::clamp(src.g, 0.0f, 255.0f), std::clamp(src.b, 0.0f, 255.0f),
-                   std::clamp(src.a, 0.0f, 255.0f)};
-            const detail::Rgba dst{float(out[0]), float(out[1]), float(out[2]), float(out[3])};
-            detail::Rgba r;
-            r.r = src.r * blend_factor(pass.src, src, dst, 0) + dst.r * blend_factor(pass.dst, src, dst, 0);
-            r.g = src.g * blend_factor(pass.src, src, dst, 1) + dst.g * blend_factor(pass.dst, src, dst, 1);
-            r.b = src.b * blend_factor(pass.src, src, dst, 2) + dst.b * blend_factor(pass.dst, src, dst, 2);
-            r.a = src.a * blend_factor(pass.src, src, dst, 3) + dst.a * blend_factor(pass.dst, src, dst, 3);
-            src = r;
+            src = clamp255(src);
+            const Float4 dst = detail::texel4(out);
+            src = src * blend_factor(pass.src, src, dst) + dst * blend_factor(pass.dst, src, dst);
           }
           ++m_cur.passed;
           if (!pass.colour_write) continue;  // glColorMask: depth only
           if (reads_colour) m_cur.colour_read_mask |= 1u << line;
-          out[0] = quantize(src.r);
-          out[1] = quantize(src.g);
-          out[2] = quantize(src.b);
-          out[3] = quantize(src.a);
+          quantize(src, out);
           m_ids[pix] = t.object;
           m_cur.colour_write_mask |= 1u << line;
         }
@@ -413,11 +395,16 @@ class TileRasterizer {
     }
   }
 
-  static uint8_t quantize(float c255) {
-    // Float to unsigned normalised: clamp, then round to nearest.
-    const float c = std::clamp(c255, 0.0f, 255.0f);
-    return uint8_t(c + 0.5f);
+  // Float to unsigned normalised, per channel: clamp, then round to
+  // nearest (the conversion truncates, as uint8_t(c + 0.5f) does).
+  static void quantize(Float4 c255, uint8_t* out) {
+    using Int4 = int32_t __attribute__((vector_size(16)));
+    const Byte4 b = __builtin_convertvector(__builtin_convertvector(clamp255(c255) + 0.5f, Int4), Byte4);
+    std::memcpy(out, &b, 4);
   }
+
+  // Pixel p's vertex colour (the first four varyings).
+  Float4 vertex_colour(int p) const { return Float4{m_lit4[0][p], m_lit4[1][p], m_lit4[2][p], m_lit4[3][p]}; }
 
   const std::vector<SetupTri>& m_tris;
   const std::vector<LitTri>& m_lit;
@@ -436,6 +423,8 @@ class TileRasterizer {
   // A per-pixel lit quad's texels, per pixel and layer (shade_deluxe reads
   // one pixel's row); a member so other passes do not initialise it per quad.
   detail::Rgba m_texel[4][kMaxDeluxeLayers];
+  // The quad's extra varyings, varying k of pixel p in m_lit4[k][p].
+  Float4 m_lit4[kLitVaryings];
 };
 
 }  // namespace oovr::detail

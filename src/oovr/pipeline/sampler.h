@@ -121,6 +121,7 @@ using Byte4 = uint8_t __attribute__((vector_size(4)));
 #endif
 }
 inline Rgba to_rgba(Float4 v) { return {v[0], v[1], v[2], v[3]}; }
+inline Float4 to_float4(const Rgba& c) { return Float4{c.r, c.g, c.b, c.a}; }
 
 inline int wrap_coord(int i, int size, int mask, bool repeat) {
   if (repeat) {
@@ -235,12 +236,12 @@ inline Float4 floor4(Float4 x) {
 // filtering and lines of bilinear() for the first level and the second.
 // Every lane does bilinear()'s operations in its order, so each `out[p]`
 // and the lines recorded are those of sample_lod() pixel by pixel, bit for
-// bit. Pixels not in `live` are not sampled (their coordinates may be
+// bit. `u4`, `v4` hold the pixels' coordinates in lanes 0..3 (the quad's
+// order); `out[p]` the pixel's channels. Pixels not in `live` are not sampled (their coordinates may be
 // anything, NaN included).
-inline void sample_quad(const SamplerTexture& t, const float u[4], const float v[4], float lambda, unsigned live,
-                        QuadLines* lines, uint32_t& samples, Rgba out[4]) {
+inline void sample_quad(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, unsigned live, QuadLines* lines,
+                        uint32_t& samples, Float4 out[4]) {
   const LevelChoice c = choose_levels(t, lambda);
-  const Float4 u4{u[0], u[1], u[2], u[3]}, v4{v[0], v[1], v[2], v[3]};
   Float4 fs[2], ft[2], fa[2], fb[2];
   for (int k = 0; k < c.count; ++k) {
     const LevelView& l = t.levels[size_t(c.level[k])];
@@ -265,7 +266,7 @@ inline void sample_quad(const SamplerTexture& t, const float u[4], const float v
       const Float4 r2 = at(1, p);
       r = r + (r2 - r) * c.f;
     }
-    out[p] = to_rgba(r);
+    out[p] = r;
   }
 }
 
