@@ -17,8 +17,8 @@ void put(std::string& out, const T& v) {
   out.append(reinterpret_cast<const char*>(&v), sizeof v);
 }
 // A count, then the items' bytes.
-template <class T>
-void put_vector(std::string& out, const std::vector<T>& v) {
+template <class T, class A>
+void put_vector(std::string& out, const std::vector<T, A>& v) {
   put(out, uint64_t(v.size()));
   out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
@@ -39,8 +39,8 @@ class ByteReader {
   }
   // A count of items of at least `min_bytes` each that the bytes left can hold.
   bool get_count(uint64_t& n, uint64_t min_bytes) { return get(n) && n <= left() / (min_bytes ? min_bytes : 1); }
-  template <class T>
-  bool get_vector(std::vector<T>& v) {
+  template <class T, class A>
+  bool get_vector(std::vector<T, A>& v) {
     uint64_t n = 0;
     if (!get_count(n, sizeof(T))) return false;
     v.resize(size_t(n));

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "oovr/core/uninitialised.h"
 #include "oovr/pipeline/tiled_layout.h"
 
 namespace oovr {
@@ -98,7 +99,7 @@ struct FrameTrace {
   std::vector<ObjectWork> objects;  // indexed by object
   // Sorted by (object, eye, tile_y, tile_x): draw order, then eye, then tile.
   std::vector<TileWork> tiles;
-  std::vector<TexLine> tex_lines;
+  UninitialisedVector<TexLine> tex_lines;
 
   uint64_t total_covered() const;
   uint64_t total_passed() const;
