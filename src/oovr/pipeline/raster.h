@@ -10,6 +10,7 @@
 #include <cstring>
 #include <vector>
 
+#include "oovr/core/error.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/pipeline/sampler.h"
 #include "oovr/pipeline/setup.h"
@@ -151,12 +152,19 @@ class TileRasterizer {
         m_lit(lit),
         m_passes(passes),
         m_settings(settings),
-        m_block_w(block_w),
-        m_block_h(block_h),
+        m_block_shift_x(__builtin_ctz(unsigned(block_w))),
+        m_block_shift_y(__builtin_ctz(unsigned(block_h))),
         m_frame_w(frame_w),
         m_colour(colour),
         m_depth(depth),
-        m_ids(ids) {}
+        m_ids(ids) {
+    // Framebuffer blocks are powers of two of at least 4x2 pixels
+    // (line_block_shape, lines of 32 bytes or more): a 2x2 quad at even
+    // coordinates lies in one line.
+    if (block_w < 2 || block_h < 2 || (block_w & (block_w - 1)) || (block_h & (block_h - 1)) || block_w > kTileSize ||
+        block_h > kTileSize)
+      throw Error("framebuffer line blocks must be powers of two from 2 to " + std::to_string(kTileSize) + " pixels a side");
+  }
 
   struct Output {
     std::vector<TileWork> work;
@@ -202,9 +210,11 @@ class TileRasterizer {
     m_open = false;
   }
 
+  // The framebuffer line (within the tile) that holds pixel (x, y), and
+  // every pixel of its quad.
   uint32_t line_of_pixel(int x, int y) const {
     const int lx = x - m_tx * kTileSize, ly = y - m_ty * kTileSize;
-    return uint32_t((ly / m_block_h) * (kTileSize / m_block_w) + lx / m_block_w);
+    return uint32_t(((ly >> m_block_shift_y) << (kTileShift - m_block_shift_x)) + (lx >> m_block_shift_x));
   }
 
   void raster(const SetupTri& t) {
@@ -274,12 +284,13 @@ class TileRasterizer {
           z[p] = std::max(std::min(zp, 1.0f), 0.0f);
         }
 
+        const uint32_t quad_line = 1u << line_of_pixel(qx, qy);
         unsigned live = mask;
         if (early_z && test_depth) {
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
             const int x = qx + (p & 1), y = qy + (p >> 1);
-            m_cur.depth_read_mask |= 1u << line_of_pixel(x, y);
+            m_cur.depth_read_mask |= quad_line;
             if (!depth_passes(pass.depth_func, z[p], m_depth[size_t(y) * m_frame_w + x])) live &= ~(1u << p);
           }
           if (!live) continue;
@@ -365,14 +376,14 @@ class TileRasterizer {
           const int x = qx + (p & 1), y = qy + (p >> 1);
           if (!alpha_passes(pass.alpha_func, c[p][3], ref255)) continue;  // discard
           const size_t pix = size_t(y) * m_frame_w + x;
-          const uint32_t line = line_of_pixel(x, y);
+
           if (!early_z && test_depth) {
-            m_cur.depth_read_mask |= 1u << line;
+            m_cur.depth_read_mask |= quad_line;
             if (!depth_passes(pass.depth_func, z[p], m_depth[pix])) continue;
           }
           if (pass.depth_write) {
             m_depth[pix] = z[p];
-            m_cur.depth_write_mask |= 1u << line;
+            m_cur.depth_write_mask |= quad_line;
           }
           uint8_t* out = m_colour + pix * 4;
           Float4 src = c[p];
@@ -385,10 +396,10 @@ class TileRasterizer {
           }
           ++m_cur.passed;
           if (!pass.colour_write) continue;  // glColorMask: depth only
-          if (reads_colour) m_cur.colour_read_mask |= 1u << line;
+          if (reads_colour) m_cur.colour_read_mask |= quad_line;
           quantize(src, out);
           m_ids[pix] = t.object;
-          m_cur.colour_write_mask |= 1u << line;
+          m_cur.colour_write_mask |= quad_line;
         }
         if (record) m_quad_lines.flush(m_out->lines);
       }
@@ -398,9 +409,20 @@ class TileRasterizer {
   // Float to unsigned normalised, per channel: clamp, then round to
   // nearest (the conversion truncates, as uint8_t(c + 0.5f) does).
   static void quantize(Float4 c255, uint8_t* out) {
+    const Float4 r = clamp255(c255) + 0.5f;
+#if defined(__SSE2__)
+    // Truncate to 32 bits, then narrow with saturation: lanes are 0..255,
+    // or NaN, which converts to INT_MIN and narrows to 0, as the scalar
+    // uint8_t(NaN) gives (the low byte of cvttss2si's INT_MIN).
+    const __m128i i = _mm_cvttps_epi32(__m128(r));
+    const __m128i b = _mm_packus_epi16(_mm_packs_epi32(i, i), _mm_setzero_si128());
+    const int32_t word = _mm_cvtsi128_si32(b);
+    std::memcpy(out, &word, 4);
+#else
     using Int4 = int32_t __attribute__((vector_size(16)));
-    const Byte4 b = __builtin_convertvector(__builtin_convertvector(clamp255(c255) + 0.5f, Int4), Byte4);
+    const Byte4 b = __builtin_convertvector(__builtin_convertvector(r, Int4), Byte4);
     std::memcpy(out, &b, 4);
+#endif
   }
 
   // Pixel p's vertex colour (the first four varyings).
@@ -410,7 +432,8 @@ class TileRasterizer {
   const std::vector<LitTri>& m_lit;
   const std::vector<PreparedPass>& m_passes;
   const PipelineSettings& m_settings;
-  int m_block_w, m_block_h, m_frame_w;
+  static constexpr int kTileShift = __builtin_ctz(unsigned(kTileSize));
+  int m_block_shift_x, m_block_shift_y, m_frame_w;
   uint8_t* m_colour;
   float* m_depth;
   uint32_t* m_ids;
