@@ -230,43 +230,115 @@ inline Float4 floor4(Float4 x) {
 #endif
 }
 
+using Int4 = int32_t __attribute__((vector_size(16)));
+
+// wrap_coord() in four lanes.
+inline Int4 wrap4(Int4 i, int size, int mask, bool repeat) {
+  if (repeat) {
+    if (mask >= 0) return i & mask;
+    return Int4{wrap_coord(i[0], size, mask, true), wrap_coord(i[1], size, mask, true), wrap_coord(i[2], size, mask, true),
+                wrap_coord(i[3], size, mask, true)};
+  }
+  const Int4 zero{0, 0, 0, 0};
+  const Int4 r = i < zero ? zero : i;
+  return i >= size ? Int4{size - 1, size - 1, size - 1, size - 1} : r;
+}
+
+// int(std::clamp(x, -kCoordLimit, kCoordLimit)) in four lanes (a NaN
+// converts as the scalar conversion does, to INT_MIN).
+inline Int4 clamp_to_int4(Float4 x) {
+  const Float4 lo{-kCoordLimit, -kCoordLimit, -kCoordLimit, -kCoordLimit}, hi{kCoordLimit, kCoordLimit, kCoordLimit, kCoordLimit};
+  const Float4 c = x < lo ? lo : (hi < x ? hi : x);
+#if defined(__SSE2__)
+  return Int4(_mm_cvttps_epi32(__m128(c)));
+#else
+  return __builtin_convertvector(c, Int4);
+#endif
+}
+
+// One level's bilinear taps for a quad's four points, pixel p in lane p:
+// bilinear()'s texel coordinates (wrapped), weights and line blocks.
+struct QuadTaps {
+  Int4 i0, i1, j0, j1;
+  Float4 w00, w10, w01, w11;
+  Int4 bx0, bx1, by0, by1;
+};
+
+inline QuadTaps quad_taps(const SamplerTexture& t, const LevelView& l, Float4 u4, Float4 v4) {
+  const Float4 s = u4 * float(l.width) - 0.5f, tt = v4 * float(l.height) - 0.5f;
+  const Float4 fs = floor4(s), ft = floor4(tt);
+  const Float4 a = s - fs, b = tt - ft;
+  const Int4 i0r = clamp_to_int4(fs), j0r = clamp_to_int4(ft);
+  QuadTaps q;
+  q.i0 = wrap4(i0r, l.width, l.wrap_mask_x, t.repeat);
+  q.i1 = wrap4(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
+  q.j0 = wrap4(j0r, l.height, l.wrap_mask_y, t.repeat);
+  q.j1 = wrap4(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
+  q.w00 = (1 - a) * (1 - b);
+  q.w10 = a * (1 - b);
+  q.w01 = (1 - a) * b;
+  q.w11 = a * b;
+  q.bx0 = q.i0 >> t.block_shift_x;
+  q.bx1 = q.i1 >> t.block_shift_x;
+  q.by0 = q.j0 >> t.block_shift_y;
+  q.by1 = q.j1 >> t.block_shift_y;
+  return q;
+}
+
+// filter() for pixel p of a quad's taps: the same fetches, operations and
+// lines in the same order.
+[[gnu::always_inline]] inline Float4 filter_tap(const SamplerTexture& t, const LevelView& l, const QuadTaps& q, int p,
+                                                QuadLines* lines) {
+  const int i0 = q.i0[p], i1 = q.i1[p];
+  const uint8_t* row0 = l.rgba + size_t(q.j0[p]) * size_t(l.width) * 4;
+  const uint8_t* row1 = l.rgba + size_t(q.j1[p]) * size_t(l.width) * 4;
+  const Float4 c = q.w00[p] * texel4(row0 + i0 * 4) + q.w10[p] * texel4(row0 + i1 * 4) + q.w01[p] * texel4(row1 + i0 * 4) +
+                   q.w11[p] * texel4(row1 + i1 * 4);
+  if (lines) {
+    const uint32_t base = l.first_line;
+    const int bx0 = q.bx0[p], bx1 = q.bx1[p], by0 = q.by0[p], by1 = q.by1[p];
+    lines->add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx0)));
+    if (bx1 != bx0) lines->add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx1)));
+    if (by1 != by0) {
+      lines->add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx0)));
+      if (bx1 != bx0) lines->add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx1)));
+    }
+  }
+  return c;
+}
+
 // A quad's four points sampled with one level of detail (a quad shares its
 // footprint, so its levels too): the coordinate arithmetic of each level
-// in four lanes, then per live pixel, in pixel order, the fetches,
-// filtering and lines of bilinear() for the first level and the second.
-// Every lane does bilinear()'s operations in its order, so each `out[p]`
-// and the lines recorded are those of sample_lod() pixel by pixel, bit for
-// bit. `u4`, `v4` hold the pixels' coordinates in lanes 0..3 (the quad's
-// order); `out[p]` the pixel's channels. Pixels not in `live` are not sampled (their coordinates may be
-// anything, NaN included).
+// (texel coordinates, wrapping, weights, line blocks) in four lanes, then
+// per live pixel, in pixel order, the fetches, filtering and lines of
+// bilinear() for the first level and the second. Every lane does
+// bilinear()'s operations in its order, so each `out[p]` and the lines
+// recorded are those of sample_lod() pixel by pixel, bit for bit. `u4`,
+// `v4` hold the pixels' coordinates in lanes 0..3 (the quad's order);
+// `out[p]` the pixel's channels. Pixels not in `live` are not sampled
+// (their coordinates may be anything, NaN included: a lane's conversion
+// of one is defined, and its taps are not used).
 inline void sample_quad(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, unsigned live, QuadLines* lines,
                         uint32_t& samples, Float4 out[4]) {
   const LevelChoice c = choose_levels(t, lambda);
-  Float4 fs[2], ft[2], fa[2], fb[2];
-  for (int k = 0; k < c.count; ++k) {
-    const LevelView& l = t.levels[size_t(c.level[k])];
-    const Float4 s = u4 * float(l.width) - 0.5f, tt = v4 * float(l.height) - 0.5f;
-    fs[k] = floor4(s);
-    ft[k] = floor4(tt);
-    fa[k] = s - fs[k];
-    fb[k] = tt - ft[k];
+  const LevelView& l0 = t.levels[size_t(c.level[0])];
+  const QuadTaps q0 = quad_taps(t, l0, u4, v4);
+  if (c.count == 1) {
+    for (int p = 0; p < 4; ++p) {
+      if (!(live & (1u << p))) continue;
+      samples += 1;
+      out[p] = filter_tap(t, l0, q0, p, lines);
+    }
+    return;
   }
-  // A level's texel, from the lanes, converted only for live pixels.
-  const auto at = [&](int k, int p) {
-    const LevelView& l = t.levels[size_t(c.level[k])];
-    const int i0r = int(std::clamp(fs[k][p], -kCoordLimit, kCoordLimit));
-    const int j0r = int(std::clamp(ft[k][p], -kCoordLimit, kCoordLimit));
-    return filter(t, l, i0r, j0r, fa[k][p], fb[k][p], lines);
-  };
+  const LevelView& l1 = t.levels[size_t(c.level[1])];
+  const QuadTaps q1 = quad_taps(t, l1, u4, v4);
   for (int p = 0; p < 4; ++p) {
     if (!(live & (1u << p))) continue;
-    samples += uint32_t(c.count);
-    Float4 r = at(0, p);
-    if (c.count == 2) {
-      const Float4 r2 = at(1, p);
-      r = r + (r2 - r) * c.f;
-    }
-    out[p] = r;
+    samples += 2;
+    const Float4 r = filter_tap(t, l0, q0, p, lines);
+    const Float4 r2 = filter_tap(t, l1, q1, p, lines);
+    out[p] = r + (r2 - r) * c.f;
   }
 }
 
