@@ -74,12 +74,12 @@ void TimingEngine::start(int i) {
 
 void TimingEngine::start_ready() {
   // Units without a queue, and the head of every idle queue.
-  std::vector<int> still;
+  m_still.clear();
   for (int i : m_free_waiting) {
     if (m_deps[size_t(i)] == 0) start(i);
-    else still.push_back(i);
+    else m_still.push_back(i);
   }
-  m_free_waiting.swap(still);
+  m_free_waiting.swap(m_still);
   for (size_t q = 0; q < m_queue_units.size(); ++q)
     if (m_queue_idle[q] && m_queue_head[q] < m_queue_units[q].size()) {
       const int i = m_queue_units[q][m_queue_head[q]];
@@ -144,7 +144,8 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
     // Advance the running units; those whose work ends at t_next move on.
     // (A latency phase ending first is an event of its own.)
     const bool work_event = m_now + step <= next_latency;
-    std::vector<int> finished_work;
+    std::vector<int>& finished_work = m_finished_work;
+    finished_work.clear();
     for (size_t k = 0; k < m_running.size(); ++k) {
       const int i = m_running[k];
       const double to_finish = std::isinf(rate[k]) ? 0.0 : m_left[size_t(i)] / rate[k];
