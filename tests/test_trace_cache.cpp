@@ -16,6 +16,7 @@
 #include "oovr/core/config.h"
 #include "oovr/core/error.h"
 #include "oovr/pipeline/trace_cache.h"
+#include "oovr/pipeline/trace_format.h"
 #include "oovr/run/frames.h"
 #include "oovr/run/session.h"
 #include "oovr/scene/builtin.h"
@@ -264,6 +265,45 @@ class CrowdWindows : public ::testing::Test {
   const Config config{};
   WindowRequest w;
 };
+
+// A window loaded on its own thread hands out, frame by frame, the traces
+// load_window makes, held in memory or streamed; the whole window after.
+TEST_F(CrowdWindows, ALoaderHandsOutTheTracesLoadWindowMakes) {
+  w.first = 5;
+  w.count = 4;
+  w.use_cache = false;
+  const FrameWindow fresh = load_window(scene, rig, config, w);
+  ASSERT_EQ(fresh.traces.size(), 4u);
+  for (const uint64_t budget : {uint64_t(0), uint64_t(1)}) {  // 1 byte: streamed
+    w.memory_budget = budget;
+    WindowLoader loader(scene, rig, MachineSpec::from_config(config), w);
+    ASSERT_EQ(loader.frames().size(), 4u);
+    for (size_t k = 0; k < 4; ++k)
+      EXPECT_EQ(serialize_trace(*loader.frames().at(k)), serialize_trace(*fresh.traces[k]))
+          << "frame " << k << " budget " << budget;
+    EXPECT_THROW(loader.frames().at(4), Error);
+    const std::shared_ptr<const FrameWindow> whole = loader.wait();
+    ASSERT_TRUE(whole);
+    EXPECT_EQ(whole->streamed, budget == 1);
+    EXPECT_EQ(whole->frames->size(), 4u);
+    EXPECT_EQ(serialize_trace(*whole->frames->at(3)), serialize_trace(*fresh.traces[3]));
+    EXPECT_GE(loader.seconds(), 0.0);
+  }
+}
+
+// The loader's error reaches whoever waits for a frame, and wait().
+TEST_F(CrowdWindows, ALoadersErrorReachesTheSchemesAndTheCaller) {
+  w.first = 100000;
+  w.count = 2;
+  WindowLoader loader(scene, rig, MachineSpec::from_config(config), w);
+  try {
+    loader.frames().at(1);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(loader.wait(), Error);
+}
 
 TEST_F(CrowdWindows, ACorruptEntryIsAMissWithTheUncachedResults) {
   w.first = 3;

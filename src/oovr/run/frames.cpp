@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <new>
@@ -144,8 +145,8 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
   return load_window(std::move(scene), rig, MachineSpec::from_config(config), r);
 }
 
-FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec,
-                        const WindowRequest& r) {
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec, const WindowRequest& r,
+                        const FrameReady& ready) {
   if (!scene) throw Error("load_window: no scene");
   FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
   const PipelineSettings p = trace_settings(spec, r.aniso);
@@ -159,7 +160,8 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
   std::vector<std::string> rejected;  // entries that did not verify
   std::unique_ptr<StreamedFrames> stream;
   uint64_t held = 0;  // bytes of traces in memory
-  f.outputs.reserve(size_t(std::min(r.count, 64)));
+  // Room for every frame at once: a trace handed to `ready` stays where it is.
+  f.outputs.reserve(size_t(r.count));
   for (int k = 0; k < r.count; ++k) {
     const int frame = (r.first + k) % path;
     FrameOutput out;
@@ -207,6 +209,7 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
     } else {
       held += bytes;
       f.outputs.push_back(std::move(out));
+      if (ready) ready(size_t(k), f.outputs.back().trace);
     }
   }
   if (stream) {
@@ -225,6 +228,55 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
     f.notes.push_back(note + ")");
   }
   return f;
+}
+
+WindowLoader::WindowLoader(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec,
+                           const WindowRequest& r)
+    : m_count(size_t(std::max(r.count, 0))), m_frames(*this), m_ready(m_count, nullptr) {
+  m_thread = std::thread([this, scene = std::move(scene), rig, spec, r] {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::shared_ptr<const FrameWindow> window;
+    std::exception_ptr error;
+    try {
+      window = std::make_shared<const FrameWindow>(load_window(scene, rig, spec, r, [this](size_t k, const FrameTrace& t) {
+        const std::lock_guard<std::mutex> lock(m_mutex);
+        if (k < m_ready.size()) m_ready[k] = &t;
+        m_changed.notify_all();
+      }));
+    } catch (...) {
+      error = std::current_exception();
+    }
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    m_window = std::move(window);
+    m_error = error;
+    m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m_done = true;
+    m_changed.notify_all();
+  });
+}
+
+WindowLoader::~WindowLoader() {
+  if (m_thread.joinable()) m_thread.join();
+}
+
+std::shared_ptr<const FrameWindow> WindowLoader::wait() {
+  if (m_thread.joinable()) m_thread.join();
+  if (m_error) std::rethrow_exception(m_error);
+  return m_window;
+}
+
+size_t WindowLoader::Frames::size() const { return m_owner.m_count; }
+
+std::shared_ptr<const FrameTrace> WindowLoader::Frames::at(size_t k) const {
+  if (k >= m_owner.m_count) throw Error("frame " + std::to_string(k) + " of a window of " + std::to_string(m_owner.m_count));
+  std::unique_lock<std::mutex> lock(m_owner.m_mutex);
+  m_owner.m_changed.wait(lock, [&] { return m_owner.m_ready[k] || m_owner.m_done; });
+  // A trace in memory: it stays in the window, which the loader holds.
+  if (const FrameTrace* t = m_owner.m_ready[k]) return std::shared_ptr<const FrameTrace>(std::shared_ptr<const FrameTrace>(), t);
+  if (m_owner.m_error) std::rethrow_exception(m_owner.m_error);
+  const std::shared_ptr<const FrameWindow> window = m_owner.m_window;
+  lock.unlock();
+  return window->frames->at(k);  // streamed: read back once the whole window is written
 }
 
 }  // namespace oovr

@@ -13,6 +13,13 @@
 #include <string>
 #include <vector>
 
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
 #include "oovr/core/config.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/scene/scene.h"
@@ -75,8 +82,55 @@ PipelineSettings trace_settings(const MachineSpec& spec, int aniso);
 // Loads the traces for `scene` (already loaded) with trace_settings(config).
 // Throws Error when `first` is off the path, when a streamed window does
 // not fit on the disk, or when memory runs out (naming the frame).
-FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec,
-                        const WindowRequest& r);
+// `ready`, when given, is called with each trace held in memory as soon as
+// it is there (k: its place in the window), from the calling thread; the
+// trace stays where it is in the window returned.
+using FrameReady = std::function<void(size_t k, const FrameTrace& trace)>;
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec, const WindowRequest& r,
+                        const FrameReady& ready = {});
 FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const Config& config, const WindowRequest& r);
+
+// A window loaded on a thread of its own while schemes replay it (issue 31:
+// the replay of frame k overlapped with rendering frame k + 1): frames()
+// hands out frame k as soon as it is rendered or read from the cache, and
+// waits for it until then. The traces are those load_window makes, so the
+// results are the same as with the window loaded first.
+class WindowLoader {
+ public:
+  WindowLoader(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec, const WindowRequest& r);
+  ~WindowLoader();  // waits for the thread
+  WindowLoader(const WindowLoader&) = delete;
+  WindowLoader& operator=(const WindowLoader&) = delete;
+
+  // The window's frames, each given out once loaded; at(k) rethrows the
+  // loader's error when it failed before frame k.
+  const FrameSequence& frames() const { return m_frames; }
+  // The whole window, once loaded (waits for it); rethrows the loader's error.
+  std::shared_ptr<const FrameWindow> wait();
+  // Seconds the loading took (after wait()).
+  double seconds() const { return m_seconds; }
+
+ private:
+  class Frames final : public FrameSequence {
+   public:
+    explicit Frames(WindowLoader& owner) : m_owner(owner) {}
+    size_t size() const override;
+    std::shared_ptr<const FrameTrace> at(size_t k) const override;
+
+   private:
+    WindowLoader& m_owner;
+  };
+
+  size_t m_count;
+  Frames m_frames;
+  mutable std::mutex m_mutex;
+  mutable std::condition_variable m_changed;
+  std::vector<const FrameTrace*> m_ready;  // frame k once in memory
+  bool m_done = false;
+  std::exception_ptr m_error;
+  std::shared_ptr<const FrameWindow> m_window;
+  double m_seconds = 0;
+  std::thread m_thread;
+};
 
 }  // namespace oovr

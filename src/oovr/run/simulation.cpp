@@ -34,9 +34,20 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
   const std::string frames =
       s.frames == 1 ? fmt::format("frame {}", r.frame) : fmt::format("frames {} to {}", r.frame, r.frame + s.frames - 1);
   say("loading " + r.scene + ", then the traces of " + frames);
-  s.window = session ? session->window(r.scene, r.rig, machine, w)
-                     : std::make_shared<const FrameWindow>(
-                           load_window(std::make_shared<const Scene>(load_scene(r.scene)), r.rig, machine, w));
+  // Without a session, the traces load on a thread of their own while the
+  // schemes replay them: a scheme replays frame k as soon as it is there,
+  // while frame k + 1 renders (WindowLoader).
+  std::shared_ptr<const Scene> scene;
+  std::unique_ptr<WindowLoader> loader;
+  if (session) {
+    s.window = session->window(r.scene, r.rig, machine, w);
+    scene = s.window->scene;
+  } else {
+    scene = std::make_shared<const Scene>(load_scene(r.scene));
+    s.trace_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    loader = std::make_unique<WindowLoader>(scene, r.rig, machine, w);
+  }
+  const FrameSequence& window_frames = loader ? loader->frames() : *s.window->frames;
   const auto t1 = std::chrono::steady_clock::now();
   // Schemes are independent runs: in parallel, each into its own slot.
   // Schemes whose runs may share a memory replay (the baseline and
@@ -62,14 +73,13 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
   s.replays.assign(n, SharedReplay::Use::none);
   std::atomic<size_t> done{0};
   say(fmt::format("simulating {} scheme{} on {}", n, n == 1 ? "" : "s", frames));
-  parallel_for(n, r.jobs, [&](size_t k) {
+  const auto schemes_run = [&](size_t k) {
     const size_t i = order[k], leader = first[keys[i]];
     SharedReplay share;
     if (leader != i) share.tape = tapes[leader].get();
     const bool shares = leader != i ? bool(share.tape) : sharing[i] > 1;
     try {
-      s.results[i] = run_scheme_window(schemes[i], *s.window->scene, *s.window->frames, machine, s.frames, nullptr,
-                                       shares ? &share : nullptr);
+      s.results[i] = run_scheme_window(schemes[i], *scene, window_frames, machine, s.frames, nullptr, shares ? &share : nullptr);
     } catch (...) {
       if (leader == i) recorded[i].set_value(nullptr);  // the others run in full
       throw;
@@ -77,9 +87,22 @@ Simulation run_simulation(const SimulationRequest& r, const std::vector<SchemeRe
     if (leader == i) recorded[i].set_value(share.tape);
     s.replays[i] = share.use;
     say(fmt::format("{} of {} schemes simulated ({} done)", ++done, n, schemes[i].name));
-  });
+  };
+  try {
+    parallel_for(n, r.jobs, schemes_run);
+  } catch (...) {
+    // A scheme that waited for a frame the loader failed on rethrew its
+    // error; say that error (the loader's), whichever thread saw it first.
+    if (loader) loader->wait();
+    throw;
+  }
   const auto t2 = std::chrono::steady_clock::now();
-  s.trace_s = std::chrono::duration<double>(t1 - t0).count();
+  if (loader) {
+    s.window = loader->wait();
+    s.trace_s += loader->seconds();
+  } else {
+    s.trace_s = std::chrono::duration<double>(t1 - t0).count();
+  }
   s.simulation_s = std::chrono::duration<double>(t2 - t1).count();
   return s;
 }

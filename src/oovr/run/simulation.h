@@ -42,8 +42,11 @@ struct Simulation {
   // recorded for another scheme, played back from one, or run in full
   // after its calls differed. The results are the same either way.
   std::vector<SharedReplay::Use> replays;
-  double trace_s = 0;       // getting the traces
-  double simulation_s = 0;  // replaying them
+  // Loading the scene and getting its traces, and replaying them. Without a
+  // session the two overlap: the schemes start on the first frame while
+  // the others render, and simulation_s includes their waits for frames.
+  double trace_s = 0;
+  double simulation_s = 0;
 };
 
 // Checks every scheme against `config` (before any trace is rendered), gets
