@@ -274,16 +274,23 @@ int main(int argc, char** argv) {
       for (const auto& s : replays) fmt::print(" {:>6} {:>7}", ms(r.replay.at(s)), ratio(r.replay.at(s), r.llvmpipe));
       fmt::print("\n");
     }
-    // Issue 14's targets, on the scenes measured.
-    double worst_one = 0, worst_compare = 0;
+    // Issue 31's targets, on the scenes measured. Functional plus one
+    // scheme's replay is what `oovr simulate` pays: the parts timed alone
+    // and summed, and (without --quick) simulate end to end, where the
+    // replay of a frame runs while the next renders.
+    double worst_one = 0, worst_simulate = 0, worst_compare = 0;
     long peak = 0;
     for (const Row& r : rows) {
       worst_one = std::max(worst_one, (r.functional + r.replay.at("oo-vr")) / r.llvmpipe);
+      worst_simulate = std::max(worst_simulate, r.simulate / r.llvmpipe);
       worst_compare = std::max(worst_compare, r.compare / r.llvmpipe);
       peak = std::max(peak, r.compare_peak_kb);
     }
-    fmt::print("\ntargets: functional + one scheme's replay at most 1.0x llvmpipe: worst {:.2f}x ({})\n", worst_one,
-               worst_one <= 1.0 ? "met" : "not met");
+    const double one = a.quick ? worst_one : worst_simulate;
+    fmt::print(
+        "\ntargets: functional + one scheme's replay at most 1.5x llvmpipe (1.0x the goal): worst {:.2f}x {}({})\n", one,
+        a.quick ? "as the parts summed " : fmt::format("end to end (oovr simulate; the parts summed: {:.2f}x) ", worst_one),
+        one <= 1.5 ? "met" : "not met");
     if (!a.quick)
       fmt::print(
           "         compare of the paper's schemes at most 4x: worst {:.2f}x ({}); peak memory at most 2 GB: {:.0f} MB ({})\n",
