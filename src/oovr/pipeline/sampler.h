@@ -132,6 +132,19 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
   return i < 0 ? 0 : (i >= size ? size - 1 : i);
 }
 
+// The lines a bilinear tap's four texels lie in, given their blocks'
+// columns (bx0, bx1) and rows (by0, by1), in the order the texels are read.
+[[gnu::always_inline]] inline void add_tap_lines(const SamplerTexture& t, const LevelView& l, int bx0, int bx1, int by0, int by1,
+                                                 QuadLines& lines) {
+  const uint32_t base = l.first_line;
+  lines.add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx0)));
+  if (bx1 != bx0) lines.add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx1)));
+  if (by1 != by0) {
+    lines.add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx0)));
+    if (bx1 != bx0) lines.add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx1)));
+  }
+}
+
 // Bilinear filtering of one level (GL 4.5 equations 8.9-8.11), the four
 // channels at once, from the texel (i0r, j0r) left of and above the sample
 // point (before wrapping) and the point's fractions (a, b) past it.
@@ -147,17 +160,8 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
   // ((w00 p00 + w10 p10) + w01 p01) + w11 p11 in each channel.
   const Float4 c =
       w00 * texel4(row0 + i0 * 4) + w10 * texel4(row0 + i1 * 4) + w01 * texel4(row1 + i0 * 4) + w11 * texel4(row1 + i1 * 4);
-  if (lines) {
-    const uint32_t base = l.first_line;
-    const int bx0 = i0 >> t.block_shift_x, bx1 = i1 >> t.block_shift_x;
-    const int by0 = j0 >> t.block_shift_y, by1 = j1 >> t.block_shift_y;
-    lines->add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx0)));
-    if (bx1 != bx0) lines->add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx1)));
-    if (by1 != by0) {
-      lines->add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx0)));
-      if (bx1 != bx0) lines->add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx1)));
-    }
-  }
+  if (lines)
+    add_tap_lines(t, l, i0 >> t.block_shift_x, i1 >> t.block_shift_x, j0 >> t.block_shift_y, j1 >> t.block_shift_y, *lines);
   return c;
 }
 
@@ -294,16 +298,7 @@ inline QuadTaps quad_taps(const SamplerTexture& t, const LevelView& l, Float4 u4
   const uint8_t* row1 = l.rgba + size_t(q.j1[p]) * size_t(l.width) * 4;
   const Float4 c = q.w00[p] * texel4(row0 + i0 * 4) + q.w10[p] * texel4(row0 + i1 * 4) + q.w01[p] * texel4(row1 + i0 * 4) +
                    q.w11[p] * texel4(row1 + i1 * 4);
-  if (lines) {
-    const uint32_t base = l.first_line;
-    const int bx0 = q.bx0[p], bx1 = q.bx1[p], by0 = q.by0[p], by1 = q.by1[p];
-    lines->add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx0)));
-    if (bx1 != bx0) lines->add(make_tex_line(t.id, base + uint32_t(by0 * l.blocks_x + bx1)));
-    if (by1 != by0) {
-      lines->add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx0)));
-      if (bx1 != bx0) lines->add(make_tex_line(t.id, base + uint32_t(by1 * l.blocks_x + bx1)));
-    }
-  }
+  if (lines) add_tap_lines(t, l, q.bx0[p], q.bx1[p], q.by0[p], q.by1[p], *lines);
   return c;
 }
 
