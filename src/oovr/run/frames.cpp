@@ -145,10 +145,13 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
   return load_window(std::move(scene), rig, MachineSpec::from_config(config), r);
 }
 
-FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec, const WindowRequest& r,
-                        const FrameReady& ready) {
-  if (!scene) throw Error("load_window: no scene");
-  FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
+namespace {
+
+// load_window's work, into `f` (its scene and rig set): a trace handed to
+// `ready` lives in `f`, which outlives an error thrown here, so that whoever
+// holds the trace may still read it (WindowLoader).
+void fill_window(FrameWindow& f, const MachineSpec& spec, const WindowRequest& r, const FrameReady& ready) {
+  const StereoRig& rig = f.rig;
   const PipelineSettings p = trace_settings(spec, r.aniso);
   const Scene& sc = *f.scene;
   const int path = int(sc.camera.frames.size());
@@ -227,27 +230,38 @@ FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig
     if (rejected.size() > 1) note += "; and " + std::to_string(rejected.size() - 1) + " more";
     f.notes.push_back(note + ")");
   }
+}
+
+}  // namespace
+
+FrameWindow load_window(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec, const WindowRequest& r,
+                        const FrameReady& ready) {
+  if (!scene) throw Error("load_window: no scene");
+  FrameWindow f{std::move(scene), rig, {}, {}, nullptr, 0, false, {}};
+  fill_window(f, spec, r, ready);
   return f;
 }
 
 WindowLoader::WindowLoader(std::shared_ptr<const Scene> scene, const StereoRig& rig, const MachineSpec& spec,
                            const WindowRequest& r)
     : m_count(size_t(std::max(r.count, 0))), m_frames(*this), m_ready(m_count, nullptr) {
+  if (!scene) throw Error("WindowLoader: no scene");
   m_thread = std::thread([this, scene = std::move(scene), rig, spec, r] {
     const auto t0 = std::chrono::steady_clock::now();
-    std::shared_ptr<const FrameWindow> window;
+    // Held by the loader whatever happens: the traces handed out live in it.
+    m_filling = std::make_shared<FrameWindow>(FrameWindow{scene, rig, {}, {}, nullptr, 0, false, {}});
     std::exception_ptr error;
     try {
-      window = std::make_shared<const FrameWindow>(load_window(scene, rig, spec, r, [this](size_t k, const FrameTrace& t) {
+      fill_window(*m_filling, spec, r, [this](size_t k, const FrameTrace& t) {
         const std::lock_guard<std::mutex> lock(m_mutex);
         if (k < m_ready.size()) m_ready[k] = &t;
         m_changed.notify_all();
-      }));
+      });
     } catch (...) {
       error = std::current_exception();
     }
     const std::lock_guard<std::mutex> lock(m_mutex);
-    m_window = std::move(window);
+    if (!error) m_window = m_filling;
     m_error = error;
     m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m_done = true;
