@@ -123,26 +123,19 @@ inline bool alpha_passes(AlphaFunc f, float a, float ref255) {
 // destination colours (0..255) as channel vectors; each lane computes what
 // the channel's scalar factor would.
 inline Float4 blend_factor(BlendFactor f, Float4 s, Float4 d) {
-  const auto all = [](float x) { return Float4{x, x, x, x}; };
   switch (f) {
-    case BlendFactor::zero: return all(0.0f);
-    case BlendFactor::one: return all(1.0f);
+    case BlendFactor::zero: return splat4(0.0f);
+    case BlendFactor::one: return splat4(1.0f);
     case BlendFactor::src_colour: return s / 255.0f;
     case BlendFactor::one_minus_src_colour: return 1.0f - s / 255.0f;
-    case BlendFactor::src_alpha: return all(s[3] / 255.0f);
-    case BlendFactor::one_minus_src_alpha: return all(1.0f - s[3] / 255.0f);
+    case BlendFactor::src_alpha: return splat4(s[3] / 255.0f);
+    case BlendFactor::one_minus_src_alpha: return splat4(1.0f - s[3] / 255.0f);
     case BlendFactor::dst_colour: return d / 255.0f;
     case BlendFactor::one_minus_dst_colour: return 1.0f - d / 255.0f;
-    case BlendFactor::dst_alpha: return all(d[3] / 255.0f);
-    case BlendFactor::one_minus_dst_alpha: return all(1.0f - d[3] / 255.0f);
+    case BlendFactor::dst_alpha: return splat4(d[3] / 255.0f);
+    case BlendFactor::one_minus_dst_alpha: return splat4(1.0f - d[3] / 255.0f);
   }
-  return all(0.0f);
-}
-
-// std::clamp(x, 0, 255) per lane, NaN kept as std::clamp keeps it.
-inline Float4 clamp255(Float4 x) {
-  const Float4 lo{0, 0, 0, 0}, hi{255, 255, 255, 255};
-  return x < lo ? lo : (hi < x ? hi : x);
+  return splat4(0.0f);
 }
 
 // Whether this CPU has fused multiply-add instructions (x86-64's FMA3).
@@ -174,15 +167,14 @@ inline Float4 plane_depth(const SetupTri& t, int qx, int qy, bool use_fma) {
   Float4 zp;
 #if defined(__x86_64__) && defined(__GNUC__)
   if (use_fma) {
-    const auto all = [](float v) { return Float4{v, v, v, v}; };
-    zp = fma4_hw(all(t.dzdy), y, fma4_hw(all(t.dzdx), x, all(t.z0)));
+    zp = fma4_hw(splat4(t.dzdy), y, fma4_hw(splat4(t.dzdx), x, splat4(t.z0)));
   } else
 #endif
   {
     (void)use_fma;
     for (int p = 0; p < 4; ++p) zp[p] = std::fma(t.dzdy, y[p], std::fma(t.dzdx, x[p], t.z0));
   }
-  const Float4 one{1, 1, 1, 1}, zero{0, 0, 0, 0};
+  const Float4 one = splat4(1.0f), zero = splat4(0.0f);
   const Float4 m = one < zp ? one : zp;
   return m < zero ? zero : m;
 }
@@ -418,7 +410,6 @@ class TileRasterizer {
           const int x = qx + (p & 1), y = qy + (p >> 1);
           if (!alpha_passes(pass.alpha_func, c[p][3], ref255)) continue;  // discard
           const size_t pix = size_t(y) * m_frame_w + x;
-
           if (!early_z && test_depth) {
             m_cur.depth_read_mask |= quad_line;
             if (!depth_passes(pass.depth_func, z[p], m_depth[pix])) continue;
@@ -432,7 +423,7 @@ class TileRasterizer {
           if (blended) {
             // Blending on the unorm frame: the shader's colour is clamped
             // to [0, 1] first (GL 4.5 Section 17.3.6).
-            src = clamp255(src);
+            src = clamp4(src, 0.0f, 255.0f);
             const Float4 dst = detail::texel4(out);
             src = src * blend_factor(pass.src, src, dst) + dst * blend_factor(pass.dst, src, dst);
           }
@@ -451,7 +442,7 @@ class TileRasterizer {
   // Float to unsigned normalised, per channel: clamp, then round to
   // nearest (the conversion truncates, as uint8_t(c + 0.5f) does).
   static void quantize(Float4 c255, uint8_t* out) {
-    const Float4 r = clamp255(c255) + 0.5f;
+    const Float4 r = clamp4(c255, 0.0f, 255.0f) + 0.5f;
 #if defined(__SSE2__)
     // Truncate to 32 bits, then narrow with saturation: lanes are 0..255,
     // or NaN, which converts to INT_MIN and narrows to 0, as the scalar

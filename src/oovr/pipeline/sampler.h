@@ -122,6 +122,20 @@ using Byte4 = uint8_t __attribute__((vector_size(4)));
 }
 inline Rgba to_rgba(Float4 v) { return {v[0], v[1], v[2], v[3]}; }
 inline Float4 to_float4(const Rgba& c) { return Float4{c.r, c.g, c.b, c.a}; }
+inline Float4 splat4(float x) { return Float4{x, x, x, x}; }
+// std::clamp(x, lo, hi) in each lane (a NaN stays NaN, as std::clamp keeps it).
+inline Float4 clamp4(Float4 x, float lo, float hi) {
+  const Float4 l = splat4(lo), h = splat4(hi);
+  return x < l ? l : (h < x ? h : x);
+}
+
+// A bilinear tap's weighted sum in each channel, ((w00 p00 + w10 p10) +
+// w01 p01) + w11 p11, from its rows and columns: filter()'s and
+// filter_tap()'s, so that the two give the same bits.
+[[gnu::always_inline]] inline Float4 tap_sum(const uint8_t* row0, const uint8_t* row1, int i0, int i1, float w00, float w10,
+                                             float w01, float w11) {
+  return w00 * texel4(row0 + i0 * 4) + w10 * texel4(row0 + i1 * 4) + w01 * texel4(row1 + i0 * 4) + w11 * texel4(row1 + i1 * 4);
+}
 
 inline int wrap_coord(int i, int size, int mask, bool repeat) {
   if (repeat) {
@@ -157,9 +171,7 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
   const uint8_t* row0 = l.rgba + size_t(j0) * size_t(l.width) * 4;
   const uint8_t* row1 = l.rgba + size_t(j1) * size_t(l.width) * 4;
   const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
-  // ((w00 p00 + w10 p10) + w01 p01) + w11 p11 in each channel.
-  const Float4 c =
-      w00 * texel4(row0 + i0 * 4) + w10 * texel4(row0 + i1 * 4) + w01 * texel4(row1 + i0 * 4) + w11 * texel4(row1 + i1 * 4);
+  const Float4 c = tap_sum(row0, row1, i0, i1, w00, w10, w01, w11);
   if (lines)
     add_tap_lines(t, l, i0 >> t.block_shift_x, i1 >> t.block_shift_x, j0 >> t.block_shift_y, j1 >> t.block_shift_y, *lines);
   return c;
@@ -251,8 +263,7 @@ inline Int4 wrap4(Int4 i, int size, int mask, bool repeat) {
 // int(std::clamp(x, -kCoordLimit, kCoordLimit)) in four lanes (a NaN
 // converts as the scalar conversion does, to INT_MIN).
 inline Int4 clamp_to_int4(Float4 x) {
-  const Float4 lo{-kCoordLimit, -kCoordLimit, -kCoordLimit, -kCoordLimit}, hi{kCoordLimit, kCoordLimit, kCoordLimit, kCoordLimit};
-  const Float4 c = x < lo ? lo : (hi < x ? hi : x);
+  const Float4 c = clamp4(x, -kCoordLimit, kCoordLimit);
 #if defined(__SSE2__)
   return Int4(_mm_cvttps_epi32(__m128(c)));
 #else
@@ -296,8 +307,7 @@ inline QuadTaps quad_taps(const SamplerTexture& t, const LevelView& l, Float4 u4
   const int i0 = q.i0[p], i1 = q.i1[p];
   const uint8_t* row0 = l.rgba + size_t(q.j0[p]) * size_t(l.width) * 4;
   const uint8_t* row1 = l.rgba + size_t(q.j1[p]) * size_t(l.width) * 4;
-  const Float4 c = q.w00[p] * texel4(row0 + i0 * 4) + q.w10[p] * texel4(row0 + i1 * 4) + q.w01[p] * texel4(row1 + i0 * 4) +
-                   q.w11[p] * texel4(row1 + i1 * 4);
+  const Float4 c = tap_sum(row0, row1, i0, i1, q.w00[p], q.w10[p], q.w01[p], q.w11[p]);
   if (lines) add_tap_lines(t, l, q.bx0[p], q.bx1[p], q.by0[p], q.by1[p], *lines);
   return c;
 }

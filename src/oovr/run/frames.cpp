@@ -261,7 +261,6 @@ WindowLoader::WindowLoader(std::shared_ptr<const Scene> scene, const StereoRig& 
       error = std::current_exception();
     }
     const std::lock_guard<std::mutex> lock(m_mutex);
-    if (!error) m_window = m_filling;
     m_error = error;
     m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m_done = true;
@@ -276,7 +275,7 @@ WindowLoader::~WindowLoader() {
 std::shared_ptr<const FrameWindow> WindowLoader::wait() {
   if (m_thread.joinable()) m_thread.join();
   if (m_error) std::rethrow_exception(m_error);
-  return m_window;
+  return m_filling;
 }
 
 size_t WindowLoader::Frames::size() const { return m_owner.m_count; }
@@ -288,7 +287,7 @@ std::shared_ptr<const FrameTrace> WindowLoader::Frames::at(size_t k) const {
   // A trace in memory: it stays in the window, which the loader holds.
   if (const FrameTrace* t = m_owner.m_ready[k]) return std::shared_ptr<const FrameTrace>(std::shared_ptr<const FrameTrace>(), t);
   if (m_owner.m_error) std::rethrow_exception(m_owner.m_error);
-  const std::shared_ptr<const FrameWindow> window = m_owner.m_window;
+  const std::shared_ptr<const FrameWindow> window = m_owner.m_filling;  // whole: the loader is done
   lock.unlock();
   return window->frames->at(k);  // streamed: read back once the whole window is written
 }

@@ -128,8 +128,7 @@ class WindowLoader {
   std::vector<const FrameTrace*> m_ready;  // frame k once in memory
   bool m_done = false;
   std::exception_ptr m_error;
-  std::shared_ptr<FrameWindow> m_filling;       // the window being filled, kept after an error too
-  std::shared_ptr<const FrameWindow> m_window;  // the same, once whole
+  std::shared_ptr<FrameWindow> m_filling;  // the window being filled, kept after an error too
   double m_seconds = 0;
   std::thread m_thread;
 };
