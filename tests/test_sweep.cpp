@@ -148,6 +148,112 @@ TEST(Sweep, AnIdHashesTheMachinesKeysAndItsSchemesOwnOnly) {
   EXPECT_NE(no.find("'sort_last.composition' is a setting of the schemes with the 'sort_last' section"), std::string::npos) << no;
 }
 
+// Points that are one run (the machine's own value in a swept list, a
+// scene named twice) run once: the later ones go, said in words, and the
+// earlier takes the swept values it lacked.
+TEST(Sweep, PointsThatAreTheSameRunAreRunOnceAndShared) {
+  Sweep twice = parse("scenes = ['crowd', 'crowd']\nschemes = ['baseline']\nresolutions = ['96x64']\n");
+  resolve_all(twice);
+  ASSERT_EQ(twice.points.size(), 1u);
+  ASSERT_EQ(twice.shared.size(), 1u);
+  EXPECT_NE(twice.shared[0].find("point 2 (crowd, baseline, 96x64) is the same run as an earlier point"), std::string::npos)
+      << twice.shared[0];
+  Sweep s = parse(R"(
+scenes = ["crowd"]
+schemes = ["baseline", "oo-vr"]
+resolutions = ["96x64"]
+[[point]]
+schemes = ["baseline"]
+sweep = { "link.bandwidth" = ["32GBps", "64GBps", "0.064TBps"] }
+)");
+  resolve_all(s);
+  // The grid's two, then 32 GB/s; 64 GB/s (the default) twice is the grid's baseline.
+  ASSERT_EQ(s.points.size(), 3u);
+  EXPECT_EQ(s.shared.size(), 2u);
+  EXPECT_EQ(s.points[0].scheme, "baseline");
+  EXPECT_EQ(s.points[0].swept.at("link.bandwidth"), "64GBps");
+  EXPECT_EQ(s.points[1].swept.count("link.bandwidth"), 0u);
+  EXPECT_EQ(s.points[2].swept.at("link.bandwidth"), "32GBps");
+  std::set<std::string> ids;
+  for (const SweepPoint& p : s.points) ids.insert(p.id);
+  EXPECT_EQ(ids.size(), 3u);
+}
+
+// A sweep on a machine (`oovr paper --config/--set`): the preset's keys,
+// the file's [set] and --set's, in that order, are the machine, written
+// whole into the text's [set]; the points keep their own settings on top,
+// and a scheme's key on the machine is only its schemes'.
+TEST(Sweep, OnAMachineEveryPointStartsFromItAndKeepsItsOwnSettings) {
+  test::TempDir dir;
+  const std::string preset = dir.file("hbm.toml", "[link]\nbandwidth = \"256GBps\"\n[memory]\nline = 128\n");
+  const std::string text = R"(
+scenes = ["crowd"]
+schemes = ["baseline", "oo-vr"]
+resolutions = ["96x64"]
+[set]
+"dram.latency" = "120ns"
+[[point]]
+schemes = ["baseline"]
+sweep = { "link.bandwidth" = ["32GBps", "256GBps"] }
+)";
+  std::map<std::string, std::string> sources;
+  const std::string on = sweep_on_machine(text, "t.toml", "", preset, {"oo.batch_queue=8", "dram.latency=150ns"}, 0, &sources);
+  EXPECT_EQ(on.find("config ="), std::string::npos);
+  EXPECT_EQ(sources.at("link.bandwidth"), preset + ":2");
+  EXPECT_EQ(sources.at("oo.batch_queue"), "--set");
+  EXPECT_EQ(sources.at("dram.latency"), "--set");  // --set after the file's [set]
+  Sweep s = parse_sweep(on, "t.toml", "");
+  const Config machine = resolve_on_machine(s, sources);
+  // 256 GB/s swept is the machine's: the grid's baseline, run once.
+  ASSERT_EQ(s.points.size(), 3u);
+  EXPECT_EQ(s.shared.size(), 1u);
+  EXPECT_TRUE(s.points[0].settings.empty());
+  EXPECT_EQ(s.points[0].machine.entries.at("link.bandwidth").value, "256 GB/s");
+  EXPECT_EQ(s.points[0].machine.entries.at("link.bandwidth").source, preset + ":2");
+  EXPECT_EQ(s.points[0].machine.entries.at("dram.latency").value, "150ns");
+  EXPECT_EQ(s.points[1].machine.entries.at("oo.batch_queue").value, "8");
+  EXPECT_EQ(s.points[2].machine.entries.at("link.bandwidth").value, "32 GB/s");  // its own
+  // The baseline does not read oo.batch_queue: its id is that of the same
+  // machine without it; OO-VR's is not.
+  Sweep without = parse_sweep(sweep_on_machine(text, "t.toml", "", preset, {"dram.latency=150ns"}), "t.toml", "");
+  resolve_on_machine(without);
+  EXPECT_EQ(without.points[0].id, s.points[0].id);
+  EXPECT_NE(without.points[1].id, s.points[1].id);
+  // The same machine as a sweep would have it: the same ids.
+  Sweep as_sweep = parse(std::string(R"(
+scenes = ["crowd"]
+schemes = ["baseline"]
+resolutions = ["96x64"]
+[set]
+"link.bandwidth" = "256GBps"
+"dram.latency" = "150ns"
+)"));
+  resolve_all(as_sweep);
+  EXPECT_EQ(as_sweep.points[0].id, s.points[0].id);
+  EXPECT_EQ(machine.entries().count("link.bandwidth"), 0u);  // the machine's entries are what its readers record
+  // Nothing to write: the text itself.
+  EXPECT_EQ(sweep_on_machine("scenes = ['crowd']\nschemes = ['baseline']\n", "t.toml", "", "", {}),
+            "scenes = ['crowd']\nschemes = ['baseline']\n");
+  // Bad input is named.
+  EXPECT_NE(message_of([&] {
+              sweep_on_machine(text, "t.toml", "", "", {"link.bandwith=1TBps"});
+            }).find("unknown configuration key 'link.bandwith' (--set)"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { sweep_on_machine(text, "t.toml", "", "", {"gpms"}); }).find("--set gpms: give key=value"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { sweep_on_machine(text, "t.toml", "", (dir.path() / "none.toml").string(), {}); }).find("none.toml"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] {
+              sweep_on_machine("scenes = ['crowd']\nschemes = ['baseline']\n[[point]]\nframes = 2\n", "t.toml", "", "", {}, 8);
+            }).find("--frames: a point of the sweep 't.toml' sets its own frames"),
+            std::string::npos);
+  Sweep eight = parse_sweep(sweep_on_machine("scenes = ['crowd']\nschemes = ['afr']\nresolutions = ['96x64']\nframes = 4\n",
+                                             "t.toml", "", "", {"gpms=8"}, 8),
+                            "t.toml", "");
+  resolve_on_machine(eight);
+  EXPECT_EQ(eight.points[0].window, 8);
+}
+
 TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
   const auto error = [](const std::string& text) {
     return message_of([&] {
@@ -172,9 +278,6 @@ TEST(Sweep, BadFilesAreRefusedNamingWhatIsWrong) {
             std::string::npos);
   EXPECT_NE(error("scenes = ['crowd']\nschemes = ['nope']\n").find("unknown scheme 'nope'"), std::string::npos);
   EXPECT_NE(error("scenes = ['crowd']\nschemes = ['afr']\nframes = 3\n").find("must be a multiple of 4"), std::string::npos);
-  // The same run twice.
-  EXPECT_NE(error("scenes = ['crowd', 'crowd']\nschemes = ['baseline']\n").find("points 1 and 2 are the same run"),
-            std::string::npos);
   // A list that would expand past the limit is refused before it is.
   std::string big = "scenes = ['crowd']\nschemes = ['baseline']\n[sweep]\n";
   for (const char* k : {"a", "b", "c", "d", "e"}) {

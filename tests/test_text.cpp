@@ -38,5 +38,22 @@ TEST(Text, CommandLinesAreQuotedAsAShellReadsThem) {
   EXPECT_EQ(shell_command_line(7, odd), "oovr --set 'link.bandwidth=1 TBps' '' 'it'\\''s' '$HOME' 'a;b'");
 }
 
+// Text written into a Markdown document or a CSV file (`oovr paper`'s
+// machine table and paper-against.md, claims-against.csv): a file name
+// cannot end a cell, open a link or a tag, or split a field.
+TEST(Text, MarkdownAndCsvFieldsHoldAnyTextAsText) {
+  EXPECT_EQ(markdown_text("experiments/paper.toml:3"), "experiments/paper.toml:3");
+  EXPECT_EQ(markdown_text("a|b"), "a\\|b");
+  EXPECT_EQ(markdown_text("[x](javascript:y) <img src=z> `c` *d* _e_ &amp; ~f~ ![g]"),
+            "\\[x\\](javascript:y) \\<img src=z\\> \\`c\\` \\*d\\* \\_e\\_ \\&amp; \\~f\\~ \\!\\[g\\]");
+  EXPECT_EQ(markdown_text("back\\slash"), "back\\\\slash");
+  EXPECT_EQ(markdown_text("two\nlines\x1b[31m"), "two\\\\x0alines\\\\x1b\\[31m");  // printable, then escaped
+  EXPECT_EQ(csv_field("crowd"), "crowd");
+  EXPECT_EQ(csv_field("a,b"), "\"a,b\"");
+  EXPECT_EQ(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csv_field(" padded"), "\" padded\"");
+  EXPECT_EQ(csv_field("line\nbreak"), "line\\x0abreak");
+}
+
 }  // namespace
 }  // namespace oovr

@@ -34,7 +34,11 @@ struct PaperArgs {
   std::string doc;      // also write the comparison here (docs/paper-comparison.md); empty: only into --out
   bool resume = false;  // keep the database in --out and run only the points it lacks
   unsigned jobs = 0;
-  std::string command;  // the command line, for the document
+  std::string config;                 // the machine's preset (--config); empty: the sweep's, else Table 1
+  std::vector<std::string> settings;  // the machine's keys (--set key=value), on top of the preset
+  int frames = 0;                     // every point's window (--frames); 0: the sweep file's
+  std::string against;                // another evaluation's database, its claims set beside these (paper only)
+  std::string command;                // the command line, for the document
 };
 
 struct CorrelateArgs {

@@ -355,6 +355,17 @@ int main(int argc, char** argv) {
   paper_cmd->add_option("--doc", paper.doc, "Also write the comparison here, plots beside it (e.g. docs/paper-comparison.md)");
   paper_cmd->add_flag("--resume", paper.resume, "Keep the database in --out and run only the points it lacks");
   paper_cmd->add_option("--jobs", paper.jobs, "Points run at once (0 = every core)")->capture_default_str();
+  paper_cmd
+      ->add_option("--frames", paper.frames,
+                   "Frames every point measures (default: the sweep file's; AFR needs a multiple of the GPMs)")
+      ->check(CLI::Range(1, 1000));
+  paper_cmd->add_option("--config", paper.config, "TOML machine preset every point runs on (default: the paper's Table 1)");
+  paper_cmd->add_option("--set", paper.settings,
+                        "A key of the machine every point runs on, e.g. --set memory.copies.capacity=4GB (repeatable; points "
+                        "that set the key keep their own value)");
+  paper_cmd->add_option("--against", paper.against,
+                        "Another `oovr paper` database (another machine): also write its claims beside these, "
+                        "paper-against.md and claims-against.csv in --out");
 
   cli::PaperArgs beyond;
   beyond.out = "out/beyond";
@@ -368,6 +379,13 @@ int main(int argc, char** argv) {
   beyond_cmd->add_option("--doc", beyond.doc, "Also write the document here, plots beside it (e.g. docs/beyond-paper.md)");
   beyond_cmd->add_flag("--resume", beyond.resume, "Keep the database in --out and run only the points it lacks");
   beyond_cmd->add_option("--jobs", beyond.jobs, "Points run at once (0 = every core)")->capture_default_str();
+  beyond_cmd
+      ->add_option("--frames", beyond.frames,
+                   "Frames every point measures (default: the sweep file's; AFR needs a multiple of the GPMs)")
+      ->check(CLI::Range(1, 1000));
+  beyond_cmd->add_option("--config", beyond.config, "TOML machine preset every point runs on (default: the paper's Table 1)");
+  beyond_cmd->add_option("--set", beyond.settings,
+                         "A key of the machine every point runs on (repeatable; points that set the key keep their own value)");
 
   cli::CorrelateArgs corr;
   auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");

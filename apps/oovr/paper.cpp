@@ -26,11 +26,12 @@ namespace {
 // What differs between the evaluations: the sweep oovr carries, the
 // writers, and the names of the document and of its plots' folder.
 struct Evaluation {
-  std::string command;  // "paper", "beyond"
-  std::string title;    // "the paper", "the study", as messages name it
-  Sweep (*sweep)();
-  std::string doc;    // the document's file name in --out
-  std::string plots;  // the plots' folder under img/
+  std::string command;    // "paper", "beyond"
+  std::string title;      // "the paper", "the study", as messages name it
+  std::string (*text)();  // the sweep oovr carries
+  std::string file;       // its name in the repository
+  std::string doc;        // the document's file name in --out
+  std::string plots;      // the plots' folder under img/
   void (*outputs)(const PaperResults&, const PaperOptions&, const std::string& dir);
   void (*plot)(const PaperResults&, const PaperOptions&, const std::string& dir);
   void (*write_doc)(const PaperResults&, const PaperOptions&, const std::string& path, const std::string& plots_dir);
@@ -38,8 +39,19 @@ struct Evaluation {
 
 int evaluate(const PaperArgs& a, const Evaluation& e) {
   PaperOptions o;
-  o.sweep = a.sweep.empty() ? e.sweep() : read_sweep(a.sweep);
-  o.machine = resolve_all(o.sweep);
+  // The sweep on its machine: every point on the preset and --set's keys
+  // (and the file's [set]), its own settings on top.
+  try {
+    if (a.sweep.empty()) load_evaluation(o, e.text(), e.file, "", a.config, a.settings, a.frames);
+    else
+      load_evaluation(o, read_input_file(a.sweep, "sweep", uint64_t(1) << 20), a.sweep, fs::path(a.sweep).parent_path().string(),
+                      a.config, a.settings, a.frames);
+  } catch (const Error& err) {
+    // AFR on more GPMs than the file's frames: the window is an option here.
+    const std::string what = err.what();
+    if (what.find("so frames must be a multiple of") == std::string::npos) throw;
+    throw Error(what + " (--frames sets every point's)");
+  }
   o.only_scenes = split_list(a.scenes);
   o.jobs = a.jobs;
   o.command = a.command;
@@ -49,7 +61,12 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
   fs::create_directories(a.out, ec);
   if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
   if (!a.doc.empty()) check_output_path(a.doc, "comparison document (--doc)");
+  // The other machine's database is read before the work, so that a wrong
+  // path is said at once (and again, whole, when it is written up).
+  if (!a.against.empty()) ResultsDb(a.against, ResultsDb::Access::read_only).verify();
   o.db = (fs::path(a.out) / (o.sweep.name + ".db")).string();
+  if (!a.against.empty() && fs::exists(o.db, ec) && fs::equivalent(a.against, o.db, ec))
+    throw Error("--against " + a.against + " is this run's own database: give another --out, or the other machine's database");
   // Results of another build must not be mixed in: a new run starts afresh,
   // removing the database of an earlier one, but never one that holds
   // anything else (another sweep, or a file that is not oovr's).
@@ -68,6 +85,9 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
   }
   Progress progress(0);
   o.on_plan = [&](size_t points) {
+    if (!o.sweep.shared.empty())
+      fmt::print("{}: {} {} the same run as an earlier point (the machine's own value swept), run once and shared\n", e.command,
+                 o.sweep.shared.size(), o.sweep.shared.size() == 1 ? "point is" : "points are");
     fmt::print("{}: sweep '{}': {} points to run into {}\n", e.command, o.sweep.name, points, o.db);
     std::fflush(stdout);
     progress.set_total(points);
@@ -93,6 +113,7 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
     unconverted = err.what();
   }
   e.write_doc(r, o, (fs::path(a.out) / e.doc).string(), out_plots);
+  if (!a.against.empty()) write_paper_against(r, o, a.against, a.out);
   if (!a.doc.empty()) {
     const std::string plots = (fs::absolute(a.doc).parent_path() / "img" / e.plots).string();
     e.plot(r, o, plots);
@@ -102,6 +123,9 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
              r.scenes.size(), r.skipped.size(), r.runs.size(), r.ran, r.seconds,
              unconverted.empty() ? fmt::format("{} charts as SVG, PDF and PNG", converted) : std::string("SVG only"), e.doc,
              a.out, a.doc.empty() ? "" : "; document also in " + a.doc);
+  if (!a.against.empty())
+    fmt::print("the claims beside those of {}: paper-against.md and claims-against.csv in {}\n", printable(a.against),
+               printable(a.out));
   if (!unconverted.empty()) fmt::print("  note: {}\n", unconverted);
   for (const auto& s : r.skipped) fmt::print("  skipped: {}\n", s);
   return 0;
@@ -110,13 +134,13 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
 }  // namespace
 
 int paper(const PaperArgs& a) {
-  return evaluate(a, {"paper", "the paper", paper_sweep, "paper-comparison.md", "paper", write_paper_outputs, write_paper_plots,
-                      write_paper_doc});
+  return evaluate(a, {"paper", "the paper", paper_sweep_text, "experiments/paper.toml", "paper-comparison.md", "paper",
+                      write_paper_outputs, write_paper_plots, write_paper_doc});
 }
 
 int beyond(const PaperArgs& a) {
-  return evaluate(a, {"beyond", "the study", beyond_sweep, "beyond-paper.md", "beyond", write_beyond_outputs, write_beyond_plots,
-                      write_beyond_doc});
+  return evaluate(a, {"beyond", "the study", beyond_sweep_text, "experiments/beyond.toml", "beyond-paper.md", "beyond",
+                      write_beyond_outputs, write_beyond_plots, write_beyond_doc});
 }
 
 }  // namespace oovr::cli

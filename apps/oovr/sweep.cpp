@@ -73,6 +73,9 @@ int sweep(const SweepArgs& a) {
   if (a.backend != "local" && a.backend != "slurm") throw Error("--backend " + a.backend + ": use local or slurm");
   Sweep s = read_sweep(a.file, a.settings);
   resolve_all(s);
+  if (!s.shared.empty())
+    fmt::print("note: {} {} the same run as an earlier point, run once and shared (the first: {})\n", s.shared.size(),
+               s.shared.size() == 1 ? "point is" : "points are", printable(s.shared.front()));
   if (a.list) {
     for (size_t i = 0; i < s.points.size(); ++i) {
       const SweepPoint& p = s.points[i];

@@ -50,6 +50,13 @@ total=${runs% *}
 "$oovr" beyond --sweep "$work/small.toml" --out "$work/out" --resume > "$work/resume.log" 2>&1 || {
   tail -n 5 "$work/resume.log"; exit 1; }
 grep -q "$total runs (0 run now)" "$work/resume.log" || { tail -n 3 "$work/resume.log"; exit 1; }
+# On another machine (--set): every figure, against that machine's links, and the machine named.
+"$oovr" beyond --sweep "$work/small.toml" --out "$work/m" --set link.bandwidth=128GBps --jobs 2 > "$work/m.log" 2>&1 || {
+  tail -n 5 "$work/m.log"; exit 1; }
+m="$work/m/beyond-paper.md"
+if grep -q "n/a" "$m"; then echo "a figure is missing on another machine:"; grep -n "n/a" "$m" | head; exit 1; fi
+grep -q "The machine is the paper's Table 1 with \`link.bandwidth\` = 128 GB/s (--set)" "$m" || { sed -n 9p "$m"; exit 1; }
+grep -q "^Speed-up over the baseline at 128 GB/s, geometric mean" "$m" || { grep -A1 "## Against the link" "$m"; exit 1; }
 # The study's file parses and resolves (oovr carries it, built from it).
 "$oovr" sweep "$src/experiments/beyond.toml" --list > "$work/list.txt"
 tail -n 1 "$work/list.txt" > "$work/file.txt"

@@ -194,6 +194,12 @@ void Config::set(const std::string& key, const std::string& value) {
   if (m_origin.find(m_set_source) == std::string::npos) m_origin += (m_origin.empty() ? "" : ", ") + m_set_source;
 }
 
+std::vector<Config::Setting> Config::settings() const {
+  std::vector<Setting> out;
+  for (const auto& [key, v] : m_values) out.push_back({key, v.text, v.source});
+  return out;
+}
+
 const Config::Value* Config::find(const std::string& key) const {
   if (m_reads) ++(*m_reads)[key];
   const auto it = m_values.find(key);

@@ -41,6 +41,14 @@ class Config {
 
   bool has(const std::string& key) const { return m_values.count(key) != 0; }
 
+  // The values given (by the file, or set()), read or not: each as set()
+  // takes it back and where it came from ("FILE.toml:LINE", "--set"), by
+  // key. What copies a preset into a sweep's machine (experiments/sweep.h).
+  struct Setting {
+    std::string key, text, source;
+  };
+  std::vector<Setting> settings() const;
+
   // Counts every read of a key by a getter, in this configuration and in
   // the copies made of it from now on, into `counts`: how a test shows that
   // no setting is parsed twice in a run. Copies share the map: one thread.

@@ -101,4 +101,22 @@ bool has_control_characters(std::string_view text, bool keep_lines) {
   return false;
 }
 
+std::string markdown_text(std::string_view text) {
+  std::string out;
+  for (char c : printable(text)) {
+    if (std::string_view("\\`*_[]<>!|&~").find(c) != std::string_view::npos) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string csv_field(std::string_view text) {
+  const std::string p = printable(text);
+  const bool quote = p.find_first_of(",\"") != std::string::npos || (!p.empty() && (p.front() == ' ' || p.back() == ' '));
+  if (!quote) return p;
+  std::string out = "\"";
+  for (char c : p) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 }  // namespace oovr

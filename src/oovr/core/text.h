@@ -38,4 +38,15 @@ std::string printable(std::string_view text, bool keep_lines = false);
 // keep_lines) != text, without making the copy).
 bool has_control_characters(std::string_view text, bool keep_lines = false);
 
+// `text` as literal Markdown within a line (a table cell, or after a
+// line's first word): printable() on one line, and every character that
+// Markdown (or the HTML it may hold) reads there as markup escaped with a
+// backslash, so that a file name cannot end a table cell, open a link, an
+// image, a tag or an entity, or set code or emphasis.
+std::string markdown_text(std::string_view text);
+
+// `text` as one field of a CSV line (RFC 4180): printable(), and quoted,
+// its quotes doubled, where it holds a comma, a quote or a space at an end.
+std::string csv_field(std::string_view text);
+
 }  // namespace oovr

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "oovr/core/files.h"
+#include "oovr/core/text.h"
 #include "oovr/core/units.h"
 #include "oovr/experiments/paper_figures.h"
 #include "oovr/experiments/svg_chart.h"
@@ -21,6 +22,7 @@ namespace embedded {
 extern const char* const beyond_toml;
 }
 
+std::string beyond_sweep_text() { return embedded::beyond_toml; }
 Sweep beyond_sweep() { return parse_sweep(embedded::beyond_toml, "experiments/beyond.toml", ""); }
 
 namespace {
@@ -164,8 +166,9 @@ void write_beyond_plots(const PaperResults& r, const PaperOptions& o, const std:
       lv.back().push_back(S.mean([&](const std::string& s) { return S.F.link(s, sc, bw); }));
     }
   }
-  write("links.svg", line_chart("Speed-up over the baseline at 64 GB/s, 4 GPMs (geomean of scenes)", "link bandwidth (GB/s)",
-                                "speed-up", lx, ln, kSwept, lv, true));
+  write("links.svg", line_chart("Speed-up over the baseline at " + machine_value(o, "link.bandwidth") + ", " +
+                                    machine_value(o, "gpms") + " GPMs (geomean of scenes)",
+                                "link bandwidth (GB/s)", "speed-up", lx, ln, kSwept, lv, true));
   // Traffic by category.
   std::vector<std::string> categories;
   for (int c = 0; c < kCategories; ++c) categories.push_back(category_name(Category(c)));
@@ -263,8 +266,16 @@ class Doc {
         "receives every draw and renders its own strip), Equalizer's load-balanced strips (`sfr-lb`), the per-eye split VR "
         "drivers ship (`per-eye`), GPUpd (Kim et al., MICRO 2017: `gpupd`) and CHOPIN (Ren and Lis, HPCA 2021: `chopin`), "
         "with OO-VR (`oo-vr`) and oovr's own OO-VR with screen affinity (`oo-vr-affinity`); docs/model.md says what each "
-        "does and assumes. The machine is the paper's Table 1 ({} GPMs, {} links, {}) unless a section says otherwise; "
+        "does and assumes. The machine is the paper's Table 1{} ({} GPMs, {} links, {}) unless a section says otherwise; "
         "{} frames from frame {} at {}, after a warm-up pass over them; speed-ups are ratios of frame latencies.\n\n",
+        [&] {
+          // Another machine (oovr beyond --config/--set): its changes, with where they came from.
+          std::string changed;
+          for (const MachineChange& c : machine_changes(o.machine, o.machine_sources))
+            changed +=
+                (changed.empty() ? " with " : ", ") + ("`" + c.key + "` = " + c.value + " (" + markdown_text(c.source) + ")");
+          return changed;
+        }(),
         o.spec.memory.gpms, format_bandwidth(o.spec.memory.link_bandwidth), o.spec.memory.topology, o.frames, o.first_frame,
         o.sweep_resolution);
     out += "Scenes measured:";
@@ -308,8 +319,8 @@ class Doc {
   }
 
   void links() {
-    out +=
-        "\n## Against the link bandwidth\n\nSpeed-up over the baseline at 64 GB/s, geometric mean of the scenes:\n\n| scheme |";
+    out += "\n## Against the link bandwidth\n\nSpeed-up over the baseline at " + machine_value(o, "link.bandwidth") +
+           ", geometric mean of the scenes:\n\n| scheme |";
     for (const auto& [bw, gbps] : kLinks) out += fmt::format(" {} |", link_name(gbps));
     out += " 32 GB/s to 1 TB/s |\n|---|";
     for (size_t k = 0; k <= kLinks.size(); ++k) out += "---:|";

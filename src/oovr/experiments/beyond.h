@@ -19,6 +19,7 @@ namespace oovr {
 
 // The study oovr carries (experiments/beyond.toml), read.
 Sweep beyond_sweep();
+std::string beyond_sweep_text();  // its text
 
 // runs.csv (every run: scene, scheme, settings, latency, speed-ups, traffic
 // by category, balance) and the plots, into `dir`.

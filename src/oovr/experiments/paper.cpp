@@ -89,7 +89,29 @@ const SchemeResult* PaperResults::find(const std::string& scene, const std::stri
   return at == index.end() ? nullptr : &runs[at->second].result;
 }
 
+std::string paper_sweep_text() { return embedded::paper_toml; }
 Sweep paper_sweep() { return parse_sweep(embedded::paper_toml, "experiments/paper.toml", ""); }
+
+void load_evaluation(PaperOptions& o, const std::string& text, const std::string& name, const std::string& base_dir,
+                     const std::string& preset, const std::vector<std::string>& settings, int frames) {
+  std::map<std::string, std::string> sources;
+  const std::string on_machine = sweep_on_machine(text, name, base_dir, preset, settings, frames, &sources);
+  o.sweep = parse_sweep(on_machine, name, base_dir);
+  o.machine = resolve_on_machine(o.sweep, sources);
+  o.machine_sources = std::move(sources);
+}
+
+std::vector<MachineChange> machine_changes(const Config& machine, const std::map<std::string, std::string>& sources) {
+  Config read = machine;  // every section reads it: each key's value, default and source
+  check_config(read);
+  std::vector<MachineChange> out;
+  for (const auto& [key, e] : read.entries()) {
+    if (e.source == "default" || e.value == e.fallback) continue;
+    const auto it = sources.find(key);
+    out.push_back({key, e.value, e.fallback, it != sources.end() ? it->second : e.source});
+  }
+  return out;
+}
 
 PaperResults run_paper(PaperOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -372,8 +394,9 @@ void write_paper_plots(const PaperResults& r, const PaperOptions& o, const std::
     gv.emplace_back();
     for (int n : kGpms) gv.back().push_back(F.mean([&](const std::string& s) { return F.gpms(s, sc, n); }));
   }
-  write_file(d / "fig17-links.svg", line_chart("Speed-up over the baseline at 64 GB/s (geomean of scenes)",
-                                               "link bandwidth (GB/s)", "speed-up", xs, xn, kSweepSchemes, lv, true));
+  write_file(d / "fig17-links.svg",
+             line_chart("Speed-up over the baseline at " + machine_value(o, "link.bandwidth") + " (geomean of scenes)",
+                        "link bandwidth (GB/s)", "speed-up", xs, xn, kSweepSchemes, lv, true));
   std::vector<double> gx;
   std::vector<std::string> gn;
   for (int n : kGpms) {

@@ -25,7 +25,10 @@ struct PaperOptions {
   // The evaluation: a resolved sweep (experiments/paper.toml, which oovr
   // carries: paper_sweep()), run into the database `db`.
   Sweep sweep;
-  Config machine;                        // the preset the sweep's points start from (resolve_all)
+  Config machine;  // the machine the sweep's points start from (load_evaluation, resolve_on_machine)
+  // Where each key the machine sets came from ("FILE.toml:LINE", "--set",
+  // "FILE [set]"): for the document's account of the machine.
+  std::map<std::string, std::string> machine_sources;
   std::string db;                        // the results database (created; points it holds are not run again)
   std::vector<std::string> only_scenes;  // run and report these scenes only (and their one-pass forms); empty: all
   unsigned jobs = 0;                     // points at once (0: every core)
@@ -87,8 +90,27 @@ struct PaperResults {
   mutable std::map<std::string, std::string> canonical;  // asked variant -> canonical
 };
 
-// The evaluation oovr carries (experiments/paper.toml), read.
+// The evaluation oovr carries (experiments/paper.toml): its text, and read.
+std::string paper_sweep_text();
 Sweep paper_sweep();
+
+// An evaluation's sweep on a machine, into o.sweep, o.machine and
+// o.machine_sources: the sweep file's `text` (named `name`, its paths
+// relative to `base_dir`) with the machine `preset` and `settings` give
+// written into its [set] (sweep_on_machine: the file's own [set] is the
+// machine too; `frames`, when not 0, every point's window), every point resolved on that machine with its own settings
+// on top (resolve_on_machine), points that are the same run shared. Throws
+// Error naming a bad preset, setting or point.
+void load_evaluation(PaperOptions& o, const std::string& text, const std::string& name, const std::string& base_dir,
+                     const std::string& preset = "", const std::vector<std::string>& settings = {}, int frames = 0);
+
+// A key of a machine that differs from oovr's default (the paper's Table 1).
+struct MachineChange {
+  std::string key, value, fallback, source;
+};
+// The keys `machine` sets to another value than the default, by key, with
+// their sources (`sources`' label where it has one).
+std::vector<MachineChange> machine_changes(const Config& machine, const std::map<std::string, std::string>& sources = {});
 
 // Runs the points of o.sweep (those of o.only_scenes) the database does
 // not hold, then reads every one of them back from it, fills o's derived
@@ -100,6 +122,15 @@ PaperResults run_paper(PaperOptions& options);
 void write_paper_outputs(const PaperResults& results, const PaperOptions& options, const std::string& dir);
 // The SVG plots of Figures 15 to 18 alone.
 void write_paper_plots(const PaperResults& results, const PaperOptions& options, const std::string& dir);
+// Writes the paper's claims measured on two machines side by side
+// (`oovr paper --against`): this evaluation's (r, o) and the one in the
+// results database `other_db` (another `oovr paper --out`: its sweep of the
+// same name, on the machine its definition gives), at o's claims'
+// resolution over the scenes both ran, as paper-against.md and
+// claims-against.csv in `dir`. Throws Error naming the database when it
+// cannot be read, holds no such sweep or no scene in common.
+void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const std::string& dir);
+
 // Writes the comparison document; `plots_dir` (may be empty) is linked
 // relative to the document.
 void write_paper_doc(const PaperResults& results, const PaperOptions& options, const std::string& path,

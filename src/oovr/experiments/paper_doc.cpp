@@ -14,6 +14,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
+#include "oovr/core/text.h"
 #include "oovr/experiments/claims.h"
 #include "oovr/experiments/paper.h"
 #include "oovr/experiments/paper_figures.h"
@@ -255,8 +256,23 @@ class Doc {
         "the others render them in turn, after an unmeasured warm-up pass over the same frames), on the\n"
         "paper's Table 1 machine (`configs/paper-table1.toml`)",
         o.first_frame, o.first_frame + o.frames - 1);
+    const std::vector<MachineChange> changes = machine_changes(o.machine, o.machine_sources);
+    if (!changes.empty()) out += " with the changes below";
     out += ". Figures are means per frame; means over scenes are geometric. The claims are at " + res() +
            "; Figure 15 also at the paper's other resolutions.\n\n";
+    if (!changes.empty()) {
+      // The machine, as the database's runs record it too (each key's
+      // value and source in their configuration).
+      out +=
+          "The machine every run started from: Table 1 with these keys changed (the runs that set a key of their own, "
+          "the\nfigures' sweeps, the ablations and the model's steps, keep theirs). The paper's claims are measured on "
+          "it, each\nwith only its own settings changed: a value whose label names the paper's setting of a key changed "
+          "here (P1's\n\"64 GB/s\" on other links) is this machine's. Their numbers are the paper's, on its "
+          "machine.\n\n| key | here | Table 1 | from |\n| --- | --- | --- | --- |\n";
+      for (const MachineChange& c : changes)
+        out += fmt::format("| `{}` | {} | {} | {} |\n", c.key, c.value, c.fallback, markdown_text(c.source));
+      out += "\n";
+    }
     out += "| scene | draws | triangles | textures | vertex share of shader work |\n| --- | --- | --- | --- | --- |\n";
     for (const auto& s : r.scenes) {
       const auto& st = r.stats.at(s);
@@ -876,7 +892,8 @@ class Doc {
   }
 
   void figure17() {
-    out += "## Figure 17: link bandwidth\n\nSpeed-up against the baseline with 64 GB/s links (geometric mean over scenes).\n\n";
+    out += "## Figure 17: link bandwidth\n\nSpeed-up against the baseline with " + machine_value(o, "link.bandwidth") +
+           " links (geometric mean over scenes).\n\n";
     out += "| link | baseline | object | oo-vr |\n| --- | --- | --- | --- |\n";
     for (const auto& link : kLinks) {
       // (Clang 14 cannot capture structured bindings in lambdas.)
@@ -947,12 +964,17 @@ class Doc {
         "`dram.capacity` = {} per GPM (NVIDIA's GTX 1080, the GPU the paper's GPM resembles, has 8 GB), persist from\n"
         "frame to frame while they fit, and the least recently used give way when they do not. `memory.copies.capacity`\n"
         "caps them further; this section caps them at 16 MB to 1 GB per GPM at {} and sets OO-VR's speed-up and\n"
-        "traffic against the baseline (which makes no copies) beside the uncapped runs. \"held\" is the most one GPM held\n"
-        "uncapped: where the scene's copies fit.\n\n",
-        setting("dram.capacity"), res());
+        "traffic against the baseline (which makes no copies) beside the {} runs. \"held\" is the most one GPM held\n"
+        "{}: where the scene's copies fit.\n\n",
+        setting("dram.capacity"), res(),
+        F.copies_capped() ? "machine's own (capped at " + setting("memory.copies.capacity") + ")" : "uncapped",
+        F.copies_capped() ? "in them" : "uncapped");
     out += "| scene | held |";
     for (const auto& [cap, bytes] : points)
-      out += fmt::format(" {}{} |", format_bytes(Bytes{uint64_t(bytes)}), cap.empty() ? " (DRAM)" : "");
+      out += fmt::format(" {}{} |", format_bytes(Bytes{uint64_t(bytes)}),
+                         !cap.empty()        ? ""
+                         : F.copies_capped() ? " (the machine's)"
+                                             : " (DRAM)");
     out += "\n| --- | --- |";
     for (size_t k = 0; k < points.size(); ++k) out += " --- |";
     out += "\n";
@@ -1336,6 +1358,154 @@ void write_paper_doc(const PaperResults& results, const PaperOptions& options, c
   Doc d(results, options, plots_link(path, plots_dir));
   const std::string text = d.write();
   write_output_file(path, text, "comparison document");
+}
+
+namespace {
+
+// A claim's checks as judged, in words: "direction yes, magnitude no"
+// (a part holds when all of its checks do).
+std::string verdict_text(const Claim& c, const std::vector<CheckVerdict>& v) {
+  std::vector<std::string> parts;
+  for (const ClaimCheck& k : c.checks)
+    if (std::find(parts.begin(), parts.end(), k.part) == parts.end()) parts.push_back(k.part);
+  std::string out;
+  for (const std::string& part : parts) {
+    bool holds = true, measured = true;
+    for (size_t j = 0; j < c.checks.size(); ++j)
+      if (c.checks[j].part == part) {
+        holds = holds && v[j].holds;
+        measured = measured && v[j].measured;
+      }
+    out += (out.empty() ? "" : ", ") + (part.empty() ? std::string("the claim") : part) + " " +
+           (!measured ? "not measured"
+            : holds   ? "yes"
+                      : "no");
+  }
+  return out.empty() ? "no check" : out;
+}
+
+}  // namespace
+
+void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const std::string& dir) {
+  const std::string& res = o.sweep_resolution;
+  // The other evaluation: its runs of this sweep's name and its machine.
+  std::vector<RunRecord> theirs;
+  Config other_machine;
+  {
+    const ResultsDb db(other_db, ResultsDb::Access::read_only);
+    db.verify();
+    const auto definitions = db.sweep_definitions();
+    const auto it = definitions.find(o.sweep.name);
+    if (it == definitions.end()) {
+      std::string held;
+      for (const auto& [name, d] : definitions) held += (held.empty() ? "'" : ", '") + name + "'";
+      throw Error("--against: the database '" + other_db + "' holds no sweep '" + o.sweep.name + "' (it holds " +
+                  (held.empty() ? std::string("none") : held) + ")");
+    }
+    try {
+      other_machine = sweep_machine(parse_sweep(it->second, o.sweep.name, ""));
+    } catch (const Error& e) {
+      throw Error("--against: the machine of the sweep '" + o.sweep.name + "' in '" + other_db + "': " + e.what());
+    }
+    for (RunRecord& x : db.runs(false))
+      if (x.sweep == o.sweep.name && x.status == "done" && x.resolution == res) {
+        x.result = nullptr;
+        theirs.push_back(std::move(x));
+      }
+  }
+  // Like for like: the scenes both measured at the claims' resolution.
+  std::vector<std::string> scenes;
+  for (const std::string& scene : r.scenes)
+    if (std::any_of(theirs.begin(), theirs.end(), [&](const RunRecord& x) { return x.scene == scene; })) scenes.push_back(scene);
+  if (scenes.empty())
+    throw Error("--against: the database '" + other_db + "' has no run at " + res + " of a scene this evaluation measured");
+  const auto keep = [&](std::vector<RunRecord>& v) {
+    v.erase(std::remove_if(v.begin(), v.end(),
+                           [&](const RunRecord& x) {
+                             return x.resolution != res || std::find(scenes.begin(), scenes.end(), x.scene) == scenes.end();
+                           }),
+            v.end());
+  };
+  std::vector<RunRecord> mine = r.records;
+  keep(mine);
+  keep(theirs);
+  const nlohmann::ordered_json here_values = machine_values(o.machine), there_values = machine_values(other_machine);
+  const auto here = measure_claims(paper_claims(), mine, &here_values);
+  const auto there = measure_claims(paper_claims(), theirs, &there_values);
+  const auto here_judged = judge_claims(paper_claims(), here);
+  const auto there_judged = judge_claims(paper_claims(), there);
+
+  std::string md = "# The paper's claims on two machines\n\n";
+  md += fmt::format("Generated by `{}`. Each claim of the paper measured as in the comparison with the paper, on this\n",
+                    markdown_text(o.command.empty() ? "oovr paper" : o.command));
+  md += fmt::format(
+      "evaluation's machine (\"here\") and on the machine of `{}` (\"there\"), at {} over the {} scenes both\n"
+      "measured ({}); means over scenes are geometric. Each claim's value is measured on each machine with only its own\n"
+      "settings changed: a value whose label names the paper's setting of a key a machine changes (P1's \"64 GB/s\" on\n"
+      "other links) is that machine's. The paper's numbers are on its own machine.\n\n",
+      markdown_text(other_db), res, scenes.size(), [&] {
+        std::string list;
+        for (const auto& x : scenes) list += (list.empty() ? "`" : ", `") + markdown_text(x) + "`";
+        return list;
+      }());
+  // The machines: every key either changes from Table 1.
+  const auto here_changes = machine_changes(o.machine, o.machine_sources);
+  const auto there_changes = machine_changes(other_machine);
+  std::map<std::string, std::pair<std::string, std::string>> keys;  // key -> (here, there)
+  std::map<std::string, std::string> table1;
+  for (const auto& c : here_changes) {
+    keys[c.key].first = c.value + " (" + c.source + ")";
+    table1[c.key] = c.fallback;
+  }
+  for (const auto& c : there_changes) {
+    keys[c.key].second = c.value;
+    table1[c.key] = c.fallback;
+  }
+  md += "## The machines\n\n";
+  if (keys.empty()) {
+    md += "Both are the paper's Table 1 machine.\n\n";
+  } else {
+    md += "The keys either machine changes from the paper's Table 1 (a blank: Table 1's value).\n\n";
+    md += "| key | here | there | Table 1 |\n| --- | --- | --- | --- |\n";
+    for (const auto& [key, v] : keys)
+      md += fmt::format("| `{}` | {} | {} | {} |\n", key, markdown_text(v.first), markdown_text(v.second),
+                        markdown_text(table1[key]));
+    md += "\n";
+  }
+  md += "## The claims\n\n| claim | value | paper | here | there | there / here | agrees here | agrees there |\n";
+  md += "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  std::string csv = "claim,value,scene,paper,here,there\n";
+  const auto& claims = paper_claims();
+  for (size_t c = 0; c < claims.size(); ++c) {
+    const Claim& claim = claims[c];
+    for (size_t k = 0; k < claim.values.size(); ++k) {
+      const ClaimValue& v = claim.values[k];
+      const double a = here[c][k].mean, b = there[c][k].mean;
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", k == 0 ? claim.id : "", markdown_text(v.label),
+                        v.paper ? (v.about ? "about " : "") + in_form(v, *v.paper) : "", in_form(v, a), in_form(v, b),
+                        std::isfinite(a) && std::isfinite(b) && a != 0 ? times(b / a) : "n/a",
+                        k == 0 ? verdict_text(claim, here_judged[c]) : "", k == 0 ? verdict_text(claim, there_judged[c]) : "");
+      const auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.6g}", x) : std::string("nan"); };
+      for (const auto& scene : scenes) {
+        double x = std::nan(""), y = std::nan("");
+        for (const auto& [s, rr, value] : here[c][k].per)
+          if (s == scene) x = value;
+        for (const auto& [s, rr, value] : there[c][k].per)
+          if (s == scene) y = value;
+        csv += fmt::format("{},{},{},{},{},{}\n", claim.id, csv_field(v.label), csv_field(scene), v.paper ? number(*v.paper) : "",
+                           number(x), number(y));
+      }
+      csv += fmt::format("{},{},geomean,{},{},{}\n", claim.id, csv_field(v.label), v.paper ? number(*v.paper) : "", number(a),
+                         number(b));
+    }
+  }
+  md +=
+      "\nEach value in the claim's form (a ratio as a percentage or times, or bits); \"there / here\" is the other\n"
+      "machine's value over this one's. \"agrees\": whether the claim's checks hold on that machine, as the comparison\n"
+      "with the paper judges them.\n";
+  const fs::path d(dir);
+  write_output_file((d / "paper-against.md").string(), md, "comparison of two machines");
+  write_output_file((d / "claims-against.csv").string(), csv, "comparison of two machines");
 }
 
 }  // namespace oovr

@@ -25,8 +25,10 @@ inline const std::vector<std::pair<std::string, std::string>> kMechanisms = {
 inline std::string off_value(const std::string& key) { return key == "oo.composition" ? "root" : "false"; }
 inline std::string on_value(const std::string& key) { return key == "oo.composition" ? "distributed" : "true"; }
 
-inline std::string link_variant(const std::string& bw) { return bw == "64GBps" ? "" : "link.bandwidth=" + bw; }
-inline std::string gpm_variant(int n) { return n == 4 ? "" : "gpms=" + std::to_string(n); }
+// Named whatever the machine's own value: PaperResults::find takes a
+// setting equal to the machine's as none (the main runs).
+inline std::string link_variant(const std::string& bw) { return "link.bandwidth=" + bw; }
+inline std::string gpm_variant(int n) { return "gpms=" + std::to_string(n); }
 
 // The model's steps from ca88d23 to now (issue 9; the document's "Before
 // and after" table): each switches on one change on top of the ones before,
@@ -115,6 +117,12 @@ inline std::string step_variant(const ModelStep& step, const std::string& extra)
   if (step.settings.empty()) return extra;
   return extra.empty() ? step.settings : step.settings + ";" + extra;
 }
+// A key's value on the evaluation's machine, as it reads ("64 GB/s").
+inline std::string machine_value(const PaperOptions& o, const std::string& key) {
+  const auto it = o.spec.entries.find(key);
+  return it == o.spec.entries.end() ? "n/a" : it->second.value;
+}
+
 // How a document at `doc` links the plots in `plots_dir` (empty: none):
 // relative to the document's folder, else absolute.
 std::string plots_link(const std::string& doc, const std::string& plots_dir);
@@ -175,9 +183,12 @@ struct Figures {
   double copies_traffic(const std::string& scene, const std::string& cap) const {
     return traffic(scene, o.sweep_resolution, "oo-vr", "baseline", copy_variant(cap));
   }
-  // Each GPM's DRAM on the document's machine: where the uncapped runs
-  // keep their copies.
-  double dram_bytes() const { return double(o.spec.memory.dram_capacity.value); }
+  // What OO-VR's copies may take per GPM in the main runs: the machine's
+  // cap (memory.copies.capacity), else its DRAM (uncapped).
+  double dram_bytes() const {
+    return double(o.spec.memory.copy_capacity.value ? o.spec.memory.copy_capacity.value : o.spec.memory.dram_capacity.value);
+  }
+  bool copies_capped() const { return o.spec.memory.copy_capacity.value != 0; }
   std::vector<double> across(const std::function<double(const std::string&)>& f) const {
     std::vector<double> v;
     for (const auto& s : r.scenes) {

@@ -354,6 +354,7 @@ Sweep parse_sweep(const std::string& text, const std::string& name, const std::s
     s.images = n->as_boolean()->get();
   }
   const Level top = reader.level(t, true);
+  if (top.set) s.base_settings = *top.set;
   // The columns: every key swept anywhere in the file.
   std::set<std::string> seen;
   const auto add_columns = [&](const Level& l) {
@@ -541,16 +542,133 @@ void resolve(SweepPoint& p, const Config& machine) {
   }
 }
 
+namespace {
+
+// Leaves out of s.points each point that is the same run as an earlier one
+// (resolve_all).
+void share_identical_points(Sweep& s) {
+  std::map<std::string, size_t> first;  // id -> its place in `kept`
+  std::vector<SweepPoint> kept;
+  kept.reserve(s.points.size());
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    SweepPoint& p = s.points[i];
+    const auto [it, fresh] = first.emplace(p.id, kept.size());
+    if (fresh) {
+      kept.push_back(std::move(p));
+      continue;
+    }
+    SweepPoint& earlier = kept[it->second];
+    for (const auto& [key, value] : p.swept) earlier.swept.emplace(key, value);
+    s.shared.push_back("point " + std::to_string(i + 1) + " (" + describe(p) + ") is the same run as an earlier point (" +
+                       describe(earlier) + "; id " + p.id + "): run once");
+  }
+  s.points = std::move(kept);
+}
+
+}  // namespace
+
 Config resolve_all(Sweep& s) {
   const Config machine = s.preset.empty() ? Config{} : Config::from_toml_file(s.preset);
-  std::map<std::string, size_t> ids;
-  for (size_t i = 0; i < s.points.size(); ++i) {
-    resolve(s.points[i], machine);
-    const auto [it, fresh] = ids.emplace(s.points[i].id, i);
-    if (!fresh)
-      throw Error("bad sweep '" + s.file + "': points " + std::to_string(it->second + 1) + " and " + std::to_string(i + 1) +
-                  " are the same run (" + describe(s.points[i]) + "; id " + s.points[i].id + ")");
+  for (SweepPoint& p : s.points) resolve(p, machine);
+  share_identical_points(s);
+  return machine;
+}
+
+std::string sweep_on_machine(const std::string& text, const std::string& name, const std::string& base_dir,
+                             const std::string& preset, const std::vector<std::string>& settings, int frames,
+                             std::map<std::string, std::string>* sources) {
+  toml::table t = parse_toml(text, name);
+  const Reader reader(name);
+  struct Given {
+    std::string key, value, source;
+  };
+  std::vector<Given> given;
+  std::string how;  // for the text's first line
+  std::string from = preset;
+  if (from.empty())
+    if (const auto* n = t.get("config")) {
+      if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "config takes the path of a machine preset");
+      const fs::path p = n->as_string()->get();
+      from = (p.is_relative() && !base_dir.empty() ? fs::path(base_dir) / p : p).lexically_normal().string();
+    }
+  if (!from.empty()) {
+    for (const Config::Setting& x : Config::from_toml_file(from).settings()) given.push_back({x.key, x.text, x.source});
+    how += " --config " + from;
   }
+  toml::node* top_set = t.get("set");
+  if (top_set && !top_set->as_table())
+    reader.fail(*top_set, "set is a table of configuration keys ([set] or set = { key = value })");
+  if (top_set) {
+    std::vector<std::pair<std::string, const toml::node*>> flat;
+    Reader::flatten(*top_set->as_table(), "", flat);
+    for (const auto& [key, node] : flat) given.push_back({key, reader.value(*node, key), name + " [set]"});
+  }
+  for (const std::string& x : settings) {
+    const size_t eq = x.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error("--set " + printable(x) + ": give key=value (e.g. --set link.bandwidth=32GBps)");
+    given.push_back({x.substr(0, eq), x.substr(eq + 1), "--set"});
+    how += " --set " + x;
+  }
+  if (frames != 0) {
+    if (frames < 1 || frames > 1000) throw Error("--frames " + std::to_string(frames) + " is outside 1 to 1000");
+    if (const auto* points = t.get("point"); points && points->as_array())
+      for (const auto& p : *points->as_array())
+        if (const auto* pt = p.as_table(); pt && pt->get("frames"))
+          throw Error("--frames: a point of the sweep '" + name + "' sets its own frames; edit the file to change them");
+    t.insert_or_assign("frames", int64_t(frames));
+    how += " --frames " + std::to_string(frames);
+  }
+  if (given.empty() && frames == 0) return text;
+  // Checked as a configuration first: a bad key or value is named with
+  // where it came from, not as a line of the rewritten text.
+  Config check;
+  for (const Given& g : given) {
+    check.set_source(g.source);
+    check.set(g.key, g.value);
+  }
+  check_config(check);
+  t.erase("config");
+  std::map<std::string, std::string> where;
+  if (!given.empty()) {
+    toml::table set;
+    for (const Given& g : given) {
+      set.insert_or_assign(g.key, g.value);
+      where[g.key] = g.source;
+    }
+    t.insert_or_assign("set", std::move(set));
+  }
+  if (sources) *sources = where;
+  std::ostringstream out;
+  out << "# " << name << (how.empty() ? " with its [set] as the machine" : " with" + how)
+      << (given.empty() ? "" : ": every key of the machine its points run on is in [set]") << "\n"
+      << t << "\n";
+  return out.str();
+}
+
+Config sweep_machine(const Sweep& s, const std::map<std::string, std::string>& sources) {
+  Config machine = s.preset.empty() ? Config{} : Config::from_toml_file(s.preset);
+  for (const auto& [key, value] : s.base_settings) {
+    const auto it = sources.find(key);
+    machine.set_source(it != sources.end() ? it->second : s.file + " [set]");
+    machine.set(key, value);
+  }
+  machine.set_source("--set");
+  Config probe = machine;  // checked on a copy: the machine's entries stay those its readers record
+  check_config(probe);
+  return machine;
+}
+
+Config resolve_on_machine(Sweep& s, const std::map<std::string, std::string>& sources) {
+  const Config machine = sweep_machine(s, sources);
+  const size_t n = s.base_settings.size();
+  for (SweepPoint& p : s.points) {
+    if (p.settings.size() < n || !std::equal(s.base_settings.begin(), s.base_settings.end(), p.settings.begin()))
+      throw Error("bad sweep '" + s.file + "': point (" + describe(p) + ") does not start from the file's [set]");
+    p.settings.erase(p.settings.begin(), p.settings.begin() + std::ptrdiff_t(n));
+    resolve(p, machine);
+  }
+  share_identical_points(s);
   return machine;
 }
 

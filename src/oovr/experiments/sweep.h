@@ -66,6 +66,13 @@ struct Sweep {
   bool images = false;                  // store each point's GPM image and tile traffic (images = true)
   std::vector<std::string> swept_keys;  // in file order: the columns
   std::vector<SweepPoint> points;       // in file order, unresolved
+  // The file's top-level [set], in file order: the first settings of every
+  // point (sweep_machine's machine, for resolve_on_machine).
+  std::vector<std::pair<std::string, std::string>> base_settings;
+  // Filled by resolve_all and resolve_on_machine: the points that were the
+  // same run as an earlier point, in words. They are not run again: the
+  // earlier point's run is theirs, so they are left out of `points`.
+  std::vector<std::string> shared;
 };
 
 // Reads and expands a sweep file. Throws Error naming the file and what is
@@ -95,9 +102,41 @@ std::string sweep_toml(const nlohmann::json& definition);
 // computes the id. Throws Error naming the point on a bad value.
 void resolve(SweepPoint& p, const Config& machine);
 
-// Resolves every point of `s` (ids must be distinct) and returns the
-// machine preset they start from.
+// Resolves every point of `s` and returns the machine preset they start
+// from. A point that is the same run as an earlier one (the same id) is not
+// run twice: it is left out of s.points, said in s.shared, and the earlier
+// point takes the swept values it lacks (its row in the database has them).
 Config resolve_all(Sweep& s);
+
+// A sweep file's text with the machine its points run on written out whole
+// in its top-level [set] (`oovr paper --config/--set`): the values of the
+// preset `preset` (else of the file's `config`, relative to `base_dir`),
+// then the file's own [set], then `settings` ("key=value", as --set takes
+// them), a later value of a key replacing an earlier one; `config` is
+// dropped, so that the text alone says what the machine was (it is kept with
+// the results). Unlike sweep_with_settings, a key the points set or sweep may
+// be given: it is the machine's, and the points that set it keep their own
+// (resolve_on_machine). `sources` receives where each [set] key came from
+// ("FILE.toml:LINE", "--set", "FILE [set]"). `frames` (0: the file's)
+// replaces the file's top-level `frames`, the window every point measures (a
+// machine of 8 GPMs needs 8 for AFR), refused where a point sets its own.
+// Returns `text` itself when there is nothing to write. Throws Error naming
+// a bad setting or preset.
+std::string sweep_on_machine(const std::string& text, const std::string& name, const std::string& base_dir,
+                             const std::string& preset, const std::vector<std::string>& settings, int frames = 0,
+                             std::map<std::string, std::string>* sources = nullptr);
+
+// The machine a sweep's [set] describes: its preset, then s.base_settings,
+// each key's source `sources`' label for it, else "FILE [set]". Throws
+// Error naming a key no part of oovr reads.
+Config sweep_machine(const Sweep& s, const std::map<std::string, std::string>& sources = {});
+
+// Resolves every point of `s` on sweep_machine(s, sources), its own
+// settings (its point's set and sweep, not the file's [set]) on top: a
+// machine key its scheme does not read is simply not its (`oo.*` for the
+// baseline). Points that are the same run are shared as by resolve_all.
+// Returns the machine.
+Config resolve_on_machine(Sweep& s, const std::map<std::string, std::string>& sources = {});
 
 // The trace group a point's traces come from: points with the same scene,
 // resolution, first frame, filtering and line size replay the same traces.
