@@ -345,24 +345,28 @@ int main(int argc, char** argv) {
   report_cmd->add_flag("--own-y", report.own_y, "Each panel of an absolute row (latency, traffic, energy) its own y axis");
 
   RenderArgs render;
+  // What oovr paper and oovr beyond both take: the scenes, the machine and
+  // the frames every point runs on, and how the work is run.
+  const auto evaluation_options = [](CLI::App* cmd, cli::PaperArgs& a) {
+    cmd->add_option("--scenes", a.scenes, "Comma-separated: only these scenes of the sweep (default: all)");
+    cmd->add_flag("--resume", a.resume, "Keep the database in --out and run only the points it lacks");
+    cmd->add_option("--jobs", a.jobs, "Points run at once (0 = every core)")->capture_default_str();
+    cmd->add_option("--config", a.config, "TOML machine preset every point runs on (default: the paper's Table 1)");
+    cmd->add_option("--set", a.settings,
+                    "A key of the machine every point runs on, e.g. --set memory.copies.capacity=4GB (repeatable; points "
+                    "that set the key keep their own value)");
+    cmd->add_option("--frames", a.frames,
+                    "Frames every point measures (default: the sweep file's; AFR needs a multiple of the GPMs)")
+        ->check(CLI::Range(1, 1000));
+  };
   cli::PaperArgs paper;
   auto* paper_cmd = app.add_subcommand(
       "paper", "Run the paper's evaluation (a sweep) and write the comparison with the paper from its database");
   paper_cmd->add_option("--sweep", paper.sweep, "The evaluation's sweep file (default: experiments/paper.toml, carried by oovr)");
-  paper_cmd->add_option("--scenes", paper.scenes, "Comma-separated: only these scenes of the sweep (default: all)");
   paper_cmd->add_option("--out", paper.out, "Folder for the database, results.json, CSV, plots and paper-comparison.md")
       ->capture_default_str();
   paper_cmd->add_option("--doc", paper.doc, "Also write the comparison here, plots beside it (e.g. docs/paper-comparison.md)");
-  paper_cmd->add_flag("--resume", paper.resume, "Keep the database in --out and run only the points it lacks");
-  paper_cmd->add_option("--jobs", paper.jobs, "Points run at once (0 = every core)")->capture_default_str();
-  paper_cmd
-      ->add_option("--frames", paper.frames,
-                   "Frames every point measures (default: the sweep file's; AFR needs a multiple of the GPMs)")
-      ->check(CLI::Range(1, 1000));
-  paper_cmd->add_option("--config", paper.config, "TOML machine preset every point runs on (default: the paper's Table 1)");
-  paper_cmd->add_option("--set", paper.settings,
-                        "A key of the machine every point runs on, e.g. --set memory.copies.capacity=4GB (repeatable; points "
-                        "that set the key keep their own value)");
+  evaluation_options(paper_cmd, paper);
   paper_cmd->add_option("--against", paper.against,
                         "Another `oovr paper` database (another machine): also write its claims beside these, "
                         "paper-against.md and claims-against.csv in --out");
@@ -374,18 +378,9 @@ int main(int argc, char** argv) {
       "Run the study beyond the paper (per-eye, sfr-lb, GPUpd, CHOPIN, OO-VR with screen affinity; a sweep) and write its "
       "document from its database");
   beyond_cmd->add_option("--sweep", beyond.sweep, "The study's sweep file (default: experiments/beyond.toml, carried by oovr)");
-  beyond_cmd->add_option("--scenes", beyond.scenes, "Comma-separated: only these scenes of the sweep (default: all)");
   beyond_cmd->add_option("--out", beyond.out, "Folder for the database, CSV, plots and beyond-paper.md")->capture_default_str();
   beyond_cmd->add_option("--doc", beyond.doc, "Also write the document here, plots beside it (e.g. docs/beyond-paper.md)");
-  beyond_cmd->add_flag("--resume", beyond.resume, "Keep the database in --out and run only the points it lacks");
-  beyond_cmd->add_option("--jobs", beyond.jobs, "Points run at once (0 = every core)")->capture_default_str();
-  beyond_cmd
-      ->add_option("--frames", beyond.frames,
-                   "Frames every point measures (default: the sweep file's; AFR needs a multiple of the GPMs)")
-      ->check(CLI::Range(1, 1000));
-  beyond_cmd->add_option("--config", beyond.config, "TOML machine preset every point runs on (default: the paper's Table 1)");
-  beyond_cmd->add_option("--set", beyond.settings,
-                         "A key of the machine every point runs on (repeatable; points that set the key keep their own value)");
+  evaluation_options(beyond_cmd, beyond);
 
   cli::CorrelateArgs corr;
   auto* corr_cmd = app.add_subcommand("correlate", "Set oovr's frame times beside those measured on a real GPU");
