@@ -234,6 +234,15 @@ resolutions = ["96x64"]
   // Nothing to write: the text itself.
   EXPECT_EQ(sweep_on_machine("scenes = ['crowd']\nschemes = ['baseline']\n", "t.toml", "", "", {}),
             "scenes = ['crowd']\nschemes = ['baseline']\n");
+  // A file's name cannot end the text's first line, a comment, and be read
+  // as TOML; a value with a new line is no value of any key.
+  const std::string odd = sweep_on_machine(text, "t\n[evil]\n.toml", "", "", {"gpms=2"});
+  EXPECT_EQ(odd.find("\n[evil]"), std::string::npos) << odd;
+  EXPECT_NO_THROW(parse_sweep(odd, "t.toml", ""));
+  EXPECT_NE(message_of([&] {
+              sweep_on_machine(text, "t.toml", "", "", {"memory.placement=first-touch\n[evil]"});
+            }).find("memory.placement"),
+            std::string::npos);
   // Bad input is named.
   EXPECT_NE(message_of([&] {
               sweep_on_machine(text, "t.toml", "", "", {"link.bandwith=1TBps"});

@@ -493,7 +493,9 @@ std::string sweep_with_settings(const std::string& text, const std::string& name
     given += " --set " + s;
   }
   std::ostringstream out;
-  out << "# " << name << " with" << given << "\n" << t << "\n";
+  // One comment line: printable() keeps a new line in a name or a value
+  // from ending it (and what follows from being read as TOML).
+  out << "# " << printable(name + " with" + given) << "\n" << t << "\n";
   return out.str();
 }
 
@@ -640,8 +642,10 @@ std::string sweep_on_machine(const std::string& text, const std::string& name, c
   }
   if (sources) *sources = where;
   std::ostringstream out;
-  out << "# " << name << (how.empty() ? " with its [set] as the machine" : " with" + how)
-      << (given.empty() ? "" : ": every key of the machine its points run on is in [set]") << "\n"
+  out << "# "
+      << printable(name + (how.empty() ? " with its [set] as the machine" : " with" + how) +
+                   (given.empty() ? "" : ": every key of the machine its points run on is in [set]"))
+      << "\n"
       << t << "\n";
   return out.str();
 }
