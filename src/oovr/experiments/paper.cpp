@@ -13,6 +13,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/files.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/text.h"
 #include "oovr/core/units.h"
 #include "oovr/experiments/paper_figures.h"
 #include "oovr/experiments/svg_chart.h"
@@ -303,10 +304,10 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
   for (const auto& x : r.runs) {
     if (!x.variant.empty()) continue;
     const SchemeResult* base = r.find(x.scene, x.resolution, "baseline");
-    fig15 += fmt::format("{},{},{},{:.6f},{:.2f},{:.4f},{:.4f}\n", x.scene, x.resolution, x.scheme,
+    fig15 += fmt::format("{},{},{},{:.6f},{:.2f},{:.4f},{:.4f}\n", csv_field(x.scene), x.resolution, x.scheme,
                          x.result.frame_latency_s * 1e3, x.result.throughput_fps,
                          base->frame_latency_s / x.result.frame_latency_s, x.result.throughput_fps / base->throughput_fps);
-    fig16 += fmt::format("{},{},{},{},{:.4f}", x.scene, x.resolution, x.scheme, x.result.total_inter_gpm_bytes(),
+    fig16 += fmt::format("{},{},{},{},{:.4f}", csv_field(x.scene), x.resolution, x.scheme, x.result.total_inter_gpm_bytes(),
                          F.traffic(x.scene, x.resolution, x.scheme));
     for (int c = 0; c < kCategories; ++c) fig16 += fmt::format(",{}", x.result.inter_gpm_bytes[size_t(c)]);
     fig16 += "\n";
@@ -316,17 +317,17 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
   std::string fig17 = "scene,scheme,link_GBps,speedup_vs_baseline_64GBps\n", fig18 = "scene,scheme,gpms,speedup_vs_1_gpm\n";
   for (const auto& s : r.scenes)
     for (const auto& sc : kSweepSchemes) {
-      for (const auto& [bw, gbps] : kLinks) fig17 += fmt::format("{},{},{},{:.4f}\n", s, sc, gbps, F.link(s, sc, bw));
-      for (int n : kGpms) fig18 += fmt::format("{},{},{},{:.4f}\n", s, sc, n, F.gpms(s, sc, n));
+      for (const auto& [bw, gbps] : kLinks) fig17 += fmt::format("{},{},{},{:.4f}\n", csv_field(s), sc, gbps, F.link(s, sc, bw));
+      for (int n : kGpms) fig18 += fmt::format("{},{},{},{:.4f}\n", csv_field(s), sc, n, F.gpms(s, sc, n));
     }
   write_file(d / "fig17-links.csv", fig17);
   write_file(d / "fig18-gpms.csv", fig18);
   std::string abl = "scene,scheme,variant,speedup_vs_baseline\n";
   for (const auto& s : r.scenes)
     for (const auto& [label, key] : kMechanisms) {
-      abl += fmt::format("{},oo-vr,{}={},{:.4f}\n", s, key, off_value(key),
+      abl += fmt::format("{},oo-vr,{}={},{:.4f}\n", csv_field(s), key, off_value(key),
                          F.speedup(s, o.sweep_resolution, "oo-vr", key + "=" + off_value(key)));
-      abl += fmt::format("{},oo-app,{}={},{:.4f}\n", s, key, on_value(key),
+      abl += fmt::format("{},oo-app,{}={},{:.4f}\n", csv_field(s), key, on_value(key),
                          F.speedup(s, o.sweep_resolution, "oo-app", key + "=" + on_value(key)));
     }
   write_file(d / "ablations.csv", abl);
@@ -335,8 +336,8 @@ void write_paper_outputs(const PaperResults& r, const PaperOptions& o, const std
     for (const auto& s : r.scenes)
       for (const auto& [cap, bytes] : copy_points(F.dram_bytes())) {
         const SchemeResult* x = r.find(s, o.sweep_resolution, "oo-vr", copy_variant(cap));
-        cp += fmt::format("{},{:.0f},{:.4f},{:.4f},{:.0f}\n", s, bytes, F.copies_speedup(s, cap), F.copies_traffic(s, cap),
-                          x ? scheme_metric(*x, "copies.peak_bytes") : std::nan(""));
+        cp += fmt::format("{},{:.0f},{:.4f},{:.4f},{:.0f}\n", csv_field(s), bytes, F.copies_speedup(s, cap),
+                          F.copies_traffic(s, cap), x ? scheme_metric(*x, "copies.peak_bytes") : std::nan(""));
       }
     write_file(d / "copies.csv", cp);
   }
