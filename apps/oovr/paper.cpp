@@ -62,8 +62,8 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
   if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
   if (!a.doc.empty()) check_output_path(a.doc, "comparison document (--doc)");
   // The other machine's database is read before the work, so that a wrong
-  // path is said at once (and again, whole, when it is written up).
-  if (!a.against.empty()) ResultsDb(a.against, ResultsDb::Access::read_only).verify();
+  // path or sweep is said at once (and read again when written up).
+  if (!a.against.empty()) (void)paper_against_machine(a.against, o.sweep.name);
   o.db = (fs::path(a.out) / (o.sweep.name + ".db")).string();
   if (!a.against.empty() && fs::exists(o.db, ec) && fs::equivalent(a.against, o.db, ec))
     throw Error("--against " + a.against + " is this run's own database: give another --out, or the other machine's database");

@@ -112,6 +112,14 @@ grep -q "so frames must be a multiple of 8 (--frames sets every point's)" "$work
 if "$oovr" paper --sweep "$src/experiments/quick.toml" --out "$work/m" --against "$work/m/quick.db" > "$work/e.log" 2>&1; then
   echo "--against its own database ran"; exit 1; fi
 grep -q "is this run's own database" "$work/e.log" || { cat "$work/e.log"; exit 1; }
+# --against a database of another evaluation, or not one at all: named before anything runs.
+if "$oovr" paper --scenes crowd --out "$work/e" --against "$work/out/quick.db" > "$work/e.log" 2>&1; then
+  echo "--against a database without the sweep ran"; exit 1; fi
+grep -q "holds no sweep 'paper' (it holds 'quick')" "$work/e.log" || { cat "$work/e.log"; exit 1; }
+[ ! -e "$work/e/paper.db" ] || { echo "--against failed after the sweep began"; exit 1; }
+if "$oovr" paper --sweep "$src/experiments/quick.toml" --out "$work/e" --against "$src/README.md" > "$work/e.log" 2>&1; then
+  echo "--against a text file ran"; exit 1; fi
+grep -q "README.md" "$work/e.log" || { cat "$work/e.log"; exit 1; }
 # The full evaluation's file parses and resolves (oovr carries it, built from it).
 "$oovr" sweep "$src/experiments/paper.toml" --list > "$work/list.txt"
 tail -n 1 "$work/list.txt" > "$work/file.txt"

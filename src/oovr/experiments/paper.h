@@ -130,6 +130,12 @@ void write_paper_plots(const PaperResults& results, const PaperOptions& options,
 // claims-against.csv in `dir`. Throws Error naming the database when it
 // cannot be read, holds no such sweep or no scene in common.
 void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const std::string& dir);
+// The machine of the sweep `sweep_name` in the results database `other_db`
+// (its definition's preset and [set]): what write_paper_against measures
+// the other claims on, and what `oovr paper --against` checks before it
+// runs anything. Throws Error naming the database when it cannot be read,
+// fails its check or holds no such sweep.
+Config paper_against_machine(const std::string& other_db, const std::string& sweep_name);
 
 // Writes the comparison document; `plots_dir` (may be empty) is linked
 // relative to the document.

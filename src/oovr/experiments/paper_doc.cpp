@@ -1386,27 +1386,31 @@ std::string verdict_text(const Claim& c, const std::vector<CheckVerdict>& v) {
 
 }  // namespace
 
+Config paper_against_machine(const std::string& other_db, const std::string& sweep_name) {
+  const ResultsDb db(other_db, ResultsDb::Access::read_only);
+  db.verify();
+  const auto definitions = db.sweep_definitions();
+  const auto it = definitions.find(sweep_name);
+  if (it == definitions.end()) {
+    std::string held;
+    for (const auto& [name, d] : definitions) held += (held.empty() ? "'" : ", '") + name + "'";
+    throw Error("--against: the database '" + other_db + "' holds no sweep '" + sweep_name + "' (it holds " +
+                (held.empty() ? std::string("none") : held) + ")");
+  }
+  try {
+    return sweep_machine(parse_sweep(it->second, sweep_name, ""));
+  } catch (const Error& e) {
+    throw Error("--against: the machine of the sweep '" + sweep_name + "' in '" + other_db + "': " + e.what());
+  }
+}
+
 void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const std::string& dir) {
   const std::string& res = o.sweep_resolution;
-  // The other evaluation: its runs of this sweep's name and its machine.
+  // The other evaluation: its machine and its runs of this sweep's name.
+  const Config other_machine = paper_against_machine(other_db, o.sweep.name);
   std::vector<RunRecord> theirs;
-  Config other_machine;
   {
     const ResultsDb db(other_db, ResultsDb::Access::read_only);
-    db.verify();
-    const auto definitions = db.sweep_definitions();
-    const auto it = definitions.find(o.sweep.name);
-    if (it == definitions.end()) {
-      std::string held;
-      for (const auto& [name, d] : definitions) held += (held.empty() ? "'" : ", '") + name + "'";
-      throw Error("--against: the database '" + other_db + "' holds no sweep '" + o.sweep.name + "' (it holds " +
-                  (held.empty() ? std::string("none") : held) + ")");
-    }
-    try {
-      other_machine = sweep_machine(parse_sweep(it->second, o.sweep.name, ""));
-    } catch (const Error& e) {
-      throw Error("--against: the machine of the sweep '" + o.sweep.name + "' in '" + other_db + "': " + e.what());
-    }
     for (RunRecord& x : db.runs(false))
       if (x.sweep == o.sweep.name && x.status == "done" && x.resolution == res) {
         x.result = nullptr;
