@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "commands.h"
 #include "oovr/core/error.h"
@@ -62,8 +63,9 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
   if (ec) throw Error("cannot create the folder '" + a.out + "': " + ec.message());
   if (!a.doc.empty()) check_output_path(a.doc, "comparison document (--doc)");
   // The other machine's database is read before the work, so that a wrong
-  // path or sweep is said at once (and read again when written up).
-  if (!a.against.empty()) (void)paper_against_machine(a.against, o.sweep.name);
+  // path or sweep is said at once; its runs are read when written up.
+  std::optional<Config> other_machine;
+  if (!a.against.empty()) other_machine = paper_against_machine(a.against, o.sweep.name);
   o.db = (fs::path(a.out) / (o.sweep.name + ".db")).string();
   if (!a.against.empty() && fs::exists(o.db, ec) && fs::equivalent(a.against, o.db, ec))
     throw Error("--against " + a.against + " is this run's own database: give another --out, or the other machine's database");
@@ -113,7 +115,7 @@ int evaluate(const PaperArgs& a, const Evaluation& e) {
     unconverted = err.what();
   }
   e.write_doc(r, o, (fs::path(a.out) / e.doc).string(), out_plots);
-  if (!a.against.empty()) write_paper_against(r, o, a.against, a.out);
+  if (other_machine) write_paper_against(r, o, a.against, *other_machine, a.out);
   if (!a.doc.empty()) {
     const std::string plots = (fs::absolute(a.doc).parent_path() / "img" / e.plots).string();
     e.plot(r, o, plots);

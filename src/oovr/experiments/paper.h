@@ -122,20 +122,21 @@ PaperResults run_paper(PaperOptions& options);
 void write_paper_outputs(const PaperResults& results, const PaperOptions& options, const std::string& dir);
 // The SVG plots of Figures 15 to 18 alone.
 void write_paper_plots(const PaperResults& results, const PaperOptions& options, const std::string& dir);
+// The machine of the sweep `sweep_name` in the results database `other_db`
+// (its definition's preset and [set]), the database checked whole first:
+// what `oovr paper --against` reads before it runs anything. Throws Error
+// naming the database when it cannot be read, fails its check or holds no
+// such sweep.
+Config paper_against_machine(const std::string& other_db, const std::string& sweep_name);
 // Writes the paper's claims measured on two machines side by side
 // (`oovr paper --against`): this evaluation's (r, o) and the one in the
 // results database `other_db` (another `oovr paper --out`: its sweep of the
-// same name, on the machine its definition gives), at o's claims'
+// same name), on `other_machine` (paper_against_machine's), at o's claims'
 // resolution over the scenes both ran, as paper-against.md and
 // claims-against.csv in `dir`. Throws Error naming the database when it
-// cannot be read, holds no such sweep or no scene in common.
-void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const std::string& dir);
-// The machine of the sweep `sweep_name` in the results database `other_db`
-// (its definition's preset and [set]): what write_paper_against measures
-// the other claims on, and what `oovr paper --against` checks before it
-// runs anything. Throws Error naming the database when it cannot be read,
-// fails its check or holds no such sweep.
-Config paper_against_machine(const std::string& other_db, const std::string& sweep_name);
+// has no scene in common.
+void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const Config& other_machine,
+                         const std::string& dir);
 
 // Writes the comparison document; `plots_dir` (may be empty) is linked
 // relative to the document.

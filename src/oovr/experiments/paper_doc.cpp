@@ -75,6 +75,22 @@ std::string paper_text(const std::string& id, const std::string& label) {
 // A frame-rate loss as a positive percentage: 0.58 -> "42%".
 double paper_loss(const std::string& id, const std::string& label) { return (1 - paper(id, label)) * 100; }
 
+// A part of a claim as judged (judge_claims' verdicts `v` of claim `c`):
+// whether it has checks, whether all were measured, whether all hold.
+struct PartVerdict {
+  bool any = false, measured = true, holds = true;
+};
+PartVerdict part_verdict(const Claim& c, const std::vector<CheckVerdict>& v, const std::string& part) {
+  PartVerdict out;
+  for (size_t k = 0; k < c.checks.size(); ++k)
+    if (c.checks[k].part == part) {
+      out.any = true;
+      out.measured = out.measured && v[k].measured;
+      out.holds = out.holds && v[k].holds;
+    }
+  return out;
+}
+
 class Doc {
  public:
   Doc(const PaperResults& results, const PaperOptions& options, std::string plots_link)
@@ -151,15 +167,10 @@ class Doc {
   // Whether the checks of claim `id`'s `part` hold (claims.h, judge_claims).
   bool holds(const std::string& id, const std::string& part = "") {
     const size_t c = claim_index(id);
-    bool any = false, ok = true;
-    for (size_t k = 0; k < paper_claims()[c].checks.size(); ++k)
-      if (paper_claims()[c].checks[k].part == part) {
-        any = true;
-        ok = ok && verdicts[c][k].holds;
-      }
-    if (!any) throw Error("experiments/paper-claims.toml has no check of " + id + (part.empty() ? "" : " (" + part + ")"));
+    const PartVerdict v = part_verdict(paper_claims()[c], verdicts[c], part);
+    if (!v.any) throw Error("experiments/paper-claims.toml has no check of " + id + (part.empty() ? "" : " (" + part + ")"));
     judged.insert({id, part});
-    return ok;
+    return v.holds;
   }
 
   // Per-scene values of f, and their geometric mean.
@@ -1370,16 +1381,11 @@ std::string verdict_text(const Claim& c, const std::vector<CheckVerdict>& v) {
     if (std::find(parts.begin(), parts.end(), k.part) == parts.end()) parts.push_back(k.part);
   std::string out;
   for (const std::string& part : parts) {
-    bool holds = true, measured = true;
-    for (size_t j = 0; j < c.checks.size(); ++j)
-      if (c.checks[j].part == part) {
-        holds = holds && v[j].holds;
-        measured = measured && v[j].measured;
-      }
+    const PartVerdict p = part_verdict(c, v, part);
     out += (out.empty() ? "" : ", ") + (part.empty() ? std::string("the claim") : part) + " " +
-           (!measured ? "not measured"
-            : holds   ? "yes"
-                      : "no");
+           (!p.measured ? "not measured"
+            : p.holds   ? "yes"
+                        : "no");
   }
   return out.empty() ? "no check" : out;
 }
@@ -1404,10 +1410,11 @@ Config paper_against_machine(const std::string& other_db, const std::string& swe
   }
 }
 
-void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const std::string& dir) {
+void write_paper_against(const PaperResults& r, const PaperOptions& o, const std::string& other_db, const Config& other_machine,
+                         const std::string& dir) {
   const std::string& res = o.sweep_resolution;
-  // The other evaluation: its machine and its runs of this sweep's name.
-  const Config other_machine = paper_against_machine(other_db, o.sweep.name);
+  // The other evaluation's runs of this sweep's name (its database checked
+  // by paper_against_machine).
   std::vector<RunRecord> theirs;
   {
     const ResultsDb db(other_db, ResultsDb::Access::read_only);

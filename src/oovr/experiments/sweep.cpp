@@ -293,6 +293,24 @@ toml::table parse_toml(const std::string& text, const std::string& name) {
   }
 }
 
+// The machine preset a sweep's `config` names (relative to the file's
+// folder `base_dir`), "" when it names none.
+std::string preset_of(const toml::table& t, const Reader& reader, const std::string& base_dir) {
+  const auto* n = t.get("config");
+  if (!n) return "";
+  if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "config takes the path of a machine preset");
+  const fs::path p = n->as_string()->get();
+  return (p.is_relative() && !base_dir.empty() ? fs::path(base_dir) / p : p).lexically_normal().string();
+}
+
+// --set's "key=value" as (key, value); Error without a key or '='.
+std::pair<std::string, std::string> split_setting(const std::string& setting) {
+  const size_t eq = setting.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw Error("--set " + printable(setting) + ": give key=value (e.g. --set link.bandwidth=32GBps)");
+  return {setting.substr(0, eq), setting.substr(eq + 1)};
+}
+
 }  // namespace
 
 std::string canonical_point(const std::string& scene, const std::string& scheme, const std::string& resolution, int frame,
@@ -344,11 +362,7 @@ Sweep parse_sweep(const std::string& text, const std::string& name, const std::s
                 "' is not one: give name = \"...\" (1 to 64 letters, digits, '_', '-' and '.')");
   }
   if (const auto* n = t.get("description"); n && !n->as_string()) reader.fail(*n, "description takes a string");
-  if (const auto* n = t.get("config")) {
-    if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "config takes the path of a machine preset");
-    const fs::path p = n->as_string()->get();
-    s.preset = (p.is_relative() && !base_dir.empty() ? fs::path(base_dir) / p : p).lexically_normal().string();
-  }
+  s.preset = preset_of(t, reader, base_dir);
   if (const auto* n = t.get("images")) {
     if (!n->as_boolean()) reader.fail(*n, "images takes true or false");
     s.images = n->as_boolean()->get();
@@ -470,10 +484,7 @@ std::string sweep_with_settings(const std::string& text, const std::string& name
     throw Error("bad sweep '" + name + "': set is a table of configuration keys ([set] or set = { key = value })");
   std::string given;
   for (const std::string& s : settings) {
-    const size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error("--set " + printable(s) + ": give key=value (e.g. --set link.bandwidth=32GBps)");
-    const std::string key = s.substr(0, eq), value = s.substr(eq + 1);
+    const auto [key, value] = split_setting(s);
     if (std::find(swept.begin(), swept.end(), key) != swept.end())
       throw Error("--set " + printable(key) + ": the sweep '" + name + "' sweeps it; edit the file to change its values");
     if (std::find(point_set.begin(), point_set.end(), key) != point_set.end())
@@ -586,13 +597,7 @@ std::string sweep_on_machine(const std::string& text, const std::string& name, c
   };
   std::vector<Given> given;
   std::string how;  // for the text's first line
-  std::string from = preset;
-  if (from.empty())
-    if (const auto* n = t.get("config")) {
-      if (!n->as_string() || n->as_string()->get().empty()) reader.fail(*n, "config takes the path of a machine preset");
-      const fs::path p = n->as_string()->get();
-      from = (p.is_relative() && !base_dir.empty() ? fs::path(base_dir) / p : p).lexically_normal().string();
-    }
+  const std::string from = preset.empty() ? preset_of(t, reader, base_dir) : preset;
   if (!from.empty()) {
     for (const Config::Setting& x : Config::from_toml_file(from).settings()) given.push_back({x.key, x.text, x.source});
     how += " --config " + from;
@@ -606,10 +611,8 @@ std::string sweep_on_machine(const std::string& text, const std::string& name, c
     for (const auto& [key, node] : flat) given.push_back({key, reader.value(*node, key), name + " [set]"});
   }
   for (const std::string& x : settings) {
-    const size_t eq = x.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error("--set " + printable(x) + ": give key=value (e.g. --set link.bandwidth=32GBps)");
-    given.push_back({x.substr(0, eq), x.substr(eq + 1), "--set"});
+    const auto [key, value] = split_setting(x);
+    given.push_back({key, value, "--set"});
     how += " --set " + x;
   }
   if (frames != 0) {
