@@ -54,36 +54,95 @@ grep -q "died 2 times, each with the sweep itself" group.log || { cat group.log;
 [ "$(sqlite3 group.db "SELECT status FROM runs WHERE id = '$object'")" = failed ] || fail "group: not failed"
 [ "$(sqlite3 group.db "SELECT count(*) FROM runs WHERE status = 'done'")" = 3 ] || fail "group: not 3 done"
 
-# --resume of a database with a flipped bit: refused (or, where the byte
-# was unused, the same runs); never a silent change.
+# --resume of a database with a flipped bit: refused, or (where the change
+# is one SQLite reads the same, as a schema keyword's case) the same runs and
+# metrics; never a silent change. The 40 bits are spread over the bytes the
+# database holds (its pages' cells, and the used part of overflow pages), not
+# over the file: where free space lies depends on the paths and host stored,
+# and flips there prove nothing. Index pages count: a flipped index entry
+# passes SQLite's quick_check and gives wrong answers to the queries that use
+# it (integrity_check refuses it).
 "$oovr" sweep s.toml --db good.db > good.log 2>&1 || { cat good.log; fail "good sweep"; }
-size=$(stat -c %s good.db)
+sqlite3 good.db "SELECT * FROM runs ORDER BY id; SELECT * FROM metrics ORDER BY run, location, metric" > good.rows
 refused=0
 same=0
-for k in $(seq 1 40); do
+for k in $(seq 0 39); do
   cp good.db flip.db
-  /usr/bin/python3 - flip.db "$k" "$size" <<'PY'
-import sys
-path, k, size = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-at = (k * 7919 * 13) % size  # spread over the file, deterministic
+  /usr/bin/python3 - flip.db "$k" 40 > flip.where <<'PY'
+import sqlite3, sys
+path, k, n = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+con = sqlite3.connect(path)
+pages = con.execute("SELECT name, pageno, pagetype, payload FROM dbstat ORDER BY pageno").fetchall()
+size = con.execute("PRAGMA page_size").fetchone()[0]
+con.close()
+data = open(path, "rb").read()
+spans = []  # the live bytes: (first, end, table or index)
+for name, pageno, kind, payload in pages:
+    base = (pageno - 1) * size
+    if kind == "overflow":  # a next-page number, then the payload
+        spans.append((base + 4, base + 4 + payload, name))
+        continue
+    header = base + (100 if pageno == 1 else 0)
+    at = base + (int.from_bytes(data[header + 5:header + 7], "big") or 65536)
+    free = []  # the page's chain of freeblocks inside its cell area
+    fb = int.from_bytes(data[header + 1:header + 3], "big")
+    while fb:
+        free.append((base + fb, base + fb + int.from_bytes(data[base + fb + 2:base + fb + 4], "big")))
+        fb = int.from_bytes(data[base + fb:base + fb + 2], "big")
+    for first, end in sorted(free):
+        if first > at:
+            spans.append((at, first, name))
+        at = end
+    if at < base + size:
+        spans.append((at, base + size, name))
+total = sum(end - first for first, end, _ in spans)
+want = (k * total) // n + (k * 7919) % max(1, total // n)  # one in each n-th, deterministic
+for first, end, name in spans:
+    if want < end - first:
+        break
+    want -= end - first
+at = first + want
 with open(path, "r+b") as f:
     f.seek(at)
     b = f.read(1)[0]
     f.seek(at)
     f.write(bytes([b ^ (1 << (k % 8))]))
+print(name, "byte", at)
 PY
   if "$oovr" sweep s.toml --db flip.db --resume > flip.log 2>&1; then
-    # Accepted: its runs must be the ones it had.
-    sqlite3 flip.db "SELECT id, status, config, result FROM runs ORDER BY id" > flip.runs
-    sqlite3 good.db "SELECT id, status, config, result FROM runs ORDER BY id" > good.runs
-    cmp -s flip.runs good.runs || fail "flip $k: a changed database was resumed"
+    # Accepted: its runs and metrics must be the ones it had.
+    sqlite3 flip.db "SELECT * FROM runs ORDER BY id; SELECT * FROM metrics ORDER BY run, location, metric" > flip.rows
+    cmp -s flip.rows good.rows || fail "flip $k ($(cat flip.where)): a changed database was resumed"
     same=$((same + 1))
   else
-    grep -q "^oovr: error: " flip.log || { cat flip.log; fail "flip $k: no clear error"; }
+    grep -q "^oovr: error: " flip.log || { cat flip.log; fail "flip $k ($(cat flip.where)): no clear error"; }
     refused=$((refused + 1))
   fi
 done
-[ $refused -ge 10 ] || fail "only $refused of 40 bit flips refused"
+# All 40 are refused here; a few accepted unchanged are allowed for, not the
+# third that quick_check let through (the metrics index, a metric's run id).
+[ $refused -ge 36 ] || fail "only $refused of 40 bit flips refused"
+
+# A metric or an image of a run that is not recorded (a well-formed file,
+# every run whole): refused, named, by resume and report alike.
+for table in metrics images; do
+  cp good.db orphan.db
+  if [ $table = metrics ]; then
+    sqlite3 orphan.db "INSERT INTO metrics VALUES ('ffffffffffffffff', 'frame', 'latency', 1.0, 's', 0)"
+  else
+    sqlite3 orphan.db "INSERT INTO images VALUES ('ffffffffffffffff', 'frame', 1, 1, x'00', '')"
+  fi
+  for how in resume report; do
+    rc=0
+    if [ $how = resume ]; then
+      "$oovr" sweep s.toml --db orphan.db --resume > orphan.log 2>&1 || rc=$?
+    else
+      "$oovr" report orphan.db --out orphan-report > orphan.log 2>&1 || rc=$?
+    fi
+    [ $rc -ne 0 ] && grep -q "^oovr: error: .*the table '$table' holds rows of a run that is not recorded" orphan.log ||
+      { cat orphan.log; fail "$how: an orphan row of $table was not refused (exit status $rc)"; }
+  done
+done
 
 # A database of schema version 1 (no checksums) is read as it is and given
 # the columns (and version 3's scoped ids, version 4's ordinals) when next written.
@@ -181,4 +240,4 @@ if grep -q "$(printf '\033')" collect.log; then fail "collect printed a control 
 "$oovr" report job.db --out job-report > job-report.log 2>&1 || { cat job-report.log; fail "report of the collected database"; }
 if grep -q PWNED job-report/index.html; then fail "a forged line reached the report"; fi
 
-echo "hostile sweeps held: crash, OOM kill and group kill recorded; $refused of 40 bit flips refused, $same unchanged"
+echo "hostile sweeps held: crash, OOM kill and group kill recorded; $refused of 40 bit flips refused, $same accepted unchanged"

@@ -166,7 +166,7 @@ class ResultsDb {
   // `images`, their images are left out (what a reader of figures needs).
   std::vector<RunRecord> runs(bool images = true) const;
   // Checks the whole database before it is resumed, reported or written
-  // up: SQLite's quick_check, the sweeps table, and every run
+  // up: SQLite's integrity_check and foreign_key_check, the sweeps table, and every run
   // (check_run_record, and a sweep of its name recorded). Throws Error
   // naming what is damaged.
   void verify() const;
