@@ -1,7 +1,9 @@
 // One memory replay shared by runs that differ only in timing
 // (schemes/memory_tape.h): a played run is the run, bit for bit; runs whose
 // calls or memory systems differ are run in full; every timing key of the
-// configuration is one the memory system never sees.
+// configuration is one the memory system never sees. And the replay's other
+// shortcut: a record's repeats in an L1 set counted, not replayed
+// (FrameSim::replay), change no run.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -100,6 +102,28 @@ TEST(MemoryTape, EveryTimingKeyIsOneTheMemorySystemNeverSees) {
   for (const char* key : {"gpms", "gpm.sms", "link.topology", "cache.l1.size", "memory.placement", "link.energy_per_bit",
                           "shader.triangle_bytes", "composition.payload", "oo.predictor"})
     EXPECT_FALSE(timing_only_key(key)) << key;
+}
+
+TEST(MemoryTape, ARecordsRepeatsInItsL1AreCountedAsTheHitsTheyAre) {
+  // Every scheme, with the repeats left out of its replays and with every
+  // line replayed: the same run to the last byte, on Table 1's L1 (256 sets)
+  // and on one of 2 ways (512 sets), and with 16 KB pages, where the sets'
+  // span (32 KB) is more than a page: textures' lines do not fall in the
+  // sets by their index, and nothing may be left out.
+  const test::RenderedFrames& r = courtyard();
+  for (const auto& trace : r.traces) {
+    const auto kept = trace->tex_lines_without_repeats(256);
+    ASSERT_NE(kept, nullptr) << "courtyard's repeats are not the majority, so this test could not tell";
+    EXPECT_LT(kept->lines.size() * 4, trace->tex_lines.size());
+  }
+  for (const Config& c : {Config{}, config_of({"cache.l1.ways=2"}), config_of({"memory.page=16KB"})})
+    for (const std::string& scheme : Schemes::names()) {
+      const std::string counted = run(scheme, c);
+      FrameSim::set_repeats_counted(false);
+      const std::string replayed = run(scheme, c);
+      FrameSim::set_repeats_counted(true);
+      EXPECT_TRUE(same(counted, replayed)) << scheme;
+    }
 }
 
 TEST(MemoryTape, APlayedRunIsTheRunBitForBit) {

@@ -125,5 +125,51 @@ TEST(Trace, LineBlockShapes) {
   EXPECT_EQ(w * 100 + h, 1616);
 }
 
+TEST(Trace, TextureLinesWithoutTheirRepeatsWithinARecord) {
+  // Two records; lines named (texture, index); modulus 4, so indices 1 and 5
+  // share a residue. Record 0: a a b a(5) a a -> a, b, a(5), a are kept
+  // (the last a follows a(5) of its residue); record 1 starts afresh.
+  FrameTrace t;
+  const TexLine a = make_tex_line(0, 1), b = make_tex_line(0, 2), a5 = make_tex_line(0, 5), c = make_tex_line(1, 1);
+  for (TexLine l : {a, a, b, a5, a, a, /* record 1 */ a, c, c, a, b, b}) t.tex_lines.push_back(l);
+  t.tiles.resize(3);
+  t.tiles[0].tex_begin = 0;
+  t.tiles[0].tex_count = 6;
+  t.tiles[1].tex_begin = 6;
+  t.tiles[1].tex_count = 0;  // a record that samples nothing
+  t.tiles[2].tex_begin = 6;
+  t.tiles[2].tex_count = 6;
+  // Kept: 0: a b a5 a; 1: none; 2: a c a b (c, then a: index 1 both, texture
+  // differs). 8 of 12 lines stay, at least half: not kept at all.
+  EXPECT_EQ(t.tex_lines_without_repeats(4), nullptr);
+  // With repeats the majority: a record of 12 reads of one line, twice.
+  FrameTrace r;
+  for (int i = 0; i < 24; ++i) r.tex_lines.push_back(i < 12 ? a : b);
+  r.tiles.resize(2);
+  r.tiles[0].tex_count = 12;
+  r.tiles[1].tex_begin = 12;
+  r.tiles[1].tex_count = 12;
+  const auto w = r.tex_lines_without_repeats(4);
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->modulus, 4u);
+  EXPECT_EQ(w->lines, (std::vector<TexLine>{a, b}));
+  EXPECT_EQ(w->begin, (std::vector<uint64_t>{0, 1, 2}));
+  EXPECT_EQ(r.tex_lines_without_repeats(4), w);  // derived once
+  // Another modulus, its own; a changed trace (storage or size) anew.
+  EXPECT_NE(r.tex_lines_without_repeats(8), w);
+  FrameTrace copy = r;
+  EXPECT_NE(copy.tex_lines_without_repeats(4), w);
+  EXPECT_EQ(copy.tex_lines_without_repeats(4)->lines, w->lines);
+  // t's 8 of 12 with its repeats in the majority: ten more reads of c.
+  for (int i = 0; i < 10; ++i) t.tex_lines.push_back(c);
+  t.tiles[2].tex_count = 16;
+  const auto v = t.tex_lines_without_repeats(4);
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(v->lines, (std::vector<TexLine>{a, b, a5, a, a, c, a, b, c}));
+  EXPECT_EQ(v->begin, (std::vector<uint64_t>{0, 4, 4, 9}));
+  EXPECT_THROW((void)t.tex_lines_without_repeats(3), Error);
+  EXPECT_THROW((void)t.tex_lines_without_repeats(0), Error);
+}
+
 }  // namespace
 }  // namespace oovr

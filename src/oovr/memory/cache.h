@@ -62,6 +62,7 @@ class Cache {
 
   const std::string& name() const { return m_name; }
   uint64_t lines() const { return m_tags.size(); }
+  uint64_t set_mask() const { return m_set_mask; }
 
  private:
   static constexpr uint64_t kEmpty = ~uint64_t(0);

@@ -183,7 +183,7 @@ void MemorySystem::move(int from, int to, uint64_t bytes, Category c, UnitTraffi
   m_totals.moved[size_t(from * m_spec.gpms + to)] += bytes;
 }
 
-void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out) {
+void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
   if (gpm < 0 || gpm >= m_spec.gpms || sm < 0 || sm >= m_spec.sms_per_gpm)
     throw Error("memory access by GPM " + std::to_string(gpm) + " SM " + std::to_string(sm) + ", which does not exist");
   shape(out);
@@ -196,8 +196,8 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   const uint64_t end = m_home.size() * m_page_bytes;
   // Hit counters stay in registers; the hot path (an L1 hit) touches only
   // the L1's own arrays.
-  uint64_t l1_hits = 0, l2_hits = 0, l2_read_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0, local_delivered = 0,
-           remote_dram = 0, hops = 0, l1_lookups = 0, l2_lookups = 0, remote_lookups = 0;
+  uint64_t l1_hits = l1_repeats, l2_hits = 0, l2_read_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0, local_delivered = 0,
+           remote_dram = 0, hops = 0, l1_lookups = l1_repeats, l2_lookups = 0, remote_lookups = 0;
   const uint64_t dram_before = out.dram_lines;
   const uint64_t now = ++m_clock;
   for (const LineAccess& a : lines) {
@@ -255,7 +255,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
   }
   out.dram_lines += local_dram;
-  out.accesses += lines.size();
+  out.accesses += lines.size() + l1_repeats;
   out.l1_hits += l1_hits;
   out.l2_hits += l2_hits;
   out.remote_hits += remote_hits;
@@ -266,7 +266,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   out.remote_hops += hops;
   m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += local_delivered;
   m_totals.dram_lines += out.dram_lines - dram_before;
-  m_totals.accesses += lines.size();
+  m_totals.accesses += lines.size() + l1_repeats;
   m_totals.l1_hits += l1_hits;
   m_totals.l2_hits += l2_hits;
   m_totals.remote_hits += remote_hits;

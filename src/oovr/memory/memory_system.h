@@ -104,8 +104,13 @@ class MemorySystem {
   const AddressMap& address_map() const { return m_map; }
 
   // GPM `gpm`, SM `sm` performs `lines` for one work unit. The unit's costs
-  // are added to `out` (reset it per unit) and to the totals.
-  void access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out);
+  // are added to `out` (reset it per unit) and to the totals. `l1_repeats`
+  // reads of the unit were left out of `lines` as reads of their L1 set's
+  // most recently used line (FrameSim::replay): each is counted as the L1
+  // hit it is, which changes no cache.
+  void access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats = 0);
+  // Every SM's L1 has the same sets: a line's is (address / line) & this.
+  uint64_t l1_set_mask() const { return m_l1.front().set_mask(); }
 
   // Copies the pages of [address, address + bytes) into GPM `gpm`'s DRAM
   // ahead of use, as whole pages, from their homes; pages already held by

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "oovr/core/uninitialised.h"
@@ -86,6 +87,33 @@ struct ObjectWork {
   bool operator==(const ObjectWork&) const = default;
 };
 
+// A frame's texture lines less the repeats within each record, modulo a
+// power of two: line i of a record is a repeat, modulo M, when the record's
+// last line before it with the same index modulo M is the same line. Where
+// a cache of M sets indexes a texture's lines by their index (its base a
+// multiple of M lines), that read is of its set's most recently used line,
+// a hit that changes nothing whatever the cache held (schemes/frame_sim.cpp).
+struct TexLinesWithoutRepeats {
+  uint64_t modulus = 0;
+  std::vector<TexLine> lines;   // every record's lines that are not repeats, record after record
+  std::vector<uint64_t> begin;  // record r's are lines[begin[r] .. begin[r + 1]); one entry per record and one more
+};
+
+// What FrameTrace derives from itself once and shares between the threads
+// and runs that replay it. A copied or moved-to trace derives anew.
+class FrameTraceMemo {
+ public:
+  FrameTraceMemo();
+  FrameTraceMemo(const FrameTraceMemo&);
+  FrameTraceMemo& operator=(const FrameTraceMemo&);
+  ~FrameTraceMemo();
+
+ private:
+  friend struct FrameTrace;
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
 struct FrameTrace {
   int frame = 0;
   int frame_width = 0, frame_height = 0;
@@ -109,6 +137,15 @@ struct FrameTrace {
   // Distinct texture lines the frame touched (x line_bytes: the texture
   // bytes it needed, in the storage format).
   uint64_t unique_tex_lines() const;
+  // The texture lines less their repeats modulo `modulus` (a power of two,
+  // at most 2^20), computed on first use and kept; null when at least half
+  // the lines would stay, where replaying the list is no shorter than the
+  // whole (nexuiz's multi-layer materials alternate layers of one set).
+  // Computed from the trace as it is then: a trace is not changed once it
+  // is replayed (a changed size or storage is derived anew).
+  std::shared_ptr<const TexLinesWithoutRepeats> tex_lines_without_repeats(uint64_t modulus) const;
+
+  mutable FrameTraceMemo memo;
 };
 
 }  // namespace oovr

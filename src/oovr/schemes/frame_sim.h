@@ -193,6 +193,9 @@ class FrameSim {
   // for benchmarks that measure the simulation alone, never for results.
   static void set_law_checks(bool on);
   static bool law_checks();
+  // Whether replays leave out a record's repeats in an L1 set (replay; on
+  // unless turned off): for the tests that show it changes nothing.
+  static void set_repeats_counted(bool on);
 
  private:
   int add(int gpm, const WorkCounts& w, const UnitTraffic& t, std::vector<int> after, TimelineUnit info, bool in_queue = true);
@@ -271,6 +274,12 @@ class FrameSim {
   std::vector<PendingSpan> m_spans;  // resolved by finish
   std::vector<TimelineMark> m_instants;
   std::vector<LineAccess> m_scratch;
+  // The frame's texture lines less their L1 repeats (replay), kept for the
+  // frame last replayed; off where the L1's sets do not follow the index.
+  bool m_repeat_free = false;
+  const FrameTrace* m_repeats_of = nullptr;
+  std::shared_ptr<const TexLinesWithoutRepeats> m_repeats;
+  const std::shared_ptr<const TexLinesWithoutRepeats>& without_repeats(const FrameTrace& frame);
   // (object, tile) -> GPM for frames[0], in replay order; finish() makes
   // SchemeResult::owner of it (a log, not a map: a record each, cheap).
   std::vector<std::pair<std::pair<uint32_t, uint32_t>, int>> m_owner_log;
