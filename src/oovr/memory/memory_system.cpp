@@ -196,8 +196,8 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   const uint64_t end = m_home.size() * m_page_bytes;
   // Hit counters stay in registers; the hot path (an L1 hit) touches only
   // the L1's own arrays.
-  uint64_t l1_hits = l1_repeats, l2_hits = 0, l2_read_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0, local_delivered = 0,
-           remote_dram = 0, hops = 0, l1_lookups = l1_repeats, l2_lookups = 0, remote_lookups = 0;
+  uint64_t l1_hits = l1_repeats, l2_hits = 0, l2_read_hits = 0, remote_hits = 0, home_l2_hits = 0, local_dram = 0,
+           local_delivered = 0, remote_dram = 0, hops = 0, l1_lookups = l1_repeats, l2_lookups = 0, remote_lookups = 0;
   const uint64_t dram_before = out.dram_lines;
   const uint64_t now = ++m_clock;
   for (const LineAccess& a : lines) {
