@@ -54,6 +54,73 @@ struct Fixture {
   }
 };
 
+TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
+  // FrameSim::replay leaves a record's repeats out of its L1 reads
+  // (FrameTrace::tex_lines_without_repeats): the re-reads of a set's last
+  // line with any policy, and with LRU the sure hits read again before the
+  // set may miss. A cache of 4 sets of 4 ways fed 3,000 random records
+  // whole, and one fed them without their repeats: after every record the
+  // same misses and the same lines held, with every policy. The records
+  // re-read the line just read (50%), cycle among 2 to 6 lines of one set
+  // (40%: the alternating layers the LRU rule is for) and draw from 80.
+  constexpr int kSets = 4, kWays = 4;
+  FrameTrace trace;
+  Rng rng(11);
+  for (int r = 0; r < 3000; ++r) {
+    TileWork t;
+    t.tex_begin = trace.tex_lines.size();
+    const uint32_t n = 1 + rng.below(48);
+    const uint32_t set = rng.below(kSets), width = 2 + rng.below(5), texture = rng.below(2);
+    TexLine previous = make_tex_line(0, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t how = rng.below(10);
+      const TexLine l = how < 5   ? previous
+                        : how < 9 ? make_tex_line(texture, set + kSets * rng.below(width))
+                                  : make_tex_line(rng.below(2), rng.below(40));
+      trace.tex_lines.push_back(l);
+      previous = l;
+    }
+    t.tex_count = n;
+    trace.tiles.push_back(t);
+  }
+  // The cache's line of a texture line: each texture's base a multiple of
+  // the sets, so a line's set is its index's.
+  const auto line_of = [](TexLine l) { return uint64_t(tex_line_texture(l)) * 1024 + tex_line_index(l); };
+  const auto simple = trace.tex_lines_without_repeats(kSets);
+  const auto with_lru = trace.tex_lines_without_repeats(kSets, kWays);
+  ASSERT_NE(simple, nullptr);
+  ASSERT_NE(with_lru, nullptr);
+  // Each rule leaves lines out, the LRU rule more (here 29,105 and 24,006
+  // of 74,100 stay).
+  EXPECT_LT(simple->lines.size(), trace.tex_lines.size() * 3 / 4);
+  EXPECT_LT(with_lru->lines.size(), simple->lines.size() * 9 / 10);
+  for (const char* policy : {"lru", "fifo", "random"}) {
+    const auto& kept = std::string(policy) == "lru" ? with_lru : simple;
+    CacheSpec spec;
+    spec.size = Bytes{kSets * kWays * kLine};
+    spec.ways = kWays;
+    spec.replacement = policy;
+    Cache whole(spec, kLine, "test"), filtered(spec, kLine, "test");
+    uint64_t misses = 0;
+    for (size_t r = 0; r < trace.tiles.size(); ++r) {
+      const TileWork& t = trace.tiles[r];
+      Cache::Eviction ev;
+      uint64_t miss_whole = 0, miss_filtered = 0;
+      for (uint64_t i = t.tex_begin; i < t.tex_begin + t.tex_count; ++i)
+        miss_whole += !whole.access(line_of(trace.tex_lines[i]), false, Category::texture, ev);
+      for (uint64_t i = kept->begin[r]; i < kept->begin[r + 1]; ++i)
+        miss_filtered += !filtered.access(line_of(kept->lines[i]), false, Category::texture, ev);
+      ASSERT_EQ(miss_whole, miss_filtered) << policy << ", record " << r;
+      for (uint64_t tex = 0; tex < 2; ++tex)
+        for (uint64_t index = 0; index < 40; ++index)
+          ASSERT_EQ(whole.contains(tex * 1024 + index), filtered.contains(tex * 1024 + index))
+              << policy << ", record " << r << ", line " << tex << ":" << index;
+      misses += miss_whole;
+    }
+    EXPECT_GT(misses, 10000u) << policy << ": the records must miss, or the order of the sets would not be tested";
+  }
+}
+
 TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
   // A small cache (4 sets of 4 ways) against a reference kept as lists in
   // order of use (LRU) or of insertion (FIFO), on a stream that re-reads

@@ -106,17 +106,22 @@ TEST(MemoryTape, EveryTimingKeyIsOneTheMemorySystemNeverSees) {
 
 TEST(MemoryTape, ARecordsRepeatsInItsL1AreCountedAsTheHitsTheyAre) {
   // Every scheme, with the repeats left out of its replays and with every
-  // line replayed: the same run to the last byte, on Table 1's L1 (256 sets)
-  // and on one of 2 ways (512 sets), and with 16 KB pages, where the sets'
-  // span (32 KB) is more than a page: textures' lines do not fall in the
-  // sets by their index, and nothing may be left out.
+  // line replayed: the same run to the last byte, on Table 1's L1 (256 sets
+  // of 4 ways, LRU), on one of 2 ways (512 sets), on a FIFO L1 (the LRU
+  // rule does not apply), and with 16 KB pages, where the sets' span
+  // (32 KB) is more than a page: textures' lines do not fall in the sets by
+  // their index, and nothing may be left out.
   const test::RenderedFrames& r = courtyard();
   for (const auto& trace : r.traces) {
     const auto kept = trace->tex_lines_without_repeats(256);
     ASSERT_NE(kept, nullptr) << "courtyard's repeats are not the majority, so this test could not tell";
     EXPECT_LT(kept->lines.size() * 4, trace->tex_lines.size());
+    const auto lru = trace->tex_lines_without_repeats(256, 4);
+    ASSERT_NE(lru, nullptr);
+    EXPECT_LT(lru->lines.size(), kept->lines.size());
   }
-  for (const Config& c : {Config{}, config_of({"cache.l1.ways=2"}), config_of({"memory.page=16KB"})})
+  for (const Config& c :
+       {Config{}, config_of({"cache.l1.ways=2"}), config_of({"cache.l1.replacement=fifo"}), config_of({"memory.page=16KB"})})
     for (const std::string& scheme : Schemes::names()) {
       const std::string counted = run(scheme, c);
       FrameSim::set_repeats_counted(false);

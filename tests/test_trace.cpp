@@ -171,5 +171,50 @@ TEST(Trace, TextureLinesWithoutTheirRepeatsWithinARecord) {
   EXPECT_THROW((void)t.tex_lines_without_repeats(0), Error);
 }
 
+TEST(Trace, TextureLinesWithoutTheirSureHitsInAnLruCache) {
+  // One set (indices 0, 4, 8 modulo 4). Record 0 alternates A and B: with
+  // LRU of 4 ways every read after the first two is a sure hit, and all but
+  // the last read of each line are left out (A B A B); without LRU nothing
+  // is (no read repeats the one before). Record 1: A B A C A keeps all: C
+  // may miss between the A's, so the middle A's use is kept. Record 2: 30
+  // reads of A, the first kept. Record 3: A B C D E A E A keeps all: the
+  // second A follows four other lines of the set (stack distance 4), so it
+  // may miss, and is no sure hit to leave out for the third.
+  FrameTrace t;
+  const TexLine a = make_tex_line(0, 0), b = make_tex_line(0, 4), c = make_tex_line(1, 8), d = make_tex_line(1, 12),
+                e = make_tex_line(0, 16);
+  for (TexLine l : {a, b, a, b, a, b, a, b, a, b}) t.tex_lines.push_back(l);
+  for (TexLine l : {a, b, a, c, a}) t.tex_lines.push_back(l);
+  for (int i = 0; i < 30; ++i) t.tex_lines.push_back(a);
+  for (TexLine l : {a, b, c, d, e, a, e, a}) t.tex_lines.push_back(l);
+  t.tiles.resize(4);
+  t.tiles[0].tex_count = 10;
+  t.tiles[1].tex_begin = 10;
+  t.tiles[1].tex_count = 5;
+  t.tiles[2].tex_begin = 15;
+  t.tiles[2].tex_count = 30;
+  t.tiles[3].tex_begin = 45;
+  t.tiles[3].tex_count = 8;
+  const auto lru = t.tex_lines_without_repeats(4, 4);
+  ASSERT_NE(lru, nullptr);
+  EXPECT_EQ(lru->lru_ways, 4);
+  EXPECT_EQ(lru->lines, (std::vector<TexLine>{a, b, a, b, a, b, a, c, a, a, a, b, c, d, e, a, e, a}));
+  EXPECT_EQ(lru->begin, (std::vector<uint64_t>{0, 4, 9, 10, 18}));
+  const auto any = t.tex_lines_without_repeats(4);
+  ASSERT_NE(any, nullptr);
+  EXPECT_EQ(any->lines.size(), 24u);  // 10 + 5 + 1 + 8
+  EXPECT_NE(any, lru);
+  // With 1 way nothing after the first of each is sure.
+  // With 5 ways record 3's second A is a sure hit, read again after E (a
+  // sure hit too): left out.
+  std::vector<TexLine> five = lru->lines;
+  five.erase(five.begin() + 15);
+  EXPECT_EQ(t.tex_lines_without_repeats(4, 5)->lines, five);
+  // With 2 ways record 0 is as with 4; record 3 keeps all.
+  EXPECT_EQ(t.tex_lines_without_repeats(4, 2)->lines, lru->lines);
+  EXPECT_EQ(t.tex_lines_without_repeats(4, 1)->lines, any->lines);
+  EXPECT_THROW((void)t.tex_lines_without_repeats(4, -1), Error);
+}
+
 }  // namespace
 }  // namespace oovr

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <span>
 
 #include "oovr/core/error.h"
 
@@ -36,6 +37,7 @@ struct FrameTraceMemo::Impl {
   std::mutex mutex;
   struct Entry {
     uint64_t modulus;
+    int lru_ways;
     // What the trace was when this was derived.
     const TileWork* tiles;
     size_t records;
@@ -55,54 +57,140 @@ FrameTraceMemo& FrameTraceMemo::operator=(const FrameTraceMemo&) {
 }
 FrameTraceMemo::~FrameTraceMemo() = default;
 
-std::shared_ptr<const TexLinesWithoutRepeats> FrameTrace::tex_lines_without_repeats(uint64_t modulus) const {
+namespace {
+
+// A record's lines less its repeats (tex_lines_without_repeats), with the
+// scratch kept from record to record: per index modulo M, a stamp saying
+// which record its entries are of, so that nothing is reset between records.
+class RepeatFilter {
+ public:
+  RepeatFilter(uint64_t modulus, int lru_ways)
+      : m_mask(modulus - 1),
+        m_ways(lru_ways),
+        m_last(modulus),
+        m_stamp(modulus, 0),
+        m_stack(lru_ways > 0 ? modulus * uint64_t(lru_ways) : 0),
+        m_depth(lru_ways > 0 ? modulus : 0),
+        m_after(lru_ways > 0 ? modulus * uint64_t(lru_ways + 1) : 0),
+        m_after_count(lru_ways > 0 ? modulus : 0),
+        m_after_stamp(lru_ways > 0 ? modulus : 0, 0) {}
+
+  // Appends record `record`'s kept lines (of `lines`) to `out`.
+  void filter(uint32_t record, std::span<const TexLine> lines, std::vector<TexLine>& out) {
+    const uint32_t stamp = record + 1;
+    // Reads of the line the set last read in the record: hits on its most
+    // recently used line, which change nothing (with any policy).
+    m_kept.clear();
+    for (const TexLine l : lines) {
+      const uint64_t k = tex_line_index(l) & m_mask;
+      if (m_stamp[k] == stamp && m_last[k] == l) continue;
+      if (m_stamp[k] != stamp && m_ways > 0) m_depth[k] = 0;
+      m_stamp[k] = stamp;
+      m_last[k] = l;
+      m_kept.push_back(l);
+    }
+    if (m_ways == 0) {
+      out.insert(out.end(), m_kept.begin(), m_kept.end());
+      return;
+    }
+    // With least-recently-used replacement of W ways: a read of a line the
+    // set read in the record with fewer than W other lines of the set since
+    // is sure to hit (its stack distance is under W). Such a hit is left
+    // out where the record reads the line again with only sure hits of the
+    // set between: until then no line of the set is replaced, and at every
+    // read that may miss, and at the record's end, each line's last read is
+    // kept, so the set's order of last uses, the only thing LRU reads, is
+    // the same (Cache::access; replacement/impl/lru.cpp).
+    const size_t n = m_kept.size();
+    m_sure.assign(n, 0);
+    const int ways = m_ways;
+    for (size_t i = 0; i < n; ++i) {
+      const TexLine l = m_kept[i];
+      const uint64_t k = tex_line_index(l) & m_mask;
+      TexLine* stack = &m_stack[k * uint64_t(ways)];
+      int& depth = m_depth[k];
+      int at = -1;
+      for (int w = 0; w < depth; ++w) at = stack[w] == l ? w : at;
+      m_sure[i] = at >= 0;
+      if (at < 0) at = depth < ways ? depth++ : ways - 1;
+      for (int w = at; w > 0; --w) stack[w] = stack[w - 1];
+      stack[0] = l;
+    }
+    // Backwards: per set, the lines read after this read with only sure
+    // hits of the set before them (at most W + 1: the sure hits' lines are
+    // the W in the stack).
+    const size_t first = out.size();
+    for (size_t i = n; i-- > 0;) {
+      const TexLine l = m_kept[i];
+      const uint64_t k = tex_line_index(l) & m_mask;
+      TexLine* after = &m_after[k * uint64_t(ways + 1)];
+      int& count = m_after_count[k];
+      if (m_after_stamp[k] != stamp || !m_sure[i]) {
+        m_after_stamp[k] = stamp;
+        count = 0;
+      } else {
+        bool again = false;
+        for (int w = 0; w < count; ++w) again |= after[w] == l;
+        if (again) continue;  // a sure hit read again before the set may miss
+      }
+      if (count <= ways) after[count++] = l;
+      out.push_back(l);
+    }
+    std::reverse(out.begin() + std::ptrdiff_t(first), out.end());
+  }
+
+ private:
+  uint64_t m_mask;
+  int m_ways;
+  std::vector<TexLine> m_last;
+  std::vector<uint32_t> m_stamp;
+  std::vector<TexLine> m_stack;  // per set, the record's last W distinct lines, most recent first
+  std::vector<int> m_depth;
+  std::vector<TexLine> m_after;
+  std::vector<int> m_after_count;
+  std::vector<uint32_t> m_after_stamp;
+  std::vector<TexLine> m_kept;
+  std::vector<uint8_t> m_sure;
+};
+
+}  // namespace
+
+std::shared_ptr<const TexLinesWithoutRepeats> FrameTrace::tex_lines_without_repeats(uint64_t modulus, int lru_ways) const {
   if (modulus == 0 || (modulus & (modulus - 1)) != 0 || modulus > (uint64_t(1) << 20))
     throw Error("tex_lines_without_repeats: the modulus must be a power of two up to 2^20, not " + std::to_string(modulus));
+  if (lru_ways < 0 || lru_ways > 1024)
+    throw Error("tex_lines_without_repeats: an LRU cache has 1 to 1024 ways (0: any policy), not " + std::to_string(lru_ways));
   FrameTraceMemo::Impl& m = *memo.m_impl;
   // One thread derives; the others replaying the frame wait for it rather
   // than derive it again.
   std::lock_guard lock(m.mutex);
   for (const auto& e : m.without_repeats)
-    if (e.modulus == modulus && e.tiles == tiles.data() && e.records == tiles.size() && e.lines == tex_lines.data() &&
-        e.line_count == tex_lines.size())
+    if (e.modulus == modulus && e.lru_ways == lru_ways && e.tiles == tiles.data() && e.records == tiles.size() &&
+        e.lines == tex_lines.data() && e.line_count == tex_lines.size())
       return e.value;
-  std::erase_if(m.without_repeats, [&](const auto& e) { return e.modulus == modulus; });
-  const uint64_t mask = modulus - 1;
-  // Per index modulo M, the last line and the record it was read in (+1:
-  // zero is no record), so that nothing is reset between records.
-  std::vector<TexLine> last_line(modulus);
-  std::vector<uint32_t> last_record(modulus, 0);
-  const auto each_kept = [&](auto&& keep) {
-    for (size_t r = 0; r < tiles.size(); ++r) {
-      const TileWork& t = tiles[r];
-      const uint32_t stamp = uint32_t(r + 1);
-      for (uint64_t i = t.tex_begin, end = t.tex_begin + t.tex_count; i < end; ++i) {
-        const TexLine l = tex_lines[i];
-        const uint64_t k = tex_line_index(l) & mask;
-        if (last_record[k] == stamp && last_line[k] == l) continue;
-        last_record[k] = stamp;
-        last_line[k] = l;
-        keep(r, l);
-      }
-    }
-  };
-  uint64_t kept = 0;
-  if (tiles.size() < UINT32_MAX) each_kept([&](size_t, TexLine) { ++kept; });
+  std::erase_if(m.without_repeats, [&](const auto& e) { return e.modulus == modulus && e.lru_ways == lru_ways; });
   std::shared_ptr<TexLinesWithoutRepeats> out;
-  if (tiles.size() < UINT32_MAX && kept * 2 < tex_lines.size()) {
+  if (tiles.size() < UINT32_MAX) {
     out = std::make_shared<TexLinesWithoutRepeats>();
     out->modulus = modulus;
-    out->lines.reserve(kept);
-    out->begin.assign(tiles.size() + 1, 0);
-    std::fill(last_record.begin(), last_record.end(), 0u);
-    // begin[r + 1] counts record r's lines first, then the counts are summed.
-    each_kept([&](size_t r, TexLine l) {
-      out->lines.push_back(l);
-      ++out->begin[r + 1];
-    });
-    for (size_t r = 0; r < tiles.size(); ++r) out->begin[r + 1] += out->begin[r];
+    out->lru_ways = lru_ways;
+    out->begin.reserve(tiles.size() + 1);
+    RepeatFilter filter(modulus, lru_ways);
+    const uint64_t half = tex_lines.size() / 2;
+    for (size_t r = 0; r < tiles.size() && out; ++r) {
+      out->begin.push_back(out->lines.size());
+      const TileWork& t = tiles[r];
+      filter.filter(uint32_t(r), {tex_lines.data() + t.tex_begin, t.tex_count}, out->lines);
+      if (out->lines.size() > half) out.reset();  // no shorter to replay than the whole
+    }
+    if (out && out->lines.size() * 2 < tex_lines.size()) {
+      out->begin.push_back(out->lines.size());
+      out->lines.shrink_to_fit();
+    } else {
+      out.reset();
+    }
   }
-  m.without_repeats.push_back({modulus, tiles.data(), tiles.size(), tex_lines.data(), tex_lines.size(), out});
+  m.without_repeats.push_back({modulus, lru_ways, tiles.data(), tiles.size(), tex_lines.data(), tex_lines.size(), out});
   return out;
 }
 

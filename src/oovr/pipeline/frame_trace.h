@@ -93,8 +93,12 @@ struct ObjectWork {
 // a cache of M sets indexes a texture's lines by their index (its base a
 // multiple of M lines), that read is of its set's most recently used line,
 // a hit that changes nothing whatever the cache held (schemes/frame_sim.cpp).
+// For a cache that replaces the least recently used of W ways, also the
+// reads sure to hit whose line the record reads again before anything of
+// the set may miss (frame_trace.cpp says why that changes nothing either).
 struct TexLinesWithoutRepeats {
   uint64_t modulus = 0;
+  int lru_ways = 0;             // W; 0: the repeats of any policy only
   std::vector<TexLine> lines;   // every record's lines that are not repeats, record after record
   std::vector<uint64_t> begin;  // record r's are lines[begin[r] .. begin[r + 1]); one entry per record and one more
 };
@@ -138,12 +142,12 @@ struct FrameTrace {
   // bytes it needed, in the storage format).
   uint64_t unique_tex_lines() const;
   // The texture lines less their repeats modulo `modulus` (a power of two,
-  // at most 2^20), computed on first use and kept; null when at least half
-  // the lines would stay, where replaying the list is no shorter than the
-  // whole (nexuiz's multi-layer materials alternate layers of one set).
-  // Computed from the trace as it is then: a trace is not changed once it
-  // is replayed (a changed size or storage is derived anew).
-  std::shared_ptr<const TexLinesWithoutRepeats> tex_lines_without_repeats(uint64_t modulus) const;
+  // at most 2^20) and, with `lru_ways`, in an LRU cache of that many ways;
+  // computed on first use and kept; null when at least half the lines would
+  // stay, where replaying the list is no shorter than the whole. Computed
+  // from the trace as it is then: a trace is not changed once it is
+  // replayed (a changed size or storage is derived anew).
+  std::shared_ptr<const TexLinesWithoutRepeats> tex_lines_without_repeats(uint64_t modulus, int lru_ways = 0) const;
 
   mutable FrameTraceMemo memo;
 };

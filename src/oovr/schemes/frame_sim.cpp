@@ -378,7 +378,11 @@ int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double be
 
 const std::shared_ptr<const TexLinesWithoutRepeats>& FrameSim::without_repeats(const FrameTrace& frame) {
   if (&frame != m_repeats_of) {
-    m_repeats = frame.tex_lines_without_repeats(m_memory->l1_set_mask() + 1);
+    // The LRU rule where the L1 replaces the least recently used way (its
+    // reads are Cache::access's; the policy is lru.cpp, which reads only
+    // the order of last uses).
+    m_repeats = frame.tex_lines_without_repeats(m_memory->l1_set_mask() + 1,
+                                                m_memory_spec.l1.replacement == "lru" ? m_memory_spec.l1.ways : 0);
     m_repeats_of = &frame;
   }
   return m_repeats;
@@ -396,10 +400,11 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
     // The texture lines written in place (no push_back's check per line),
     // less the record's repeats in its L1: a texture read of the line its
     // L1 set last read within the record is of the set's most recently used
-    // line, a hit that changes nothing (Cache::access), so it is counted,
-    // not replayed. Most of a frame's reads are such (88 to 95% of the
-    // OpenArena levels', 13 to 22% of nexuiz's, which replay whole), and
-    // the list without them, derived once per frame, is shared by every
+    // line, a hit that changes nothing (Cache::access), and with LRU a sure
+    // hit whose line the record reads again before the set may miss leaves
+    // the set's order as it was; each is counted, not replayed. Most of a
+    // frame's reads are such (82 to 95%: FrameTrace::tex_lines_without_repeats),
+    // and the list without them, derived once per frame, is shared by every
     // scheme, pass and sweep point that replays the frame.
     const TexLine* in = frame.tex_lines.data() + r.tex_begin;
     uint64_t count = r.tex_count, repeats = 0;
