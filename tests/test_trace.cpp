@@ -214,6 +214,7 @@ TEST(Trace, TextureLinesWithoutTheirSureHitsInAnLruCache) {
   EXPECT_EQ(t.tex_lines_without_repeats(4, 2)->lines, lru->lines);
   EXPECT_EQ(t.tex_lines_without_repeats(4, 1)->lines, any->lines);
   EXPECT_THROW((void)t.tex_lines_without_repeats(4, -1), Error);
+  EXPECT_THROW((void)t.tex_lines_without_repeats(uint64_t(1) << 20, 16), Error);  // 17 M lines of scratch
 }
 
 }  // namespace

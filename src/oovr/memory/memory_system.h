@@ -105,9 +105,9 @@ class MemorySystem {
 
   // GPM `gpm`, SM `sm` performs `lines` for one work unit. The unit's costs
   // are added to `out` (reset it per unit) and to the totals. `l1_repeats`
-  // reads of the unit were left out of `lines` as reads of their L1 set's
-  // most recently used line (FrameSim::replay): each is counted as the L1
-  // hit it is, which changes no cache.
+  // texture reads of the unit were left out of `lines` as L1 hits that
+  // leave the L1 as reading them would (FrameSim::replay, the rules of
+  // FrameTrace::tex_lines_without_repeats): each is counted as the hit it is.
   void access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats = 0);
   // Every SM's L1 has the same sets: a line's is (address / line) & this.
   uint64_t l1_set_mask() const { return m_l1.front().set_mask(); }

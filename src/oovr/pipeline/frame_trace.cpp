@@ -158,8 +158,12 @@ class RepeatFilter {
 std::shared_ptr<const TexLinesWithoutRepeats> FrameTrace::tex_lines_without_repeats(uint64_t modulus, int lru_ways) const {
   if (modulus == 0 || (modulus & (modulus - 1)) != 0 || modulus > (uint64_t(1) << 20))
     throw Error("tex_lines_without_repeats: the modulus must be a power of two up to 2^20, not " + std::to_string(modulus));
-  if (lru_ways < 0 || lru_ways > 1024)
-    throw Error("tex_lines_without_repeats: an LRU cache has 1 to 1024 ways (0: any policy), not " + std::to_string(lru_ways));
+  // The LRU rule's scratch is a stack of W lines per set: bounded (128 MB).
+  if (lru_ways < 0 || lru_ways > 1024 || modulus * uint64_t(lru_ways + 1) > (uint64_t(1) << 24))
+    throw Error(
+        "tex_lines_without_repeats: an LRU cache here has 1 to 1024 ways and at most 2^24 lines (0 ways: any "
+        "policy), not " +
+        std::to_string(lru_ways) + " ways of " + std::to_string(modulus) + " sets");
   FrameTraceMemo::Impl& m = *memo.m_impl;
   // One thread derives; the others replaying the frame wait for it rather
   // than derive it again.

@@ -142,7 +142,8 @@ struct FrameTrace {
   // bytes it needed, in the storage format).
   uint64_t unique_tex_lines() const;
   // The texture lines less their repeats modulo `modulus` (a power of two,
-  // at most 2^20) and, with `lru_ways`, in an LRU cache of that many ways;
+  // at most 2^20) and, with `lru_ways`, in an LRU cache of that many ways
+  // (1 to 1024, modulus x (ways + 1) at most 2^24: the scratch is bounded);
   // computed on first use and kept; null when at least half the lines would
   // stay, where replaying the list is no shorter than the whole. Computed
   // from the trace as it is then: a trace is not changed once it is

@@ -380,9 +380,11 @@ const std::shared_ptr<const TexLinesWithoutRepeats>& FrameSim::without_repeats(c
   if (&frame != m_repeats_of) {
     // The LRU rule where the L1 replaces the least recently used way (its
     // reads are Cache::access's; the policy is lru.cpp, which reads only
-    // the order of last uses).
-    m_repeats = frame.tex_lines_without_repeats(m_memory->l1_set_mask() + 1,
-                                                m_memory_spec.l1.replacement == "lru" ? m_memory_spec.l1.ways : 0);
+    // the order of last uses), and has at most 2^24 lines (16 M: 2 GB).
+    const uint64_t sets = m_memory->l1_set_mask() + 1;
+    const int ways = m_memory_spec.l1.ways;
+    const bool lru = m_memory_spec.l1.replacement == "lru" && sets * uint64_t(ways + 1) <= (uint64_t(1) << 24);
+    m_repeats = frame.tex_lines_without_repeats(sets, lru ? ways : 0);
     m_repeats_of = &frame;
   }
   return m_repeats;
