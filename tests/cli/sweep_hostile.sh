@@ -124,13 +124,22 @@ done
 [ $refused -ge 36 ] || fail "only $refused of 40 bit flips refused"
 
 # A metric or an image of a run that is not recorded (a well-formed file,
-# every run whole): refused, named, by resume and report alike.
-for table in metrics images; do
+# every run whole), and a metric moved in its run's order (the checksum is
+# over the rows by name; the order is the ordinals'): refused, named, by
+# resume and report alike.
+for table in metrics images ordinal; do
   cp good.db orphan.db
   if [ $table = metrics ]; then
     sqlite3 orphan.db "INSERT INTO metrics VALUES ('ffffffffffffffff', 'frame', 'latency', 1.0, 's', 0)"
-  else
+    what="the table 'metrics' holds rows of a run that is not recorded"
+  elif [ $table = images ]; then
     sqlite3 orphan.db "INSERT INTO images VALUES ('ffffffffffffffff', 'frame', 1, 1, x'00', '')"
+    what="the table 'images' holds rows of a run that is not recorded"
+  else
+    moved=$(sqlite3 orphan.db "UPDATE metrics SET ordinal = 100000 WHERE ordinal = 0 AND run = (SELECT min(run) FROM metrics);
+      SELECT changes()")
+    [ "$moved" = 1 ] || fail "no metric moved ($moved)"
+    what="metrics are not in an order oovr writes"
   fi
   for how in resume report; do
     rc=0
@@ -139,8 +148,8 @@ for table in metrics images; do
     else
       "$oovr" report orphan.db --out orphan-report > orphan.log 2>&1 || rc=$?
     fi
-    [ $rc -ne 0 ] && grep -q "^oovr: error: .*the table '$table' holds rows of a run that is not recorded" orphan.log ||
-      { cat orphan.log; fail "$how: an orphan row of $table was not refused (exit status $rc)"; }
+    [ $rc -ne 0 ] && grep -q "^oovr: error: .*$what" orphan.log ||
+      { cat orphan.log; fail "$how: $table: '$what' was not refused (exit status $rc)"; }
   done
 done
 

@@ -595,6 +595,23 @@ void ResultsDb::verify() const {
       sweeps.insert(name);
     }
   }
+  if (has_column("metrics", "ordinal")) {
+    // The order a run's metrics were written in (their ordinals, 0 to n-1;
+    // NULL for rows of version 3 and before): the checksum is over the rows
+    // sorted by name, so it does not see the order, which a stored result's
+    // statistics are read back in.
+    Statement s(m_db,
+                "SELECT run, count(*), count(ordinal), min(ordinal), max(ordinal), count(DISTINCT ordinal) FROM metrics "
+                "GROUP BY run",
+                m_path);
+    while (s.step()) {
+      const int64_t rows = s.integer(1), ordered = s.integer(2);
+      if (ordered == 0) continue;
+      if (ordered != rows || s.integer(3) != 0 || s.integer(4) != rows - 1 || s.integer(5) != rows)
+        damaged("run " + printable(s.text(0)) + "'s metrics are not in an order oovr writes (their ordinals are not 0 to " +
+                std::to_string(rows - 1) + ")");
+    }
+  }
   for (const InFlight& f : in_flight())
     if (!is_run_id(f.id) || f.deaths < 0 || f.pid < 0) damaged("a point marked in flight that is not one of oovr's");
   const std::map<std::string, std::string> checksums = stored_checksums();
