@@ -383,7 +383,7 @@ const std::shared_ptr<const TexLinesWithoutRepeats>& FrameSim::without_repeats(c
     // the order of last uses), and has at most 2^24 lines (16 M: 2 GB).
     const uint64_t sets = m_memory->l1_set_mask() + 1;
     const int ways = m_memory_spec.l1.ways;
-    const bool lru = m_memory_spec.l1.replacement == "lru" && sets * uint64_t(ways + 1) <= (uint64_t(1) << 24);
+    const bool lru = m_memory_spec.l1.replacement == "lru" && ways <= 1024 && sets * uint64_t(ways + 1) <= (uint64_t(1) << 24);
     m_repeats = frame.tex_lines_without_repeats(sets, lru ? ways : 0);
     m_repeats_of = &frame;
   }
