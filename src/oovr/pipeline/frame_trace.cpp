@@ -72,8 +72,7 @@ class RepeatFilter {
         m_stack(lru_ways > 0 ? modulus * uint64_t(lru_ways) : 0),
         m_depth(lru_ways > 0 ? modulus : 0),
         m_after(lru_ways > 0 ? modulus * uint64_t(lru_ways + 1) : 0),
-        m_after_count(lru_ways > 0 ? modulus : 0),
-        m_after_stamp(lru_ways > 0 ? modulus : 0, 0) {}
+        m_after_count(lru_ways > 0 ? modulus : 0) {}
 
   // Appends record `record`'s kept lines (of `lines`) to `out`.
   void filter(uint32_t record, std::span<const TexLine> lines, std::vector<TexLine>& out) {
@@ -84,7 +83,7 @@ class RepeatFilter {
     for (const TexLine l : lines) {
       const uint64_t k = tex_line_index(l) & m_mask;
       if (m_stamp[k] == stamp && m_last[k] == l) continue;
-      if (m_stamp[k] != stamp && m_ways > 0) m_depth[k] = 0;
+      if (m_stamp[k] != stamp && m_ways > 0) m_depth[k] = m_after_count[k] = 0;  // the set's first read in the record
       m_stamp[k] = stamp;
       m_last[k] = l;
       m_kept.push_back(l);
@@ -125,8 +124,7 @@ class RepeatFilter {
       const uint64_t k = tex_line_index(l) & m_mask;
       TexLine* after = &m_after[k * uint64_t(ways + 1)];
       int& count = m_after_count[k];
-      if (m_after_stamp[k] != stamp || !m_sure[i]) {
-        m_after_stamp[k] = stamp;
+      if (!m_sure[i]) {
         count = 0;
       } else {
         bool again = false;
@@ -148,7 +146,6 @@ class RepeatFilter {
   std::vector<int> m_depth;
   std::vector<TexLine> m_after;
   std::vector<int> m_after_count;
-  std::vector<uint32_t> m_after_stamp;
   std::vector<TexLine> m_kept;
   std::vector<uint8_t> m_sure;
 };

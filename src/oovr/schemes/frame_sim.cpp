@@ -194,10 +194,18 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   }
   // A record's repeats in an L1 set are counted, not replayed (replay),
   // where a texture's lines fall in the L1's sets by their index: the
-  // texture's base, a page, a multiple of the sets' span.
+  // texture's base, a page, a multiple of the sets' span. The LRU rule too
+  // where the L1 replaces the least recently used way (its reads are
+  // Cache::access's; the policy is lru.cpp, which reads only the order of
+  // last uses) and has at most 2^24 lines (16 M: 2 GB).
   if (m_memory && g_repeats_counted) {
     const uint64_t sets = m_memory->l1_set_mask() + 1;
-    m_repeat_free = sets <= (uint64_t(1) << 20) && m_memory_spec.page.value % (sets * m_memory_spec.line.value) == 0;
+    const int ways = m_memory_spec.l1.ways;
+    if (sets <= (uint64_t(1) << 20) && m_memory_spec.page.value % (sets * m_memory_spec.line.value) == 0) {
+      m_repeat_sets = sets;
+      const bool lru = m_memory_spec.l1.replacement == "lru" && ways <= 1024 && sets * uint64_t(ways + 1) <= (uint64_t(1) << 24);
+      m_repeat_lru_ways = lru ? ways : 0;
+    }
   }
   // The frames themselves, so that a tape is played back only on the
   // frames it was recorded on: their numbers, sizes and every record (a
@@ -378,13 +386,7 @@ int FrameSim::geometry_unit(int gpm, uint32_t object, const Object& o, double be
 
 const std::shared_ptr<const TexLinesWithoutRepeats>& FrameSim::without_repeats(const FrameTrace& frame) {
   if (&frame != m_repeats_of) {
-    // The LRU rule where the L1 replaces the least recently used way (its
-    // reads are Cache::access's; the policy is lru.cpp, which reads only
-    // the order of last uses), and has at most 2^24 lines (16 M: 2 GB).
-    const uint64_t sets = m_memory->l1_set_mask() + 1;
-    const int ways = m_memory_spec.l1.ways;
-    const bool lru = m_memory_spec.l1.replacement == "lru" && ways <= 1024 && sets * uint64_t(ways + 1) <= (uint64_t(1) << 24);
-    m_repeats = frame.tex_lines_without_repeats(sets, lru ? ways : 0);
+    m_repeats = frame.tex_lines_without_repeats(m_repeat_sets, m_repeat_lru_ways);
     m_repeats_of = &frame;
   }
   return m_repeats;
@@ -410,7 +412,7 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
     // scheme, pass and sweep point that replays the frame.
     const TexLine* in = frame.tex_lines.data() + r.tex_begin;
     uint64_t count = r.tex_count, repeats = 0;
-    if (m_repeat_free) {
+    if (m_repeat_sets) {
       const size_t rec = size_t(&r - frame.tiles.data());
       const std::shared_ptr<const TexLinesWithoutRepeats>& kept = without_repeats(frame);
       if (kept && rec < frame.tiles.size() && &frame.tiles[rec] == &r) {

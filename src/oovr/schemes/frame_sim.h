@@ -275,8 +275,10 @@ class FrameSim {
   std::vector<TimelineMark> m_instants;
   std::vector<LineAccess> m_scratch;
   // The frame's texture lines less their L1 repeats (replay), kept for the
-  // frame last replayed; off where the L1's sets do not follow the index.
-  bool m_repeat_free = false;
+  // frame last replayed: the L1's sets (0, off, where they do not follow
+  // the index) and its ways for the LRU rule (0: not LRU).
+  uint64_t m_repeat_sets = 0;
+  int m_repeat_lru_ways = 0;
   const FrameTrace* m_repeats_of = nullptr;
   std::shared_ptr<const TexLinesWithoutRepeats> m_repeats;
   const std::shared_ptr<const TexLinesWithoutRepeats>& without_repeats(const FrameTrace& frame);
