@@ -1,6 +1,8 @@
 // The timing engine on cases with exact answers.
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include "oovr/core/error.h"
 #include "oovr/core/rng.h"
 #include "oovr/timing/engine.h"
@@ -274,6 +276,63 @@ TEST(Sharing, RandomUnitsAlwaysFitAndEachHasAFullBottleneckWhereNoOneGetsMore) {
       ASSERT_TRUE(bottleneck) << "trial " << trial << " unit " << u;
     }
   }
+}
+
+TEST(Sharing, AProblemMetAgainTakesTheLevelsItsIterationWouldGiveToTheBit) {
+  // One object meets problems again (and keeps their levels); a fresh
+  // object per call iterates each anew. Each round meets a mix of units,
+  // then the mixes a key could confuse with it: one unit swapped for its
+  // twin, the same on the shared resources (0 to 3) but bound lower by one
+  // of its own (4 and up); the same amounts as one unit or as two; and the
+  // first mix again.
+  const int shared = 4, own = 6;
+  std::vector<double> capacity;
+  for (int r = 0; r < shared + own; ++r) capacity.push_back(1.0 + 0.37 * r);
+  Rng rng(31);
+  std::vector<Demand> units, twins;
+  for (int u = 0; u < own; ++u) {
+    Demand d;
+    for (int r = 0; r < shared; ++r)
+      if (rng.uniform() < 0.6) d.push_back({r, 0.5 + rng.uniform() * 2});
+    if (d.empty()) d.push_back({int(rng.uniform() * shared), 1.0});
+    d.push_back({shared + u, 0.5 + rng.uniform()});
+    units.push_back(d);
+    d.back().second *= 8;
+    twins.push_back(d);
+  }
+  const Demand both{{0, 0.8}, {1, 0.3}}, first{{0, 0.8}}, second{{1, 0.3}};
+  ResourceSharing kept(capacity);
+  const auto same = [&](const std::vector<const Demand*>& running, int round) {
+    for (Sharing s : {Sharing::fair, Sharing::equal}) {
+      const std::vector<double> reused = kept.rates(running, s);
+      ResourceSharing fresh(capacity);
+      const std::vector<double>& iterated = fresh.rates(running, s);
+      ASSERT_EQ(reused.size(), iterated.size());
+      for (size_t k = 0; k < reused.size(); ++k)
+        ASSERT_EQ(std::bit_cast<uint64_t>(reused[k]), std::bit_cast<uint64_t>(iterated[k])) << "round " << round << " unit " << k;
+    }
+  };
+  for (int round = 0; round < 1500; ++round) {
+    std::vector<const Demand*> mix;
+    for (const Demand& d : units)
+      if (rng.uniform() < 0.5) mix.push_back(&d);
+    if (mix.empty()) mix.push_back(&units[0]);
+    same(mix, round);
+    std::vector<const Demand*> swapped = mix;
+    const size_t j = size_t(rng.uniform() * double(mix.size()));
+    swapped[j] = &twins[size_t(mix[j] - units.data())];
+    same(swapped, round);
+    std::vector<const Demand*> joined = mix, split = mix;
+    joined.push_back(&both);
+    split.push_back(&first);
+    split.push_back(&second);
+    same(joined, round);
+    same(split, round);
+    same(mix, round);
+  }
+  // Met again often enough to mean something, among a few hundred kinds.
+  EXPECT_GT(kept.problems().reused(), 1500u);
+  EXPECT_GT(kept.problems().solved(), 200u);
 }
 
 }  // namespace

@@ -1,8 +1,11 @@
 #include "oovr/timing/sharing.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
+
+#include "oovr/core/rng.h"
 
 namespace oovr {
 namespace {
@@ -56,6 +59,76 @@ void ResourceSharing::step(const std::vector<double>& in, std::vector<double>& o
   }
 }
 
+uint64_t ResourceSharing::make_key() {
+  // What the iteration reads (step()): the shared resources in order, each
+  // one's users in order with their amounts, and each user's own limit.
+  // Users are numbered in their order of first appearance, so that which
+  // resources a unit shares is kept while its index among the running
+  // units is not: a unit that shares nothing (its every resource its own)
+  // starting or ending leaves the problem as it was. The capacities belong
+  // to the object.
+  m_key.clear();
+  m_label.assign(m_rate.size(), -1);
+  int labels = 0;
+  for (int r : m_shared) {
+    const auto& users = m_users[size_t(r)];
+    m_key.push_back(uint64_t(uint32_t(r)) << 32 | uint64_t(users.size()));
+    for (const auto& [k, a] : users) {
+      int& label = m_label[size_t(k)];
+      if (label < 0) label = labels++;
+      m_key.push_back(uint64_t(label));
+      m_key.push_back(std::bit_cast<uint64_t>(a));
+    }
+  }
+  const size_t owns = m_key.size();
+  m_key.resize(owns + size_t(labels));
+  for (size_t k = 0; k < m_label.size(); ++k)
+    if (m_label[k] >= 0) m_key[owns + size_t(m_label[k])] = std::bit_cast<uint64_t>(m_own[k]);
+  uint64_t h = m_key.size();
+  for (uint64_t w : m_key) h = (h ^ w) * 0x9e3779b97f4a7c15ull, h ^= h >> 31;
+  return mix64(h);
+}
+
+const SolvedSharing::Solved* SolvedSharing::find(const std::vector<uint64_t>& key, uint64_t hash) {
+  if (!m_slots.empty()) {
+    const size_t mask = m_slots.size() - 1;
+    for (size_t i = size_t(hash) & mask; m_slots[i]; i = (i + 1) & mask) {
+      const Solved& s = m_solved[m_slots[i] - 1];
+      if (s.hash == hash && s.words == key.size() && std::equal(key.begin(), key.end(), m_words.begin() + s.at)) {
+        ++m_reused;
+        return &s;
+      }
+    }
+  }
+  ++m_solved_count;
+  return nullptr;
+}
+
+void SolvedSharing::keep(const std::vector<uint64_t>& key, uint64_t hash, const std::vector<uint64_t>& levels, bool converged) {
+  if (m_solved.size() >= kKept) {
+    m_solved.clear();
+    m_words.clear();
+    std::fill(m_slots.begin(), m_slots.end(), 0);
+  }
+  // At most half the slots in use: probes stay short.
+  if (2 * (m_solved.size() + 1) > m_slots.size()) {
+    m_slots.assign(std::max<size_t>(64, 2 * m_slots.size()), 0);
+    const size_t mask = m_slots.size() - 1;
+    for (size_t e = 0; e < m_solved.size(); ++e) {
+      size_t i = size_t(m_solved[e].hash) & mask;
+      while (m_slots[i]) i = (i + 1) & mask;
+      m_slots[i] = uint32_t(e + 1);
+    }
+  }
+  m_solved.push_back({hash, uint32_t(m_words.size()), uint32_t(key.size()), converged});
+  m_words.insert(m_words.end(), key.begin(), key.end());
+  m_words.insert(m_words.end(), levels.begin(), levels.end());
+  const size_t mask = m_slots.size() - 1;
+  size_t i = size_t(hash) & mask;
+  while (m_slots[i]) i = (i + 1) & mask;
+  m_slots[i] = uint32_t(m_solved.size());
+}
+
 const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand*>& demands, Sharing sharing) {
   const size_t m = demands.size();
   m_rate.assign(m, kInf);
@@ -92,17 +165,35 @@ const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand
   // fixed point; half steps settle on it), to 1e-13 of each capacity.
   m_level.assign(m_capacity.size(), 0);
   m_next.assign(m_capacity.size(), 0);
-  for (int r : m_shared) m_level[size_t(r)] = m_capacity[size_t(r)];
+  // The levels depend on nothing but the capacities and the words of
+  // make_key(): a problem met before (an event that started or ended a unit
+  // sharing nothing, the running units coming back to a mix they had)
+  // takes the levels it settled at then, the same bits the iteration would
+  // give again.
   bool converged = m_shared.empty();
-  for (int i = 0; i < 1000 && !converged; ++i) {
-    ++m_iterations;
-    step(m_level, m_next);
-    converged = true;
-    for (int r : m_shared)
-      if (std::abs(m_next[size_t(r)] - m_level[size_t(r)]) > 1e-13 * m_capacity[size_t(r)]) converged = false;
-    for (int r : m_shared) m_level[size_t(r)] = converged ? m_next[size_t(r)] : 0.5 * (m_level[size_t(r)] + m_next[size_t(r)]);
+  if (!converged) {
+    const uint64_t hash = make_key();
+    if (const SolvedSharing::Solved* solved = m_solved.find(m_key, hash)) {
+      const uint64_t* levels = &m_solved.m_words[solved->at + solved->words];
+      for (size_t j = 0; j < m_shared.size(); ++j) m_level[size_t(m_shared[j])] = std::bit_cast<double>(levels[j]);
+      if (!solved->converged) ++m_unconverged;
+    } else {
+      for (int r : m_shared) m_level[size_t(r)] = m_capacity[size_t(r)];
+      for (int i = 0; i < 1000 && !converged; ++i) {
+        ++m_iterations;
+        step(m_level, m_next);
+        converged = true;
+        for (int r : m_shared)
+          if (std::abs(m_next[size_t(r)] - m_level[size_t(r)]) > 1e-13 * m_capacity[size_t(r)]) converged = false;
+        for (int r : m_shared)
+          m_level[size_t(r)] = converged ? m_next[size_t(r)] : 0.5 * (m_level[size_t(r)] + m_next[size_t(r)]);
+      }
+      if (!converged) ++m_unconverged;
+      m_levels.clear();
+      for (int r : m_shared) m_levels.push_back(std::bit_cast<uint64_t>(m_level[size_t(r)]));
+      m_solved.keep(m_key, hash, m_levels, converged);
+    }
   }
-  if (!converged) ++m_unconverged;
   for (size_t k = 0; k < m; ++k) m_rate[k] = m_own[k];
   for (int r : m_shared)
     for (const auto& [k, a] : m_users[size_t(r)]) m_rate[size_t(k)] = std::min(m_rate[size_t(k)], m_level[size_t(r)] / a);

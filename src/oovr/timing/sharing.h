@@ -18,6 +18,7 @@
 // what it changes can be measured (`timing.sharing`).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -27,6 +28,40 @@ namespace oovr {
 enum class Sharing : uint8_t { fair, equal };
 
 using Demand = std::vector<std::pair<int, double>>;  // (resource, amount) pairs
+
+// Sharing problems solved before, and the levels they settled at, for
+// ResourceSharing to reuse (rates()). One engine's run keeps its own: a
+// frame's replay meets a few thousand problems, a third of them again.
+// (Kept across a window's frames instead, for the measured pass to meet
+// its warm-up's, it measured the same.)
+class SolvedSharing {
+ public:
+  // The most problems kept; past it the kept ones are dropped.
+  static constexpr std::size_t kKept = 1u << 14;
+  // Problems found solved before (their levels reused), and solved by
+  // iterating.
+  uint64_t reused() const { return m_reused; }
+  uint64_t solved() const { return m_solved_count; }
+
+ private:
+  friend class ResourceSharing;
+  struct Solved {
+    uint64_t hash = 0;
+    uint32_t at = 0, words = 0;  // the key in m_words; its levels follow it
+    bool converged = true;
+  };
+  // The problem `key` (of hash `hash`) solved before, or null.
+  const Solved* find(const std::vector<uint64_t>& key, uint64_t hash);
+  // Keeps `levels` (as bits) as the solution of `key`.
+  void keep(const std::vector<uint64_t>& key, uint64_t hash, const std::vector<uint64_t>& levels, bool converged);
+
+  // The problems' keys and levels one after the other in m_words, found by
+  // open addressing in m_slots (an entry's index + 1; 0: empty).
+  std::vector<Solved> m_solved;
+  std::vector<uint64_t> m_words;
+  std::vector<uint32_t> m_slots;
+  uint64_t m_reused = 0, m_solved_count = 0;
+};
 
 class ResourceSharing {
  public:
@@ -43,14 +78,22 @@ class ResourceSharing {
   uint64_t unconverged() const { return m_unconverged; }
   // Fixed-point iterations over all allocations, for profiling.
   uint64_t iterations() const { return m_iterations; }
+  const SolvedSharing& problems() const { return m_solved; }
 
  private:
   // One step of the fixed-point iteration on the shared resources: the
   // water level each would settle at given the others' levels `in`.
   void step(const std::vector<double>& in, std::vector<double>& out);
 
+  // The shared resources' problem, as the words that decide the
+  // iteration's every step (rates()); returns its hash.
+  uint64_t make_key();
+
   std::vector<double> m_capacity;
   uint64_t m_unconverged = 0, m_iterations = 0;
+  SolvedSharing m_solved;
+  std::vector<uint64_t> m_key, m_levels;
+  std::vector<int> m_label;  // per unit: its number among the shared resources' users (-1: none)
   // Scratch, kept between calls.
   std::vector<std::vector<std::pair<int, double>>> m_users;  // per resource: (unit, amount)
   std::vector<int> m_used;                                   // resources with users, ascending
