@@ -333,6 +333,17 @@ TEST(Sharing, AProblemMetAgainTakesTheLevelsItsIterationWouldGiveToTheBit) {
   // Met again often enough to mean something, among a few hundred kinds.
   EXPECT_GT(kept.problems().reused(), 1500u);
   EXPECT_GT(kept.problems().solved(), 200u);
+  // More problems than are kept: the table empties and fills again, and
+  // answers as before.
+  const uint64_t solved = kept.problems().solved();
+  Demand changing = units[0];
+  const std::vector<const Demand*> mix{&units[1], &units[2], &changing};
+  for (size_t n = 0; n <= SolvedSharing::kKept + 100; ++n) {
+    changing.front().second = 0.5 + double(n) * 1e-4;
+    same(mix, -1);
+    if (n % 997 == 0) same({&units[1], &units[2], &units[0]}, -2);
+  }
+  EXPECT_GT(kept.problems().solved(), solved + SolvedSharing::kKept);
 }
 
 }  // namespace

@@ -105,7 +105,7 @@ const SolvedSharing::Solved* SolvedSharing::find(const std::vector<uint64_t>& ke
 }
 
 void SolvedSharing::keep(const std::vector<uint64_t>& key, uint64_t hash, const std::vector<uint64_t>& levels, bool converged) {
-  if (m_solved.size() >= kKept) {
+  if (m_solved.size() >= kKept || m_words.size() + key.size() + levels.size() > kKeptWords) {
     m_solved.clear();
     m_words.clear();
     std::fill(m_slots.begin(), m_slots.end(), 0);

@@ -36,8 +36,9 @@ using Demand = std::vector<std::pair<int, double>>;  // (resource, amount) pairs
 // its warm-up's, it measured the same.)
 class SolvedSharing {
  public:
-  // The most problems kept; past it the kept ones are dropped.
-  static constexpr std::size_t kKept = 1u << 14;
+  // The most problems kept, and words of their keys and levels (32 MB);
+  // past either the kept ones are dropped.
+  static constexpr std::size_t kKept = 1u << 14, kKeptWords = 1u << 22;
   // Problems found solved before (their levels reused), and solved by
   // iterating.
   uint64_t reused() const { return m_reused; }
