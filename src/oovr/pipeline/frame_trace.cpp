@@ -152,11 +152,17 @@ class RepeatFilter {
 
 }  // namespace
 
+bool FrameTrace::repeats_derivable(uint64_t modulus, int lru_ways) {
+  // The LRU rule's scratch is a stack of W lines and a list of W + 1 per
+  // set: bounded (2^24 lines each, 128 MB).
+  return modulus != 0 && (modulus & (modulus - 1)) == 0 && modulus <= (uint64_t(1) << 20) && lru_ways >= 0 && lru_ways <= 1024 &&
+         modulus * uint64_t(lru_ways + 1) <= (uint64_t(1) << 24);
+}
+
 std::shared_ptr<const TexLinesWithoutRepeats> FrameTrace::tex_lines_without_repeats(uint64_t modulus, int lru_ways) const {
-  if (modulus == 0 || (modulus & (modulus - 1)) != 0 || modulus > (uint64_t(1) << 20))
+  if (!repeats_derivable(modulus, 0))
     throw Error("tex_lines_without_repeats: the modulus must be a power of two up to 2^20, not " + std::to_string(modulus));
-  // The LRU rule's scratch is a stack of W lines per set: bounded (128 MB).
-  if (lru_ways < 0 || lru_ways > 1024 || modulus * uint64_t(lru_ways + 1) > (uint64_t(1) << 24))
+  if (!repeats_derivable(modulus, lru_ways))
     throw Error(
         "tex_lines_without_repeats: an LRU cache here has 1 to 1024 ways and at most 2^24 lines (0 ways: any "
         "policy), not " +

@@ -149,6 +149,9 @@ struct FrameTrace {
   // from the trace as it is then: a trace is not changed once it is
   // replayed (a changed size or storage is derived anew).
   std::shared_ptr<const TexLinesWithoutRepeats> tex_lines_without_repeats(uint64_t modulus, int lru_ways = 0) const;
+  // Whether tex_lines_without_repeats takes this modulus and these ways (it
+  // throws Error otherwise).
+  static bool repeats_derivable(uint64_t modulus, int lru_ways);
 
   mutable FrameTraceMemo memo;
 };

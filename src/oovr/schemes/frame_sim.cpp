@@ -197,13 +197,13 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   // texture's base, a page, a multiple of the sets' span. The LRU rule too
   // where the L1 replaces the least recently used way (its reads are
   // Cache::access's; the policy is lru.cpp, which reads only the order of
-  // last uses) and has at most 2^24 lines (16 M: 2 GB).
+  // last uses), where its scratch is bounded (FrameTrace::repeats_derivable).
   if (m_memory && g_repeats_counted) {
     const uint64_t sets = m_memory->l1_set_mask() + 1;
     const int ways = m_memory_spec.l1.ways;
-    if (sets <= (uint64_t(1) << 20) && m_memory_spec.page.value % (sets * m_memory_spec.line.value) == 0) {
+    if (FrameTrace::repeats_derivable(sets, 0) && m_memory_spec.page.value % (sets * m_memory_spec.line.value) == 0) {
       m_repeat_sets = sets;
-      const bool lru = m_memory_spec.l1.replacement == "lru" && ways <= 1024 && sets * uint64_t(ways + 1) <= (uint64_t(1) << 24);
+      const bool lru = m_memory_spec.l1.replacement == "lru" && FrameTrace::repeats_derivable(sets, ways);
       m_repeat_lru_ways = lru ? ways : 0;
     }
   }
