@@ -189,5 +189,31 @@ TEST(Raster, QuadDepthsByTheFmaInstructionAreThoseOfStdFma) {
   EXPECT_EQ(compared, 800000);
 }
 
+TEST(Raster, EveryPixelOfATileCutByTheFramesEdgeIsClearedOrDrawn) {
+  // Tiles are drawn in buffers of their own and copied into the frame: a
+  // frame of 37x21 pixels ends in tiles cut at its right and top edges,
+  // whose pixels must be cleared (opaque black, no object) or drawn like
+  // any other. The rectangle's edges lie between pixel centres: it covers
+  // x = 3..34, y = 2..18, reaching into the cut tiles.
+  const Scene s = triangle_scene({{3, 2}, {35, 2}, {35, 19}, {3, 19}}, {0, 1, 2, 0, 2, 3});
+  for (unsigned threads : {1u, 2u}) {
+    const FrameOutput out = render_frame(s, ortho_view(37, 21), exact_settings(threads));
+    ASSERT_EQ(out.colour.width, 37);
+    ASSERT_EQ(out.colour.height, 21);
+    ASSERT_EQ(out.object_id.size(), 37u * 21u);
+    EXPECT_EQ(out.trace.total_covered(), 32u * 17u);
+    const uint8_t* drawn = out.colour.pixel(3, 2);
+    EXPECT_NE(std::memcmp(drawn, "\0\0\0\xff", 4), 0) << "the rectangle is drawn in a colour other than the clear colour";
+    for (int y = 0; y < 21; ++y)
+      for (int x = 0; x < 37; ++x) {
+        const bool inside = x >= 3 && x <= 34 && y >= 2 && y <= 18;
+        const uint8_t* c = out.colour.pixel(x, y);
+        EXPECT_EQ(out.object_id[size_t(y) * 37 + size_t(x)], inside ? 0u : kNoObject) << x << "," << y;
+        if (inside) EXPECT_EQ(std::memcmp(c, drawn, 4), 0) << x << "," << y;
+        else EXPECT_TRUE(c[0] == 0 && c[1] == 0 && c[2] == 0 && c[3] == 255) << "not cleared: " << x << "," << y;
+      }
+  }
+}
+
 }  // namespace
 }  // namespace oovr

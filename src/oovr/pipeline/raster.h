@@ -179,22 +179,30 @@ inline Float4 plane_depth(const SetupTri& t, int qx, int qy, bool use_fma) {
   return m < zero ? zero : m;
 }
 
-// Per-tile rasterisation and shading. Writes only the tile's own pixels.
+// Per-tile rasterisation and shading. A tile is drawn in buffers of its own
+// (as llvmpipe keeps a tile in cache), cleared when it starts and copied
+// into the frame when it ends: its colour, depth and object ids stay in the
+// core's first-level cache, and two threads drawing neighbouring tiles never
+// write the same host cache line. Writes only the tile's own pixels.
 class TileRasterizer {
  public:
+  // The frame a tile is copied into: its colour (RGBA8) and object ids, row
+  // by row, `width` x `height` pixels.
+  struct Frame {
+    uint8_t* colour;
+    uint32_t* ids;
+    int width, height;
+  };
+
   TileRasterizer(const std::vector<SetupTri>& tris, const std::vector<LitTri>& lit, const std::vector<PreparedPass>& passes,
-                 const PipelineSettings& settings, int block_w, int block_h, int frame_w, uint8_t* colour, float* depth,
-                 uint32_t* ids)
+                 const PipelineSettings& settings, int block_w, int block_h, Frame frame)
       : m_tris(tris),
         m_lit(lit),
         m_passes(passes),
         m_settings(settings),
         m_block_shift_x(__builtin_ctz(unsigned(block_w))),
         m_block_shift_y(__builtin_ctz(unsigned(block_h))),
-        m_frame_w(frame_w),
-        m_colour(colour),
-        m_depth(depth),
-        m_ids(ids),
+        m_frame(frame),
         m_fma(cpu_has_fma()) {
     // Framebuffer blocks are powers of two of at least 4x2 pixels
     // (line_block_shape, lines of 32 bytes or more): a 2x2 quad at even
@@ -209,11 +217,32 @@ class TileRasterizer {
     std::vector<TexLine> lines;
   };
 
+  // Draws tile (tx, ty) from its bin (empty or not: the tile's pixels are
+  // cleared either way) into the frame, and its records and lines into `out`.
   void run(int tx, int ty, const std::vector<uint32_t>& bin, Output& out) {
     m_tx = tx;
     m_ty = ty;
     m_out = &out;
     m_open = false;
+    // The frame's clear values: opaque black, the far plane, no object.
+    for (int i = 0; i < kTilePixels; ++i) {
+      m_colour[i * 4 + 0] = m_colour[i * 4 + 1] = m_colour[i * 4 + 2] = 0;
+      m_colour[i * 4 + 3] = 255;
+      m_depth[i] = 1.0f;
+      m_ids[i] = kNoObject;
+    }
+    draw(bin);
+    const int x0 = tx * kTileSize, y0 = ty * kTileSize;
+    const int w = std::min(kTileSize, m_frame.width - x0), h = std::min(kTileSize, m_frame.height - y0);
+    for (int ly = 0; ly < h; ++ly) {
+      const size_t row = size_t(y0 + ly) * size_t(m_frame.width) + size_t(x0);
+      std::memcpy(m_frame.colour + row * 4, m_colour + ly * kTileSize * 4, size_t(w) * 4);
+      std::memcpy(m_frame.ids + row, m_ids + ly * kTileSize, size_t(w) * sizeof(uint32_t));
+    }
+  }
+
+ private:
+  void draw(const std::vector<uint32_t>& bin) {
     for (uint32_t id : bin) {
       const SetupTri& t = m_tris[id];
       if (!m_open || t.object != m_cur.object || t.eye != m_cur.eye) {
@@ -227,7 +256,6 @@ class TileRasterizer {
     close();
   }
 
- private:
   void open(const SetupTri& t) {
     m_cur = TileWork{};
     m_cur.object = t.object;
@@ -247,6 +275,9 @@ class TileRasterizer {
     m_out->work.push_back(m_cur);
     m_open = false;
   }
+
+  // Pixel (x, y)'s index in the tile's buffers.
+  size_t in_tile(int x, int y) const { return size_t((y - m_ty * kTileSize) * kTileSize + (x - m_tx * kTileSize)); }
 
   // The framebuffer line (within the tile) that holds pixel (x, y), and
   // every pixel of its quad.
@@ -325,7 +356,7 @@ class TileRasterizer {
             if (!(live & (1u << p))) continue;
             const int x = qx + (p & 1), y = qy + (p >> 1);
             m_cur.depth_read_mask |= quad_line;
-            if (!depth_passes(pass.depth_func, z[p], m_depth[size_t(y) * m_frame_w + x])) live &= ~(1u << p);
+            if (!depth_passes(pass.depth_func, z[p], m_depth[in_tile(x, y)])) live &= ~(1u << p);
           }
           if (!live) continue;
         }
@@ -409,7 +440,7 @@ class TileRasterizer {
           if (!(live & (1u << p))) continue;
           const int x = qx + (p & 1), y = qy + (p >> 1);
           if (!alpha_passes(pass.alpha_func, c[p][3], ref255)) continue;  // discard
-          const size_t pix = size_t(y) * m_frame_w + x;
+          const size_t pix = in_tile(x, y);
           if (!early_z && test_depth) {
             m_cur.depth_read_mask |= quad_line;
             if (!depth_passes(pass.depth_func, z[p], m_depth[pix])) continue;
@@ -466,10 +497,9 @@ class TileRasterizer {
   const std::vector<PreparedPass>& m_passes;
   const PipelineSettings& m_settings;
   static constexpr int kTileShift = __builtin_ctz(unsigned(kTileSize));
-  int m_block_shift_x, m_block_shift_y, m_frame_w;
-  uint8_t* m_colour;
-  float* m_depth;
-  uint32_t* m_ids;
+  static constexpr int kTilePixels = kTileSize * kTileSize;
+  int m_block_shift_x, m_block_shift_y;
+  Frame m_frame;
   bool m_fma;  // plane_depth by the FMA instruction
   int m_tx = 0, m_ty = 0;
   Output* m_out = nullptr;
@@ -482,6 +512,10 @@ class TileRasterizer {
   detail::Rgba m_texel[4][kMaxDeluxeLayers];
   // The quad's extra varyings, varying k of pixel p in m_lit4[k][p].
   Float4 m_lit4[kLitVaryings];
+  // The tile's pixels, row by row (run()).
+  alignas(64) uint8_t m_colour[kTilePixels * 4];
+  alignas(64) float m_depth[kTilePixels];
+  alignas(64) uint32_t m_ids[kTilePixels];
 };
 
 }  // namespace oovr::detail

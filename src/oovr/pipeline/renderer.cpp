@@ -86,11 +86,9 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
       }
   }
 
-  // Rasterisation: tiles in parallel.
+  // Rasterisation: tiles in parallel (each clears and writes every pixel of its own).
   result.colour = Image(view.frame_width, view.frame_height);
-  for (size_t i = 3; i < result.colour.rgba.size(); i += 4) result.colour.rgba[i] = 255;  // clear to opaque black
-  std::vector<float> depth(size_t(view.frame_width) * view.frame_height, 1.0f);
-  result.object_id.assign(depth.size(), kNoObject);
+  result.object_id.resize(size_t(view.frame_width) * size_t(view.frame_height));
   std::vector<detail::SamplerTexture> textures;
   textures.reserve(scene.textures.size());
   for (size_t i = 0; i < scene.textures.size(); ++i) {
@@ -129,12 +127,20 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
     trace.objects[o].fragment_instructions = fragment_instructions(pass);
     trace.objects[o].texture_layers = uint32_t(pass.layers.size());
   }
+  // Tiles go to threads in runs along a row: neighbouring tiles on one
+  // thread share its cache's texture lines, and threads rarely work side by
+  // side. Each tile's records and lines go to a list of the thread's own
+  // before they are moved to the tile's slot (slots share host cache lines).
   std::vector<TileRasterizer::Output> outputs(bins.size());
-  parallel_for(bins.size(), threads, [&](size_t i) {
-    if (bins[i].empty()) return;
-    TileRasterizer r(tris, lit, passes, settings, trace.block_w, trace.block_h, view.frame_width, result.colour.rgba.data(),
-                     depth.data(), result.object_id.data());
-    r.run(int(i % size_t(tiles_x)), int(i / size_t(tiles_x)), bins[i], outputs[i]);
+  constexpr size_t kRun = 8;
+  const TileRasterizer::Frame target{result.colour.rgba.data(), result.object_id.data(), view.frame_width, view.frame_height};
+  parallel_for((bins.size() + kRun - 1) / kRun, threads, [&](size_t run) {
+    TileRasterizer r(tris, lit, passes, settings, trace.block_w, trace.block_h, target);
+    for (size_t i = run * kRun; i < std::min(bins.size(), run * kRun + kRun); ++i) {
+      TileRasterizer::Output own;
+      r.run(int(i % size_t(tiles_x)), int(i / size_t(tiles_x)), bins[i], own);
+      outputs[i] = std::move(own);
+    }
   });
 
   // Merge the tiles' records into (object, eye, tile) order.
