@@ -7,14 +7,20 @@
 #include <string>
 #include <vector>
 
+#include "oovr/core/uninitialised.h"
+
 namespace oovr {
 
 struct Image {
   int width = 0, height = 0;
-  std::vector<uint8_t> rgba;
+  UninitialisedVector<uint8_t> rgba;
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4, 0) {}
+  // Pixels left as the allocation found them, for a writer that sets every
+  // one (the renderer's tiles).
+  struct Unset {};
+  Image(int w, int h, Unset) : width(w), height(h), rgba(size_t(w) * h * 4) {}
   uint8_t* pixel(int x, int y) { return &rgba[(size_t(y) * width + x) * 4]; }
   const uint8_t* pixel(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };

@@ -50,8 +50,8 @@ constexpr int kTileSize = 16;
 constexpr uint32_t kNoObject = 0xffffffffu;
 
 struct FrameOutput {
-  Image colour;                     // frame_width x frame_height, bottom row first; cleared to opaque black
-  std::vector<uint32_t> object_id;  // per pixel: object that last wrote it, or kNoObject
+  Image colour;                             // frame_width x frame_height, bottom row first; cleared to opaque black
+  UninitialisedVector<uint32_t> object_id;  // per pixel: object that last wrote it, or kNoObject
   FrameTrace trace;
 };
 

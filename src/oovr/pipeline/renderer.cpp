@@ -86,8 +86,10 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
       }
   }
 
-  // Rasterisation: tiles in parallel (each clears and writes every pixel of its own).
-  result.colour = Image(view.frame_width, view.frame_height);
+  // Rasterisation: tiles in parallel. Each clears and writes every pixel of
+  // its own, so the frame's buffers are allocated untouched: their pages are
+  // first written, and faulted in, by the tiles' threads.
+  result.colour = Image(view.frame_width, view.frame_height, Image::Unset{});
   result.object_id.resize(size_t(view.frame_width) * size_t(view.frame_height));
   std::vector<detail::SamplerTexture> textures;
   textures.reserve(scene.textures.size());
