@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <future>
 #include <map>
 #include <set>
 
 #include "oovr/core/config_sections.h"
 #include "oovr/core/error.h"
 #include "oovr/experiments/results_db.h"
+#include "oovr/experiments/results_writer.h"
 #include "oovr/experiments/slurm.h"
 #include "oovr/experiments/sweep.h"
 #include "oovr/experiments/sweep_run.h"
@@ -485,6 +487,145 @@ TEST(ResultsDb, AFailedWriteLeavesNoPartOfTheRun) {
   plain.images.clear();
   EXPECT_TRUE(db.insert(plain));  // and the database is usable after
   EXPECT_EQ(db.runs().size(), 1u);
+}
+
+// Whether the database at `path` has the metrics_by_name index.
+bool has_metrics_index(const std::string& path) {
+  sqlite3* raw = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  sqlite3_prepare_v2(raw, "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = 'metrics_by_name'", -1, &st, nullptr);
+  const bool has = sqlite3_step(st) == SQLITE_ROW;
+  sqlite3_finalize(st);
+  sqlite3_close(raw);
+  return has;
+}
+
+TEST(ResultsDb, ManyRunsAreWrittenWithTheMetricsIndexBuiltOnceAfter) {
+  test::TempDir dir;
+  const std::string path = dir.file("r.db");
+  ResultsDb db(path);
+  db.add_sweep({"t", "t.toml", "scenes = ['crowd']", "oovr sweep t.toml", {"link.bandwidth"}, 2});
+  {
+    const ResultsDb::Bulk bulk = db.bulk(20);
+    EXPECT_FALSE(has_metrics_index(path)) << "dropped while many runs are written";
+    for (int i = 0; i < 20; ++i) EXPECT_TRUE(db.insert(sample_record("m" + std::to_string(i), 1.0 + i)));
+  }
+  EXPECT_TRUE(has_metrics_index(path)) << "built again after";
+  {
+    const ResultsDb::Bulk bulk = db.bulk(1);  // one run beside 20: kept
+    EXPECT_TRUE(has_metrics_index(path));
+    EXPECT_TRUE(db.insert(sample_record("one", 1)));
+  }
+  EXPECT_TRUE(has_metrics_index(path));
+  EXPECT_EQ(db.runs().size(), 21u);
+  db.verify();
+}
+
+// Records handed over while the writer is busy wait, and are written
+// together, in the order they came; every one is stored, then announced.
+TEST(ResultsWriter, RecordsHandedOverWhileItWritesShareOneTransaction) {
+  test::TempDir dir;
+  const std::string path = dir.file("r.db");
+  ResultsDb db(path);
+  db.add_sweep({"t", "t.toml", "scenes = ['crowd']", "oovr sweep t.toml", {"link.bandwidth"}, 2});
+  std::promise<void> entered, release;
+  std::shared_future<void> go = release.get_future().share();
+  std::vector<std::string> announced;
+  ResultsWriter writer(db, [&](const RunRecord& r) {
+    if (announced.empty()) {
+      entered.set_value();
+      go.wait();  // the writer is busy with the first record's callback
+    }
+    announced.push_back(r.id);
+  });
+  std::vector<std::string> ids;
+  RunRecord first = sample_record("w0", 1);
+  ids.push_back(first.id);
+  writer.record(first);
+  entered.get_future().wait();
+  for (int i = 1; i <= 20; ++i) {
+    RunRecord r = sample_record("w" + std::to_string(i), 1.0 + i);
+    ids.push_back(r.id);
+    writer.record(std::move(r));
+  }
+  release.set_value();
+  writer.finish();
+  EXPECT_EQ(announced, ids);
+  EXPECT_EQ(writer.commits(), 2u) << "the twenty waiting records in one transaction";
+  EXPECT_EQ(db.runs().size(), 21u);
+}
+
+// A mark that a point has started is on disk when mark() returns (a
+// reader sees it), and so is the record handed over before it (the point a
+// worker ran before: a child running one point at a time that dies has
+// only the point it was running marked); the point's record clears it.
+TEST(ResultsWriter, AStartingMarkIsOnDiskBeforeThePointRuns) {
+  test::TempDir dir;
+  const std::string path = dir.file("r.db");
+  ResultsDb db(path);
+  db.add_sweep({"t", "t.toml", "scenes = ['crowd']", "oovr sweep t.toml", {"link.bandwidth"}, 2});
+  const RunRecord before = sample_record("before", 2);
+  const RunRecord r = sample_record("m", 1);
+  std::vector<std::pair<size_t, bool>> marked;
+  ResultsWriter writer(db, {}, [&](const std::vector<size_t>& points, bool starting) {
+    marked.push_back({points.at(0), starting});
+  });
+  writer.mark({before.id}, 4242, {6}, true, false);
+  writer.record(before);
+  writer.mark({r.id}, 4242, {7}, true, true);
+  {
+    const ResultsDb reader(path, ResultsDb::Access::read_only);
+    const auto flight = reader.in_flight();
+    ASSERT_EQ(flight.size(), 1u);
+    EXPECT_EQ(flight[0].id, r.id);
+    EXPECT_EQ(flight[0].pid, 4242);
+    EXPECT_EQ(reader.run_status(), (std::map<std::string, std::string>{{before.id, "done"}}));
+  }
+  writer.record(r);
+  writer.finish();
+  EXPECT_TRUE(db.in_flight().empty());
+  // Handed over after it finished: an error, not a wait for ever.
+  EXPECT_NE(message_of([&] { writer.mark({r.id}, 1, {7}, true, true); }).find("after its writer finished"), std::string::npos);
+  EXPECT_THROW(writer.record(sample_record("late", 1)), Error);
+  EXPECT_EQ(marked, (std::vector<std::pair<size_t, bool>>{{6, true}, {7, true}}));
+}
+
+// The first error, the database's or a callback's, stops the writer and is
+// thrown by finish() and by any later hand-over; a failed transaction leaves
+// none of its records.
+TEST(ResultsWriter, TheFirstErrorStopsItAndIsThrown) {
+  test::TempDir dir;
+  {
+    const std::string path = dir.file("a.db");
+    ResultsDb db(path);
+    db.add_sweep({"t", "t.toml", "scenes = ['crowd']", "oovr sweep t.toml", {"link.bandwidth"}, 2});
+    int calls = 0;
+    ResultsWriter writer(db, [&](const RunRecord&) {
+      if (++calls == 2) throw Error("the progress display is gone");
+    });
+    writer.record(sample_record("a", 1));
+    writer.record(sample_record("b", 2));
+    EXPECT_NE(message_of([&] { writer.finish(); }).find("progress display is gone"), std::string::npos);
+    EXPECT_THROW(writer.record(sample_record("c", 3)), Error);
+    EXPECT_THROW(writer.mark({"x"}, 1, {0}, true, true), Error);
+    EXPECT_EQ(db.runs().size(), 2u) << "stored before they were announced";
+  }
+  {
+    const std::string path = dir.file("b.db");
+    { ResultsDb created(path); }
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "CREATE TRIGGER no_images BEFORE INSERT ON images BEGIN SELECT RAISE(ABORT, 'refused'); END",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(raw);
+    ResultsDb db(path);
+    ResultsWriter writer(db);
+    writer.record(sample_record("a", 1));
+    EXPECT_NE(message_of([&] { writer.finish(); }).find("refused"), std::string::npos);
+    EXPECT_TRUE(db.runs().empty());
+  }
 }
 
 TEST(ResultsDb, RecordsRoundTripThroughJson) {

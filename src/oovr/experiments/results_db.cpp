@@ -22,6 +22,9 @@ namespace oovr {
 
 namespace {
 
+// The index reports and the paper's document read metrics by (ResultsDb::bulk).
+constexpr const char* kMetricsIndex = "CREATE INDEX IF NOT EXISTS metrics_by_name ON metrics(metric, location)";
+
 constexpr const char* kSchemaName = "oovr.results.db";
 
 // The fixed columns of runs, which a swept key may not shadow.
@@ -221,7 +224,7 @@ ResultsDb::ResultsDb(const std::string& path, Access access, const DatabaseLock*
     // Before version 4 a run's result carried its statistics as well as its
     // rows, so the rows' order was not kept; their ordinal is NULL.
     if (version >= 1 && version < 4 && !has_column("metrics", "ordinal")) exec("ALTER TABLE metrics ADD COLUMN ordinal INTEGER");
-    exec("CREATE INDEX IF NOT EXISTS metrics_by_name ON metrics(metric, location)");
+    exec(kMetricsIndex);
     // Points being run, and the processes that died running them
     // (sweep_supervise.h); a stored run clears its row.
     exec(
@@ -344,15 +347,48 @@ void ResultsDb::remove(const std::string& id) {
   f.step();
 }
 
+ResultsDb::Bulk ResultsDb::bulk(size_t runs) {
+  size_t held = 0;
+  {
+    Statement s(m_db, "SELECT count(*) FROM runs", m_path);
+    if (s.step()) held = size_t(s.integer(0));
+  }
+  if (runs == 0 || runs * 16 < held) return Bulk(nullptr);
+  exec("DROP INDEX IF EXISTS metrics_by_name");
+  return Bulk(this);
+}
+
+ResultsDb::Bulk::~Bulk() {
+  if (!m_db) return;
+  // A failure here (a full disk) leaves the index to the next writer's open.
+  sqlite3_exec(m_db->m_db, kMetricsIndex, nullptr, nullptr, nullptr);
+}
+
+void ResultsDb::together(const std::function<void()>& f) {
+  if (m_together) throw Error("results database '" + m_path + "': together() within together()");
+  exec("BEGIN IMMEDIATE");
+  m_together = true;
+  try {
+    f();
+    m_together = false;
+    exec("COMMIT");
+  } catch (...) {
+    m_together = false;
+    sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
 bool ResultsDb::insert(const RunRecord& r) {
   check_run_record(r);
-  exec("BEGIN IMMEDIATE");
+  const bool own = !m_together;  // else together()'s transaction
+  if (own) exec("BEGIN IMMEDIATE");
   try {
     {
       Statement s(m_db, "SELECT 1 FROM runs WHERE id = ?", m_path);
       s.bind(1, r.id);
       if (s.step()) {
-        exec("ROLLBACK");
+        if (own) exec("ROLLBACK");
         return false;
       }
     }
@@ -393,16 +429,17 @@ bool ResultsDb::insert(const RunRecord& r) {
     Statement done(m_db, "DELETE FROM in_flight WHERE id = ?", m_path);
     done.bind(1, r.id);
     done.step();
-    exec("COMMIT");
+    if (own) exec("COMMIT");
     return true;
   } catch (...) {
-    sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
+    if (own) sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
 }
 
 void ResultsDb::mark_in_flight(const std::vector<std::string>& ids, int64_t pid) {
-  exec("BEGIN IMMEDIATE");
+  const bool own = !m_together;
+  if (own) exec("BEGIN IMMEDIATE");
   try {
     Statement s(m_db,
                 "INSERT INTO in_flight VALUES (?, ?, 0, datetime('now')) ON CONFLICT(id) DO UPDATE SET pid = excluded.pid, "
@@ -413,9 +450,9 @@ void ResultsDb::mark_in_flight(const std::vector<std::string>& ids, int64_t pid)
       s.step();
       s.reset();
     }
-    exec("COMMIT");
+    if (own) exec("COMMIT");
   } catch (...) {
-    sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
+    if (own) sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
 }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -162,6 +163,34 @@ class ResultsDb {
   // Writes a run, its metrics and images in one transaction. Returns false
   // (and writes nothing) when a run with its id is there already.
   bool insert(const RunRecord& r);
+  // Runs `f`, whose inserts and marks (insert, mark_in_flight) then make one
+  // transaction with one commit, not one each: a commit writes every page it
+  // changed, and a run's metrics change a page of the metrics_by_name index
+  // per metric, so that runs stored one by one cost about four times as much
+  // as sixteen at once (docs/performance.md). An exception from `f` rolls
+  // them all back and is rethrown. Not nested.
+  void together(const std::function<void()>& f);
+  // For `runs` runs about to be written: when they are many beside the runs
+  // held (at least a sixteenth as many), the metrics_by_name index is
+  // dropped until the returned object goes, which builds it again, sorting
+  // once what each run's metrics would have put in its pages one by one (a
+  // run written with the index kept costs about seven times as much:
+  // docs/performance.md). A database left without it (a process killed
+  // meanwhile) gets it back when next opened for writing; a reader meanwhile
+  // reads the same rows, more slowly.
+  class Bulk {
+   public:
+    ~Bulk();
+    Bulk(const Bulk&) = delete;
+    Bulk& operator=(const Bulk&) = delete;
+    Bulk(Bulk&& o) noexcept : m_db(o.m_db) { o.m_db = nullptr; }
+
+   private:
+    friend class ResultsDb;
+    explicit Bulk(ResultsDb* db) : m_db(db) {}
+    ResultsDb* m_db;  // null: the index was kept
+  };
+  Bulk bulk(size_t runs);
   // Every run, sorted by id (what two databases are compared by); without
   // `images`, their images are left out (what a reader of figures needs).
   std::vector<RunRecord> runs(bool images = true) const;
@@ -191,6 +220,7 @@ class ResultsDb {
   bool has_column(const std::string& table, const std::string& column) const;
   // Each run's stored checksum, for the runs that have one.
   std::map<std::string, std::string> stored_checksums() const;
+  bool m_together = false;               // inside together(): inserts and marks join its transaction
   std::unique_ptr<DatabaseLock> m_lock;  // the writer's own lock, released after SQLite closes the file
   std::string m_path;
   sqlite3* m_db = nullptr;

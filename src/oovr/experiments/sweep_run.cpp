@@ -1,5 +1,7 @@
 #include "oovr/experiments/sweep_run.h"
 
+#include "oovr/experiments/results_writer.h"
+
 #include <unistd.h>
 
 #include <signal.h>
@@ -323,8 +325,9 @@ class PointPool {
     std::lock_guard<std::mutex> lock(m_callback_mutex);
     if (m_options.on_task) m_options.on_task(t);
   }
+  // Not under the callbacks' lock: it may wait until the points' mark is
+  // on disk (run_points_into), which the others need not wait for.
   void flight(const std::vector<size_t>& points, bool starting) {
-    std::lock_guard<std::mutex> lock(m_callback_mutex);
     if (m_options.on_flight) m_options.on_flight(points, starting);
   }
 
@@ -518,21 +521,36 @@ void begin_sweep(const Sweep& s, const SweepPlan& plan, ResultsDb& db, const std
 }
 
 void run_points_into(const Sweep& s, const std::vector<size_t>& which, ResultsDb& db, SweepRunOptions o, bool track_in_flight) {
-  const auto then = std::move(o.on_record);
-  o.on_record = [&db, then](const RunRecord& r) {
-    db.insert(r);  // stored first: a callback that throws loses nothing
-    if (then) then(r);
+  // The caller's callbacks, one at a time: the writer calls on_record's and
+  // on_flight's on its thread, the workers the others on theirs.
+  const auto serial = std::make_shared<std::mutex>();
+  const auto one_at_a_time = [serial](auto f) {
+    return f ? decltype(f)([serial, f](const auto&... args) {
+      std::lock_guard<std::mutex> lock(*serial);
+      f(args...);
+    })
+             : f;
   };
+  o.on_status = one_at_a_time(std::move(o.on_status));
+  o.on_task = one_at_a_time(std::move(o.on_task));
+  // Many runs: the metrics' index is built once they are written.
+  const ResultsDb::Bulk bulk = db.bulk(which.size());
+  // Stored first: a callback that throws loses nothing.
+  ResultsWriter writer(db, one_at_a_time(std::move(o.on_record)),
+                       track_in_flight ? one_at_a_time(std::move(o.on_flight)) : ResultsWriter::Marked{});
+  o.on_record = [&writer](const RunRecord& r) { writer.record(r); };
   if (track_in_flight) {
-    const auto flight = std::move(o.on_flight);
-    o.on_flight = [&db, &s, flight](const std::vector<size_t>& points, bool starting) {
+    // A point's work waits until its mark is on disk.
+    o.on_flight = [&writer, &s](const std::vector<size_t>& points, bool starting) {
       std::vector<std::string> ids;
       for (size_t i : points) ids.push_back(s.points[i].id);
-      db.mark_in_flight(ids, starting ? int64_t(::getpid()) : 0);
-      if (flight) flight(points, starting);
+      writer.mark(std::move(ids), starting ? int64_t(::getpid()) : 0, points, starting, starting);
     };
+  } else {
+    o.on_flight = one_at_a_time(std::move(o.on_flight));
   }
   run_points(s, which, o);
+  writer.finish();
 }
 
 }  // namespace oovr

@@ -55,21 +55,25 @@ struct SweepRunOptions {
   std::function<void(const SweepTask&)> on_task;
   // Called with the points whose work starts (a point's run, or a group's
   // load for all its points: `starting`) and with a group's points when
-  // its load has ended (not `starting`), one call at a time with the
-  // others; may be empty. A point's work ends with its record.
+  // its load has ended (not `starting`), by the worker about to do the work,
+  // before it; may be empty. Unlike the others, calls may come from several
+  // workers at once. A point's work ends with its record.
   std::function<void(const std::vector<size_t>& points, bool starting)> on_flight;
 };
 
 // Runs s.points[i] for every i in `which` (resolved: resolve_all).
 void run_points(const Sweep& s, const std::vector<size_t>& which, const SweepRunOptions& o);
 
-// Runs them as run_points does and writes each record into `db` as it ends
-// (ResultsDb::insert: the run, its metrics and images in one transaction),
+// Runs them as run_points does and writes each record into `db` as it ends,
 // then calls o.on_record with it: the one routine that writes runs, used by
-// `oovr sweep`'s workers, `oovr paper` and Python's oovr.sweep. With
-// `track_in_flight`, the database marks the points whose work has started
-// with this process (o.on_flight is then called after), which the sweep's
-// supervisor reads to find a point that killed its worker.
+// `oovr sweep`'s workers, `oovr paper` and Python's oovr.sweep. The records
+// are written by a thread of their own, several to a transaction, while the
+// workers go on (results_writer.h); o.on_record is called from that thread
+// once its record is committed, and every callback of `o` one at a time.
+// With `track_in_flight`, the database marks the points whose work has
+// started with this process, on disk before the work starts (o.on_flight is
+// then called after the mark's commit), which the sweep's supervisor reads
+// to find a point that killed its worker.
 void run_points_into(const Sweep& s, const std::vector<size_t>& which, ResultsDb& db, SweepRunOptions o,
                      bool track_in_flight = false);
 
