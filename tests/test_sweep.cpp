@@ -466,20 +466,22 @@ TEST(ResultsDb, RunsRoundTripAndAreStoredOnce) {
   EXPECT_EQ(db.runs().size(), 1u);
 }
 
+// A database at `path` whose writes fail half-way, after a run's row and
+// metrics: its images table refuses every row ('refused').
+void make_database_refusing_images(const std::string& path) {
+  { ResultsDb created(path); }
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(raw, "CREATE TRIGGER no_images BEFORE INSERT ON images BEGIN SELECT RAISE(ABORT, 'refused'); END",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(raw);
+}
+
 TEST(ResultsDb, AFailedWriteLeavesNoPartOfTheRun) {
   test::TempDir dir;
   const std::string path = dir.file("r.db");
-  { ResultsDb created(path); }
-  {
-    // A write that fails half-way, after the run's row and metrics: the
-    // images table refuses every row.
-    sqlite3* raw = nullptr;
-    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
-    ASSERT_EQ(sqlite3_exec(raw, "CREATE TRIGGER no_images BEFORE INSERT ON images BEGIN SELECT RAISE(ABORT, 'refused'); END",
-                           nullptr, nullptr, nullptr),
-              SQLITE_OK);
-    sqlite3_close(raw);
-  }
+  make_database_refusing_images(path);
   ResultsDb db(path);
   EXPECT_NE(message_of([&] { db.insert(sample_record("a", 1)); }).find("refused"), std::string::npos);
   EXPECT_TRUE(db.runs().empty());
@@ -613,13 +615,7 @@ TEST(ResultsWriter, TheFirstErrorStopsItAndIsThrown) {
   }
   {
     const std::string path = dir.file("b.db");
-    { ResultsDb created(path); }
-    sqlite3* raw = nullptr;
-    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
-    ASSERT_EQ(sqlite3_exec(raw, "CREATE TRIGGER no_images BEFORE INSERT ON images BEGIN SELECT RAISE(ABORT, 'refused'); END",
-                           nullptr, nullptr, nullptr),
-              SQLITE_OK);
-    sqlite3_close(raw);
+    make_database_refusing_images(path);
     ResultsDb db(path);
     ResultsWriter writer(db);
     writer.record(sample_record("a", 1));
