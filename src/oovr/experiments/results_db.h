@@ -166,8 +166,8 @@ class ResultsDb {
   // Runs `f`, whose inserts and marks (insert, mark_in_flight) then make one
   // transaction with one commit, not one each: a commit writes every page it
   // changed, and a run's metrics change a page of the metrics_by_name index
-  // per metric, so that runs stored one by one cost about four times as much
-  // as sixteen at once (docs/performance.md). An exception from `f` rolls
+  // per metric, so that runs stored one by one cost about two and a half
+  // times as much as sixteen at once (docs/performance.md). An exception from `f` rolls
   // them all back and is rethrown. Not nested.
   void together(const std::function<void()>& f);
   // For `runs` runs about to be written: when they are many beside the runs
