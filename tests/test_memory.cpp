@@ -124,12 +124,14 @@ TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
   }
 }
 
-TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
-  // A small cache (4 sets of 4 ways) against a reference kept as lists in
-  // order of use (LRU) or of insertion (FIFO), on a stream that re-reads
-  // the line just read half the time (the lookup Cache::access skips), and
-  // writes and invalidates now and then: the same hits, misses and dirty
-  // evictions, access by access.
+// A small cache (4 sets of 4 ways) against a reference kept as lists in
+// order of use (LRU) or of insertion (FIFO), on a stream that re-reads the
+// line just read half the time (the lookup Cache::access skips), and writes
+// and invalidates now and then: the same hits, misses and dirty evictions,
+// access by access. With `wrap`, the cache's 32-bit access counter is moved
+// to within a few hundred accesses of its end every 2,000 accesses, so that
+// it is renumbered ten times in the stream, between accesses to every set.
+void expect_reference_answers(bool wrap) {
   for (const char* policy : {"lru", "fifo"}) {
     CacheSpec spec;
     spec.size = Bytes{16 * kLine};
@@ -141,6 +143,7 @@ TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
     Rng rng(7);
     uint64_t previous = 0, hits = 0, evictions = 0;
     for (int k = 0; k < 20000; ++k) {
+      if (wrap && k % 2000 == 0) cache.skip_clock_to(100 + rng.below(400));
       const uint64_t line = rng.below(2) ? previous : rng.below(40);
       const bool write = rng.below(8) == 0;
       auto& set = sets[line % 4];
@@ -176,6 +179,28 @@ TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
     EXPECT_GT(hits, 8000u) << policy;
     EXPECT_GT(evictions, 1000u) << policy;
   }
+}
+
+TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) { expect_reference_answers(false); }
+
+TEST(Cache, ItsCountersRenumberedWhereTheyWouldWrapKeepEveryAnswer) { expect_reference_answers(true); }
+
+TEST(Cache, ALinePastWhatItsTagsNameIsRefusedAndHitsNothing) {
+  // 4 sets: a tag is the line number less its 2 set bits, in 32 bits. Line
+  // 5 and line 5 + 2^34 have tags 1 and 2^32 + 1, the same low 32 bits.
+  CacheSpec spec;
+  spec.size = Bytes{16 * kLine};
+  spec.ways = 4;
+  Cache cache(spec, kLine, "test");
+  const uint64_t near = 5, far = near + (uint64_t(1) << 34);
+  EXPECT_TRUE(cache.holds(near));
+  EXPECT_FALSE(cache.holds(far));
+  Cache::Eviction ev;
+  EXPECT_FALSE(cache.access(near, false, Category::texture, ev));
+  EXPECT_TRUE(cache.access(near, true, Category::texture, ev)) << "a write looks the tags up";
+  EXPECT_FALSE(cache.contains(far));
+  EXPECT_THROW(cache.access(far, true, Category::texture, ev), Error);
+  EXPECT_TRUE(cache.contains(near));
 }
 
 TEST(Memory, ColdRemoteReadCrossesItsLinkExactlyOnce) {

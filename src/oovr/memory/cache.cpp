@@ -1,6 +1,8 @@
 #include "oovr/memory/cache.h"
 
 #include <algorithm>
+#include <cstring>
+#include <vector>
 
 #include "oovr/core/error.h"
 #include "oovr/core/rng.h"
@@ -9,14 +11,19 @@ namespace oovr {
 
 Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_name(std::move(name)), m_assoc(spec.ways) {
   const uint64_t lines = spec.size.value / line_bytes;
-  const uint64_t sets = lines / uint64_t(m_assoc);
-  if (sets == 0 || (sets & (sets - 1)) != 0) throw Error("cache " + m_name + ": the number of sets must be a power of two");
-  m_set_mask = sets - 1;
-  m_tags.assign(lines, kEmpty);
-  m_dirty.assign(lines, 0);
-  m_category.assign(lines, Category::command);
-  m_state.resize(lines);
-  m_mru.assign(sets, kEmpty);
+  m_sets = lines / uint64_t(m_assoc);
+  if (m_sets == 0 || (m_sets & (m_sets - 1)) != 0) throw Error("cache " + m_name + ": the number of sets must be a power of two");
+  m_set_mask = m_sets - 1;
+  m_tag_shift = __builtin_ctzll(m_sets);
+  m_block_bytes = (8 + 14 * uint64_t(m_assoc) + 63) / 64 * 64;
+  m_blocks.reset(static_cast<uint8_t*>(::operator new[](m_sets* m_block_bytes, std::align_val_t(64))));
+  std::memset(m_blocks.get(), 0, m_sets * m_block_bytes);
+  for (uint64_t s = 0; s < m_sets; ++s) {
+    uint8_t* b = m_blocks.get() + s * m_block_bytes;
+    set_mru(b, ~uint64_t(0));
+    std::fill(tags_of(b), tags_of(b) + m_assoc, kEmpty);
+    std::fill(category_of(b), category_of(b) + m_assoc, Category::command);
+  }
   const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
   if (!f) throw Error("cache " + m_name + ": unknown replacement policy '" + spec.replacement + "'");
   // Seeded by name: reproducible, different per cache.
@@ -25,52 +32,91 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   m_policy = f->make(seed);
 }
 
-void Cache::insert(uint64_t line, bool write, Category category, Eviction& ev, uint64_t first) {
+void Cache::insert(uint8_t* block, uint64_t line, bool write, Category category, Eviction& ev) {
+  const uint64_t tag = line >> m_tag_shift;
+  if (tag >= kEmpty) [[unlikely]]
+    throw Error("cache " + m_name + ": line " + std::to_string(line) + " is past the lines its 32-bit tags can name");
+  uint32_t* tags = tags_of(block);
   int victim = -1;
   for (int i = 0; i < m_assoc; ++i)
-    if (m_tags[first + uint64_t(i)] == kEmpty) {
+    if (tags[i] == kEmpty) {
       victim = i;
       break;
     }
   if (victim < 0) {
-    victim = m_policy->victim(&m_state[first], m_assoc);
-    const uint64_t v = first + uint64_t(victim);
-    if (m_dirty[v]) {
+    victim = m_policy->victim({last_use_of(block), inserted_of(block), m_assoc});
+    if (dirty_of(block)[victim]) {
       ev.dirty = true;
-      ev.line = m_tags[v];
-      ev.category = m_category[v];
+      ev.line = uint64_t(tags[victim]) << m_tag_shift | (line & m_set_mask);
+      ev.category = category_of(block)[victim];
     }
   }
-  const uint64_t v = first + uint64_t(victim);
-  m_tags[v] = line;
-  m_dirty[v] = write;
-  m_category[v] = category;
-  m_state[v] = {m_clock, m_clock};
+  tags[victim] = uint32_t(tag);
+  dirty_of(block)[victim] = write;
+  category_of(block)[victim] = category;
+  last_use_of(block)[victim] = inserted_of(block)[victim] = m_clock;
+}
+
+void Cache::renumber() {
+  // Each set's counters (last uses and insertions together) replaced by
+  // their ranks among the set's: every order a policy may read is kept, and
+  // every rank is below 2 x ways, where the clock goes on from.
+  std::vector<uint32_t> values;
+  for (uint64_t s = 0; s < m_sets; ++s) {
+    uint8_t* b = m_blocks.get() + s * m_block_bytes;
+    uint32_t *use = last_use_of(b), *in = inserted_of(b);
+    values.assign(use, use + m_assoc);
+    values.insert(values.end(), in, in + m_assoc);
+    std::sort(values.begin(), values.end());
+    values.erase(std::unique(values.begin(), values.end()), values.end());
+    const auto rank = [&](uint32_t v) { return uint32_t(std::lower_bound(values.begin(), values.end(), v) - values.begin()); };
+    for (int i = 0; i < m_assoc; ++i) {
+      use[i] = rank(use[i]);
+      in[i] = rank(in[i]);
+    }
+  }
+  m_clock = uint32_t(2 * m_assoc);
+}
+
+void Cache::skip_clock_to(uint32_t left) {
+  const uint32_t target = kEmpty - std::max<uint32_t>(left, 1);
+  if (m_clock > target) {
+    m_clock = kEmpty - 1;
+    tick();
+  }
+  m_clock = std::max(m_clock, target);
 }
 
 bool Cache::contains(uint64_t line) const {
-  const uint64_t first = (line & m_set_mask) * uint64_t(m_assoc);
+  const uint8_t* b = m_blocks.get() + (line & m_set_mask) * m_block_bytes;
+  const uint32_t* tags = tags_of(b);
+  const uint64_t tag = line >> m_tag_shift;
   for (int i = 0; i < m_assoc; ++i)
-    if (m_tags[first + uint64_t(i)] == line) return true;
+    if (uint64_t(tags[i]) == tag) return true;
   return false;
 }
 
 void Cache::invalidate(uint64_t line) {
-  const uint64_t first = (line & m_set_mask) * uint64_t(m_assoc);
+  uint8_t* b = m_blocks.get() + (line & m_set_mask) * m_block_bytes;
+  uint32_t* tags = tags_of(b);
+  const uint64_t tag = line >> m_tag_shift;
   for (int i = 0; i < m_assoc; ++i)
-    if (m_tags[first + uint64_t(i)] == line) {
-      m_tags[first + uint64_t(i)] = kEmpty;
-      m_dirty[first + uint64_t(i)] = 0;
-      if (m_mru[line & m_set_mask] == line) m_mru[line & m_set_mask] = kEmpty;
+    if (uint64_t(tags[i]) == tag) {
+      tags[i] = kEmpty;
+      dirty_of(b)[i] = 0;
+      if (mru(b) == line) set_mru(b, ~uint64_t(0));
     }
 }
 
 uint64_t Cache::invalidate_all() {
   uint64_t dirty = 0;
-  for (uint8_t d : m_dirty) dirty += d;
-  std::fill(m_tags.begin(), m_tags.end(), kEmpty);
-  std::fill(m_dirty.begin(), m_dirty.end(), 0);
-  std::fill(m_mru.begin(), m_mru.end(), kEmpty);
+  for (uint64_t s = 0; s < m_sets; ++s) {
+    uint8_t* b = m_blocks.get() + s * m_block_bytes;
+    for (int i = 0; i < m_assoc; ++i) dirty += dirty_of(b)[i];
+    std::fill(tags_of(b), tags_of(b) + m_assoc, kEmpty);
+    std::fill(dirty_of(b), dirty_of(b) + m_assoc, uint8_t(0));
+    set_mru(b, ~uint64_t(0));
+  }
   return dirty;
 }
 

@@ -5,8 +5,8 @@
 
 #include <cstdint>
 #include <memory>
+#include <new>
 #include <string>
-#include <vector>
 
 #include "oovr/memory/category.h"
 #include "oovr/memory/memory_spec.h"
@@ -16,10 +16,13 @@ namespace oovr {
 
 class Cache {
  public:
-  // What one line's tag and state take (tag, dirty bit, category, the
-  // replacement policy's state), for memory estimates.
-  static constexpr uint64_t kBytesPerLine = sizeof(uint64_t) + sizeof(uint8_t) + sizeof(Category) + sizeof(WayState);
+  // What one line's tag and state take with its set's share of the set's
+  // block (below), for memory estimates: 14 bytes, and the block's most
+  // recently used line and padding.
+  static constexpr uint64_t kBytesPerLine = 16;
   Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name);
+  Cache(Cache&&) noexcept = default;
+  Cache& operator=(Cache&&) noexcept = default;
 
   struct Eviction {
     bool dirty = false;
@@ -31,26 +34,30 @@ class Cache {
   // evicting a victim when the set is full (reported in `ev` when dirty),
   // and returns false. Writes mark the line dirty.
   bool access(uint64_t line, bool write, Category category, Eviction& ev) {
-    const uint64_t set = line & m_set_mask, first = set * uint64_t(m_assoc);
+    const uint64_t set = line & m_set_mask;
+    uint8_t* block = m_blocks.get() + set * m_block_bytes;
     // A read of the set's most recently used line hits and changes no
     // set's order, so nothing else is done (replacement policies read only
     // the order of the counters: replacement/i_replacement.h). Texture
     // lines repeat from quad to quad, so this is most of an L1's reads.
-    if (m_mru[set] == line && !write) return true;
-    const uint64_t* tags = &m_tags[first];
-    ++m_clock;
+    if (mru(block) == line && !write) return true;
+    const uint32_t* tags = tags_of(block);
+    // Tags are 32 bits wide; the line's is compared at 64, so a line too
+    // far for one (refused by insert()) matches none.
+    const uint64_t tag = line >> m_tag_shift;
+    tick();
     // Scan every way without an early exit: no hard-to-predict branch per
     // way, and sets are short (at most 1024 ways, usually 4 to 16).
     int hit = -1;
-    for (int i = 0; i < m_assoc; ++i) hit = tags[i] == line ? i : hit;
+    for (int i = 0; i < m_assoc; ++i) hit = uint64_t(tags[i]) == tag ? i : hit;
     if (hit >= 0) {
-      m_state[first + uint64_t(hit)].last_use = m_clock;
-      m_mru[set] = line;
-      if (write) m_dirty[first + uint64_t(hit)] = 1;
+      last_use_of(block)[hit] = m_clock;
+      set_mru(block, line);
+      if (write) dirty_of(block)[hit] = 1;
       return true;
     }
-    insert(line, write, category, ev, first);
-    m_mru[set] = line;
+    insert(block, line, write, category, ev);
+    set_mru(block, line);
     return false;
   }
   // True when the line is cached; changes nothing.
@@ -61,25 +68,55 @@ class Cache {
   uint64_t invalidate_all();
 
   const std::string& name() const { return m_name; }
-  uint64_t lines() const { return m_tags.size(); }
+  uint64_t lines() const { return m_sets * uint64_t(m_assoc); }
   uint64_t set_mask() const { return m_set_mask; }
+  // Whether every line up to `line` has a tag (32 bits of its line number
+  // above the set's bits): up to 2^44 bytes for the paper's L1, 2^45 for
+  // its L2s. The memory system checks its address map against it.
+  bool holds(uint64_t line) const { return (line >> m_tag_shift) < kEmpty; }
+  // Moves the access counter on, as if accesses had been made to no set,
+  // to `left` (at least 1) accesses before it must be renumbered (through a
+  // renumbering, if it is nearer than that): lets tests reach renumber()
+  // without four billion accesses.
+  void skip_clock_to(uint32_t left);
 
  private:
-  static constexpr uint64_t kEmpty = ~uint64_t(0);
-  void insert(uint64_t line, bool write, Category category, Eviction& ev, uint64_t first);
+  static constexpr uint32_t kEmpty = ~uint32_t(0);
+  // Each set is one block of m_block_bytes (a multiple of 64), so that a
+  // lookup and a replacement touch one set's bytes and no others: its most
+  // recently used line (8 bytes; ~0: not known), then per way its tag, the
+  // counter at its last use, the counter at its insertion (4 bytes each), its
+  // dirty bit and its category (a byte each). An L1 set of 4 ways is 64
+  // bytes, an L2 set of 16 ways 256.
+  static uint64_t mru(const uint8_t* b) { return *reinterpret_cast<const uint64_t*>(b); }
+  static void set_mru(uint8_t* b, uint64_t line) { *reinterpret_cast<uint64_t*>(b) = line; }
+  uint32_t* tags_of(uint8_t* b) const { return reinterpret_cast<uint32_t*>(b + 8); }
+  const uint32_t* tags_of(const uint8_t* b) const { return reinterpret_cast<const uint32_t*>(b + 8); }
+  uint32_t* last_use_of(uint8_t* b) const { return tags_of(b) + m_assoc; }
+  uint32_t* inserted_of(uint8_t* b) const { return tags_of(b) + 2 * m_assoc; }
+  uint8_t* dirty_of(uint8_t* b) const { return b + 8 + 12 * uint64_t(m_assoc); }
+  Category* category_of(uint8_t* b) const { return reinterpret_cast<Category*>(b + 8 + 13 * uint64_t(m_assoc)); }
+
+  // The access counter, 32 bits: at its last value every set's counters are
+  // renumbered first.
+  void tick() {
+    if (++m_clock == kEmpty) [[unlikely]]
+      renumber();
+  }
+  void renumber();
+  void insert(uint8_t* block, uint64_t line, bool write, Category category, Eviction& ev);
+
+  struct Free {
+    void operator()(uint8_t* p) const { ::operator delete[](p, std::align_val_t(64)); }
+  };
 
   std::string m_name;
   int m_assoc;
-  uint64_t m_set_mask;
-  // Per way, set by set: tags apart from the rest so that a lookup scans
-  // one contiguous run of tags.
-  std::vector<uint64_t> m_tags;
-  std::vector<uint8_t> m_dirty;
-  std::vector<Category> m_category;
-  std::vector<WayState> m_state;
-  std::vector<uint64_t> m_mru;  // per set: its most recently used line (kEmpty: not known)
+  uint64_t m_sets, m_set_mask, m_block_bytes;
+  int m_tag_shift;
+  std::unique_ptr<uint8_t[], Free> m_blocks;
   std::unique_ptr<ReplacementPolicy> m_policy;
-  uint64_t m_clock = 0;
+  uint32_t m_clock = 0;
 };
 
 }  // namespace oovr

@@ -75,6 +75,14 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
     m_l2.emplace_back(spec.l2, m_line_bytes, "gpm[" + std::to_string(g) + "].l2");
     m_remote.emplace_back(spec.remote, m_line_bytes, "gpm[" + std::to_string(g) + "].remote");
   }
+  // Caches keep 32-bit tags: every line of the map must have one.
+  if (map.pages() > 0) {
+    const uint64_t last_line = (map.pages() * m_page_bytes - 1) >> m_line_shift;
+    for (const Cache* c : {&m_l1.front(), &m_l2.front(), &m_remote.front()})
+      if (!c->holds(last_line))
+        throw Error("memory system: the address map (" + std::to_string(map.pages()) + " pages) is past what cache " + c->name() +
+                    "'s tags can name");
+  }
   m_home.assign(map.pages(), -1);
   m_copies.assign(map.pages(), 0);
   m_copy_bytes.assign(size_t(spec.gpms), 0);

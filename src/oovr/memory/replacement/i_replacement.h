@@ -13,19 +13,24 @@
 
 namespace oovr {
 
-struct WayState {
-  uint64_t last_use = 0;  // access counter value at the last hit or insertion
-  uint64_t inserted = 0;  // access counter value at insertion
+// A full set's ways, as the cache keeps them: per way, the access counter's
+// value at its line's last hit or insertion, and at its insertion.
+struct SetState {
+  const uint32_t* last_use;
+  const uint32_t* inserted;
+  int ways;
 };
 
 class ReplacementPolicy {
  public:
   virtual ~ReplacementPolicy() = default;
   // The way of a full set to evict. It may read the order of the ways'
-  // counters, not their values: a read of a set's most recently used line
-  // again is not counted (Cache::access returns at once), which
-  // changes no order but does change the counters' values.
-  virtual int victim(const WayState* ways, int n) = 0;
+  // counters within the set, not their values: a read of a set's most
+  // recently used line again is not counted (Cache::access returns at
+  // once), which changes no order but does change the counters' values; and
+  // the cache renumbers the counters when they would wrap, keeping each
+  // set's order.
+  virtual int victim(const SetState& set) = 0;
 };
 
 struct ReplacementFactory {

@@ -6,10 +6,10 @@ namespace {
 
 class Fifo final : public ReplacementPolicy {
  public:
-  int victim(const WayState* w, int n) override {
+  int victim(const SetState& s) override {
     int v = 0;
-    for (int i = 1; i < n; ++i)
-      if (w[i].inserted < w[v].inserted) v = i;
+    for (int i = 1; i < s.ways; ++i)
+      if (s.inserted[i] < s.inserted[v]) v = i;
     return v;
   }
 };

@@ -8,12 +8,13 @@ class Lru final : public ReplacementPolicy {
  public:
   // The first way of the oldest use. Branch-free (selects, not jumps):
   // the ages of a set's ways are in no predictable order.
-  int victim(const WayState* w, int n) override {
+  int victim(const SetState& s) override {
+    const uint32_t* use = s.last_use;
     int v = 0;
-    uint64_t oldest = w[0].last_use;
-    for (int i = 1; i < n; ++i) {
-      const bool older = w[i].last_use < oldest;
-      oldest = older ? w[i].last_use : oldest;
+    uint32_t oldest = use[0];
+    for (int i = 1; i < s.ways; ++i) {
+      const bool older = use[i] < oldest;
+      oldest = older ? use[i] : oldest;
       v = older ? i : v;
     }
     return v;

@@ -9,7 +9,7 @@ namespace {
 class Random final : public ReplacementPolicy {
  public:
   explicit Random(uint64_t seed) : m_rng(seed) {}
-  int victim(const WayState*, int n) override { return int(m_rng.below(uint32_t(n))); }
+  int victim(const SetState& s) override { return int(m_rng.below(uint32_t(s.ways))); }
 
  private:
   Rng m_rng;
