@@ -46,7 +46,7 @@ int TimingEngine::add_unit(Unit u) {
       }
     m_deps.push_back(deps);
     if (v.queue >= 0) m_queue_units[size_t(v.queue)].push_back(id);
-    else m_free_waiting.push_back(id);
+    else if (deps == 0) m_free_ready.push_back(id);
   }
   return id;
 }
@@ -73,13 +73,13 @@ void TimingEngine::start(int i) {
 }
 
 void TimingEngine::start_ready() {
-  // Units without a queue, and the head of every idle queue.
-  m_still.clear();
-  for (int i : m_free_waiting) {
-    if (m_deps[size_t(i)] == 0) start(i);
-    else m_still.push_back(i);
-  }
-  m_free_waiting.swap(m_still);
+  // Units without a queue whose dependencies are met (finish() lists them
+  // as their last dependency ends, so that waiting ones are not scanned at
+  // every event: a frame's composition adds hundreds), and the head of
+  // every idle queue. The order they start in does not matter: the running
+  // units are kept in id order.
+  for (int i : m_free_ready) start(i);
+  m_free_ready.clear();
   for (size_t q = 0; q < m_queue_units.size(); ++q)
     if (m_queue_idle[q] && m_queue_head[q] < m_queue_units[q].size()) {
       const int i = m_queue_units[q][m_queue_head[q]];
@@ -98,7 +98,8 @@ void TimingEngine::finish(int i, const std::function<void(int)>& on_finish) {
     ++m_queue_head[size_t(q)];
     m_res.queue_busy[size_t(q)] += m_now - m_res.units[size_t(i)].start;
   }
-  for (int d : m_dependents[size_t(i)]) --m_deps[size_t(d)];
+  for (int d : m_dependents[size_t(i)])
+    if (--m_deps[size_t(d)] == 0 && m_units[size_t(d)].queue < 0) m_free_ready.push_back(d);
   if (on_finish) on_finish(i);
 }
 
@@ -122,7 +123,7 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
     m_deps[i] = int(m_units[i].after.size());
     for (int d : m_units[i].after) m_dependents[size_t(d)].push_back(int(i));
     if (m_units[i].queue >= 0) m_queue_units[size_t(m_units[i].queue)].push_back(int(i));
-    else m_free_waiting.push_back(int(i));
+    else if (m_deps[i] == 0) m_free_ready.push_back(int(i));
   }
 
   start_ready();

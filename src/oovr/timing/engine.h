@@ -112,9 +112,9 @@ class TimingEngine {
   std::vector<std::vector<int>> m_queue_units;
   std::vector<size_t> m_queue_head;
   std::vector<bool> m_queue_idle;
-  std::vector<int> m_free_waiting;            // waiting units without a queue
-  std::vector<int> m_still, m_finished_work;  // scratch of start_ready and run, kept between events
-  std::vector<int> m_running;                 // ids, ascending
+  std::vector<int> m_free_ready;     // units without a queue whose dependencies are met, not started
+  std::vector<int> m_finished_work;  // scratch of run, kept between events
+  std::vector<int> m_running;        // ids, ascending
   std::vector<std::pair<double, int>> m_in_latency;
   size_t m_done = 0;
   Sharing m_sharing = Sharing::fair;
