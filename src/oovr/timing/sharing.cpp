@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "oovr/core/rng.h"
 
@@ -133,15 +134,21 @@ const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand
   const size_t m = demands.size();
   m_rate.assign(m, kInf);
   m_users.resize(m_capacity.size());
+  m_in_use.resize((m_capacity.size() + 63) / 64);
   for (int r : m_used) m_users[size_t(r)].clear();
   m_used.clear();
+  // The resources in use, in ascending order: marked in a bit set as their
+  // first user appears, then read out word by word (a sort at every event
+  // was 1% of the paper's sweep).
   for (size_t k = 0; k < m; ++k)
     for (const auto& [r, amount] : *demands[k])
       if (amount > 0) {
-        if (m_users[size_t(r)].empty()) m_used.push_back(r);
+        if (m_users[size_t(r)].empty()) m_in_use[size_t(r) / 64] |= uint64_t(1) << (r % 64);
         m_users[size_t(r)].push_back({int(k), amount});
       }
-  std::sort(m_used.begin(), m_used.end());
+  for (size_t w = 0; w < m_in_use.size(); ++w)
+    for (uint64_t bits = std::exchange(m_in_use[w], 0); bits; bits &= bits - 1)
+      m_used.push_back(int(w * 64) + std::countr_zero(bits));
   if (sharing == Sharing::equal) {
     for (int r : m_used) {
       const double share = m_capacity[size_t(r)] / double(m_users[size_t(r)].size());

@@ -98,6 +98,7 @@ class ResourceSharing {
   // Scratch, kept between calls.
   std::vector<std::vector<std::pair<int, double>>> m_users;  // per resource: (unit, amount)
   std::vector<int> m_used;                                   // resources with users, ascending
+  std::vector<uint64_t> m_in_use;                            // the same as bits, while they are listed
   std::vector<int> m_shared;                                 // resources with two users or more
   std::vector<double> m_rate, m_own, m_level, m_next, m_best, m_demands, m_usage;
   std::vector<int> m_best_resource;
