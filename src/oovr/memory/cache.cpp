@@ -15,7 +15,7 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   if (m_sets == 0 || (m_sets & (m_sets - 1)) != 0) throw Error("cache " + m_name + ": the number of sets must be a power of two");
   m_set_mask = m_sets - 1;
   m_tag_shift = __builtin_ctzll(m_sets);
-  m_block_bytes = (8 + 14 * uint64_t(m_assoc) + 63) / 64 * 64;
+  m_block_bytes = block_bytes(uint64_t(m_assoc));
   m_blocks.reset(static_cast<uint8_t*>(::operator new[](m_sets* m_block_bytes, std::align_val_t(64))));
   std::memset(m_blocks.get(), 0, m_sets * m_block_bytes);
   for (uint64_t s = 0; s < m_sets; ++s) {

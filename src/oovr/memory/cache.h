@@ -3,6 +3,7 @@
 // and evictions, not data.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <new>
@@ -16,10 +17,12 @@ namespace oovr {
 
 class Cache {
  public:
-  // What one line's tag and state take with its set's share of the set's
-  // block (below), for memory estimates: 14 bytes, and the block's most
-  // recently used line and padding.
-  static constexpr uint64_t kBytesPerLine = 16;
+  // The bytes a cache of this shape keeps (its sets' blocks, below), for
+  // memory estimates: 16 a line from 4 ways up, 32 at 2 ways, 64 at 1.
+  static uint64_t state_bytes(const CacheSpec& spec, uint64_t line_bytes) {
+    const uint64_t ways = uint64_t(std::max(spec.ways, 1));
+    return spec.size.value / std::max<uint64_t>(line_bytes, 1) / ways * block_bytes(ways);
+  }
   Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name);
   Cache(Cache&&) noexcept = default;
   Cache& operator=(Cache&&) noexcept = default;
@@ -82,6 +85,7 @@ class Cache {
 
  private:
   static constexpr uint32_t kEmpty = ~uint32_t(0);
+  static constexpr uint64_t block_bytes(uint64_t ways) { return (8 + 14 * ways + 63) / 64 * 64; }
   // Each set is one block of m_block_bytes (a multiple of 64), so that a
   // lookup and a replacement touch one set's bytes and no others: its most
   // recently used line (8 bytes; ~0: not known), then per way its tag, the

@@ -48,12 +48,12 @@ uint64_t UnitTraffic::total_inter_gpm_bytes() const {
 }
 
 uint64_t MemorySystem::state_bytes(const MemorySpec& spec, const AddressMap& map) {
-  const uint64_t line = std::max<uint64_t>(spec.line.value, 1);
-  const auto lines = [&](const CacheSpec& c) { return c.size.value / line; };
+  const uint64_t line = spec.line.value;
   const uint64_t gpms = uint64_t(spec.gpms), sms = uint64_t(spec.sms_per_gpm);
-  const uint64_t cache_lines = gpms * sms * lines(spec.l1) + gpms * (lines(spec.l2) + lines(spec.remote));
+  const uint64_t caches = gpms * sms * Cache::state_bytes(spec.l1, line) +
+                          gpms * (Cache::state_bytes(spec.l2, line) + Cache::state_bytes(spec.remote, line));
   const uint64_t per_page = sizeof(int8_t) + 2 * sizeof(uint32_t) + gpms * sizeof(uint64_t);
-  return cache_lines * Cache::kBytesPerLine + map.pages() * per_page;
+  return caches + map.pages() * per_page;
 }
 
 MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
