@@ -76,7 +76,7 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
     m_remote.emplace_back(spec.remote, m_line_bytes, "gpm[" + std::to_string(g) + "].remote");
   }
   // Caches keep 32-bit tags: every line of the map must have one.
-  if (map.pages() > 0) {
+  if (map.pages() > 0 && !m_l1.empty()) {
     const uint64_t last_line = (map.pages() * m_page_bytes - 1) >> m_line_shift;
     for (const Cache* c : {&m_l1.front(), &m_l2.front(), &m_remote.front()})
       if (!c->holds(last_line))
