@@ -74,8 +74,9 @@ class Cache {
   uint64_t lines() const { return m_sets * uint64_t(m_assoc); }
   uint64_t set_mask() const { return m_set_mask; }
   // Whether every line up to `line` has a tag (32 bits of its line number
-  // above the set's bits): up to 2^44 bytes for the paper's L1, 2^45 for
-  // its L2s. The memory system checks its address map against it.
+  // above the set's bits): up to 2^47 bytes for the paper's L1 (256 sets
+  // of 128-byte lines), 2^48 for its L2s. The memory system checks its
+  // address map against it.
   bool holds(uint64_t line) const { return (line >> m_tag_shift) < kEmpty; }
   // Moves the access counter on, as if accesses had been made to no set,
   // to `left` (at least 1) accesses before it must be renumbered (through a
