@@ -19,8 +19,8 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   m_blocks.reset(static_cast<uint8_t*>(::operator new[](m_sets* m_block_bytes, std::align_val_t(64))));
   std::memset(m_blocks.get(), 0, m_sets * m_block_bytes);
   for (uint64_t s = 0; s < m_sets; ++s) {
-    uint8_t* b = m_blocks.get() + s * m_block_bytes;
-    set_mru(b, ~uint64_t(0));
+    uint8_t* b = block_of(s);
+    set_mru(b, kNoLine);
     std::fill(tags_of(b), tags_of(b) + m_assoc, kEmpty);
     std::fill(category_of(b), category_of(b) + m_assoc, Category::command);
   }
@@ -63,7 +63,7 @@ void Cache::renumber() {
   // every rank is below 2 x ways, where the clock goes on from.
   std::vector<uint32_t> values;
   for (uint64_t s = 0; s < m_sets; ++s) {
-    uint8_t* b = m_blocks.get() + s * m_block_bytes;
+    uint8_t* b = block_of(s);
     uint32_t *use = last_use_of(b), *in = inserted_of(b);
     values.assign(use, use + m_assoc);
     values.insert(values.end(), in, in + m_assoc);
@@ -88,7 +88,7 @@ void Cache::skip_clock_to(uint32_t left) {
 }
 
 bool Cache::contains(uint64_t line) const {
-  const uint8_t* b = m_blocks.get() + (line & m_set_mask) * m_block_bytes;
+  const uint8_t* b = block_of(line);
   const uint32_t* tags = tags_of(b);
   const uint64_t tag = line >> m_tag_shift;
   for (int i = 0; i < m_assoc; ++i)
@@ -97,25 +97,25 @@ bool Cache::contains(uint64_t line) const {
 }
 
 void Cache::invalidate(uint64_t line) {
-  uint8_t* b = m_blocks.get() + (line & m_set_mask) * m_block_bytes;
+  uint8_t* b = block_of(line);
   uint32_t* tags = tags_of(b);
   const uint64_t tag = line >> m_tag_shift;
   for (int i = 0; i < m_assoc; ++i)
     if (uint64_t(tags[i]) == tag) {
       tags[i] = kEmpty;
       dirty_of(b)[i] = 0;
-      if (mru(b) == line) set_mru(b, ~uint64_t(0));
+      if (mru(b) == line) set_mru(b, kNoLine);
     }
 }
 
 uint64_t Cache::invalidate_all() {
   uint64_t dirty = 0;
   for (uint64_t s = 0; s < m_sets; ++s) {
-    uint8_t* b = m_blocks.get() + s * m_block_bytes;
+    uint8_t* b = block_of(s);
     for (int i = 0; i < m_assoc; ++i) dirty += dirty_of(b)[i];
     std::fill(tags_of(b), tags_of(b) + m_assoc, kEmpty);
     std::fill(dirty_of(b), dirty_of(b) + m_assoc, uint8_t(0));
-    set_mru(b, ~uint64_t(0));
+    set_mru(b, kNoLine);
   }
   return dirty;
 }

@@ -37,8 +37,7 @@ class Cache {
   // evicting a victim when the set is full (reported in `ev` when dirty),
   // and returns false. Writes mark the line dirty.
   bool access(uint64_t line, bool write, Category category, Eviction& ev) {
-    const uint64_t set = line & m_set_mask;
-    uint8_t* block = m_blocks.get() + set * m_block_bytes;
+    uint8_t* block = block_of(line);
     // A read of the set's most recently used line hits and changes no
     // set's order, so nothing else is done (replacement policies read only
     // the order of the counters: replacement/i_replacement.h). Texture
@@ -93,6 +92,9 @@ class Cache {
   // counter at its last use, the counter at its insertion (4 bytes each), its
   // dirty bit and its category (a byte each). An L1 set of 4 ways is 64
   // bytes, an L2 set of 16 ways 256.
+  static constexpr uint64_t kNoLine = ~uint64_t(0);  // a block's most recently used line when none is known
+  // The block of the set `line` falls in (a set index below the sets names its own).
+  uint8_t* block_of(uint64_t line) const { return m_blocks.get() + (line & m_set_mask) * m_block_bytes; }
   static uint64_t mru(const uint8_t* b) { return *reinterpret_cast<const uint64_t*>(b); }
   static void set_mru(uint8_t* b, uint64_t line) { *reinterpret_cast<uint64_t*>(b) = line; }
   uint32_t* tags_of(uint8_t* b) const { return reinterpret_cast<uint32_t*>(b + 8); }
