@@ -502,6 +502,76 @@ TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
   EXPECT_THROW(SceneLayout(map2, scene, other.trace), Error);
 }
 
+// FrameSim::replay hands a record's texture reads over as the trace lists
+// them and the memory system finds their addresses: every answer is that of
+// the same reads given as addresses, record by record, on a machine where
+// reads go local and remote and framebuffer lines are read and written,
+// with caches small enough that a record's lines evict one another (so
+// their order shows).
+TEST(Memory, TextureReadsAsTheTraceListsThemAnswerAsTheirAddressesDo) {
+  const Scene scene = BuiltinScenes::find("courtyard")->make();
+  StereoRig rig;
+  rig.eye_width = 160;
+  rig.eye_height = 128;
+  const FrameOutput out = render_frame(scene, make_stereo_view(scene.camera, 5, rig), PipelineSettings{});
+  const MemorySpec spec = spec_with({"gpms=4", "memory.placement=interleaved", "cache.l1.size=1KB", "cache.l1.ways=2",
+                                     "cache.l2.size=4KB", "cache.l2.ways=2", "cache.remote.size=2KB", "cache.remote.ways=2"});
+  AddressMap map(spec.page, spec.line);
+  const SceneLayout layout(map, scene, out.trace);
+  MemorySystem listed(spec, map), addressed(spec, map);
+  const int links = int(listed.topology().links().size());
+  ASSERT_GT(out.trace.tiles.size(), 20u);
+  uint64_t reads = 0;
+  for (size_t i = 0; i < out.trace.tiles.size(); ++i) {
+    const TileWork& r = out.trace.tiles[i];
+    const std::span<const TexLine> tex(out.trace.tex_lines.data() + r.tex_begin, r.tex_count);
+    std::vector<LineAccess> frame;
+    for (int l = 0; l < layout.lines_per_tile(); l += 3) {
+      frame.push_back({layout.frame_line(layout.depth_region(), r.tile_x, r.tile_y, l), Category::depth, false});
+      frame.push_back({layout.frame_line(layout.colour_region(), r.tile_x, r.tile_y, l), Category::colour, true});
+    }
+    std::vector<LineAccess> all;
+    for (TexLine t : tex) all.push_back({layout.texture_line(t), Category::texture, false});
+    all.insert(all.end(), frame.begin(), frame.end());
+    const int gpm = int(i % 4), sm = int(i % uint64_t(spec.sms_per_gpm));
+    const uint64_t repeats = i % 7;
+    UnitTraffic a, b;
+    a.reset(spec.gpms, links);
+    b.reset(spec.gpms, links);
+    listed.access(gpm, sm, layout, tex, frame, a, repeats);
+    addressed.access(gpm, sm, all, b, repeats);
+    reads += tex.size();
+    ASSERT_EQ(a.accesses, b.accesses) << "record " << i;
+    ASSERT_EQ(a.accesses, tex.size() + frame.size() + repeats);
+    EXPECT_EQ(a.l1_hits, b.l1_hits) << "record " << i;
+    EXPECT_EQ(a.l2_hits, b.l2_hits) << "record " << i;
+    EXPECT_EQ(a.remote_hits, b.remote_hits) << "record " << i;
+    EXPECT_EQ(a.home_l2_hits, b.home_l2_hits) << "record " << i;
+    EXPECT_EQ(a.dram_lines, b.dram_lines) << "record " << i;
+    EXPECT_EQ(a.l2_read_hits, b.l2_read_hits) << "record " << i;
+    EXPECT_EQ(a.local_dram_reads, b.local_dram_reads) << "record " << i;
+    EXPECT_EQ(a.remote_dram_reads, b.remote_dram_reads) << "record " << i;
+    EXPECT_EQ(a.remote_hops, b.remote_hops) << "record " << i;
+    EXPECT_EQ(a.dram_read_bytes, b.dram_read_bytes) << "record " << i;
+    EXPECT_EQ(a.dram_write_bytes, b.dram_write_bytes) << "record " << i;
+    EXPECT_EQ(a.link_bytes, b.link_bytes) << "record " << i;
+    EXPECT_EQ(a.inter_gpm_bytes, b.inter_gpm_bytes) << "record " << i;
+  }
+  ASSERT_GT(reads, 1000u);
+  const TrafficTotals &x = listed.totals(), &y = addressed.totals();
+  EXPECT_GT(x.remote_hits + x.home_l2_hits, 0u);  // the remote paths were taken
+  EXPECT_EQ(x.accesses, y.accesses);
+  EXPECT_EQ(x.l1_lookups, y.l1_lookups);
+  EXPECT_EQ(x.l2_lookups, y.l2_lookups);
+  EXPECT_EQ(x.remote_lookups, y.remote_lookups);
+  EXPECT_EQ(x.dram_lines, y.dram_lines);
+  EXPECT_EQ(x.link_bytes, y.link_bytes);
+  EXPECT_EQ(x.dram_read_bytes, y.dram_read_bytes);
+  EXPECT_EQ(x.dram_write_bytes, y.dram_write_bytes);
+  EXPECT_EQ(x.delivered, y.delivered);
+  EXPECT_EQ(x.moved, y.moved);
+}
+
 }  // namespace
 }  // namespace oovr
 

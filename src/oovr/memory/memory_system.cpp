@@ -192,6 +192,16 @@ void MemorySystem::move(int from, int to, uint64_t bytes, Category c, UnitTraffi
 }
 
 void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
+  access_lines(gpm, sm, nullptr, {}, lines, out, l1_repeats);
+}
+
+void MemorySystem::access(int gpm, int sm, const SceneLayout& layout, std::span<const TexLine> texture_reads,
+                          std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
+  access_lines(gpm, sm, &layout, texture_reads, lines, out, l1_repeats);
+}
+
+void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std::span<const TexLine> texture_reads,
+                                std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
   if (gpm < 0 || gpm >= m_spec.gpms || sm < 0 || sm >= m_spec.sms_per_gpm)
     throw Error("memory access by GPM " + std::to_string(gpm) + " SM " + std::to_string(sm) + ", which does not exist");
   shape(out);
@@ -208,7 +218,8 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
            local_delivered = 0, remote_dram = 0, hops = 0, l1_lookups = l1_repeats, l2_lookups = 0, remote_lookups = 0;
   const uint64_t dram_before = out.dram_lines;
   const uint64_t now = ++m_clock;
-  for (const LineAccess& a : lines) {
+  // One line's access, each level's counters kept above.
+  const auto one = [&](const LineAccess& a) __attribute__((always_inline)) {
     if (a.address >= end) [[unlikely]]
       throw Error("memory access at address " + std::to_string(a.address) + ", past the address map");
     const uint64_t line = a.address >> m_line_shift;
@@ -218,7 +229,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
       ++l1_lookups;
       if (l1.access(line, false, a.category, ev)) {
         ++l1_hits;
-        continue;
+        return;
       }
     }
     const uint64_t page = a.address >> m_page_shift;
@@ -237,7 +248,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
       }
       writeback(gpm, ev, out);
       if (!a.write) local_delivered += m_line_bytes;
-      continue;
+      return;
     }
     if (a.write) {
       // Write-through to the home over the links; a cached copy is dropped.
@@ -245,12 +256,12 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
       move(gpm, h, m_line_bytes, a.category, out);
       ++l2_lookups;
       serve(h, line, true, a.category, out);
-      continue;
+      return;
     }
     ++remote_lookups;
     if (rc.access(line, false, a.category, ev)) {
       ++remote_hits;
-      continue;
+      return;
     }
     const int src = nearest_holder(page, gpm);
     const uint64_t before = out.dram_lines;
@@ -261,9 +272,14 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
     hops += m_topology->route(src, gpm).size();
     move(src, gpm, m_line_bytes, a.category, out);
     m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
-  }
+  };
+  // A record's texture reads (FrameSim::replay) come as the trace lists
+  // them: their addresses are found here rather than copied into `lines`.
+  if (layout)
+    for (const TexLine t : texture_reads) one(LineAccess{layout->texture_line(t), Category::texture, false});
+  for (const LineAccess& a : lines) one(a);
   out.dram_lines += local_dram;
-  out.accesses += lines.size() + l1_repeats;
+  out.accesses += texture_reads.size() + lines.size() + l1_repeats;
   out.l1_hits += l1_hits;
   out.l2_hits += l2_hits;
   out.remote_hits += remote_hits;
@@ -274,7 +290,7 @@ void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, Un
   out.remote_hops += hops;
   m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += local_delivered;
   m_totals.dram_lines += out.dram_lines - dram_before;
-  m_totals.accesses += lines.size() + l1_repeats;
+  m_totals.accesses += texture_reads.size() + lines.size() + l1_repeats;
   m_totals.l1_hits += l1_hits;
   m_totals.l2_hits += l2_hits;
   m_totals.remote_hits += remote_hits;

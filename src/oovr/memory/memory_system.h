@@ -109,6 +109,11 @@ class MemorySystem {
   // leave the L1 as reading them would (FrameSim::replay, the rules of
   // FrameTrace::tex_lines_without_repeats): each is counted as the hit it is.
   void access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats = 0);
+  // The same for a record's texture reads, as the trace lists them (each at
+  // layout.texture_line), followed by `lines`: the replay's accesses without
+  // a copy of every read's address in between (FrameSim::replay).
+  void access(int gpm, int sm, const SceneLayout& layout, std::span<const TexLine> texture_reads,
+              std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats);
   // Every SM's L1 has the same sets: a line's is (address / line) & this.
   uint64_t l1_set_mask() const { return m_l1.front().set_mask(); }
 
@@ -171,6 +176,10 @@ class MemorySystem {
   const Cache& remote_cache(int gpm) const { return m_remote[size_t(gpm)]; }
 
  private:
+  // Both access()es: the texture reads at `layout` (none without one),
+  // then `lines`.
+  void access_lines(int gpm, int sm, const SceneLayout* layout, std::span<const TexLine> texture_reads,
+                    std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats);
   int home(uint64_t page, int requester);
   // Makes `gpm` the home of an untouched page (every GPM's, replicated).
   // Homes come first in a GPM's DRAM: copies are dropped (any, the least

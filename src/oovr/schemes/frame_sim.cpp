@@ -421,9 +421,9 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
         repeats = r.tex_count - count;
       }
     }
-    m_scratch.resize(count);
-    const SceneLayout& layout = *m_layout;
-    for (uint64_t i = 0; i < count; ++i) m_scratch[i] = {layout.texture_line(in[i]), Category::texture, false};
+    // The texture reads go to the memory system as listed (it finds their
+    // addresses), the framebuffer's lines after them.
+    m_scratch.clear();
     for (int l = 0; l < m_layout->lines_per_tile(); ++l) {
       const uint32_t bit = 1u << l;
       if (r.depth_read_mask & bit)
@@ -438,7 +438,7 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
     // Straight into the unit's total (access adds to it); the record's
     // own inter-GPM bytes are what the total gained.
     const uint64_t before = total.total_inter_gpm_bytes();
-    m_memory->access(gpm, int(tile % uint32_t(sms())), m_scratch, total, repeats);
+    m_memory->access(gpm, int(tile % uint32_t(sms())), *m_layout, {in, size_t(count)}, m_scratch, total, repeats);
     if (&frame == m_in.frames[0]) m_result.tile_inter_gpm_bytes[tile] += total.total_inter_gpm_bytes() - before;
   }
   w.covered += r.covered;
