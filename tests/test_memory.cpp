@@ -475,12 +475,17 @@ TEST(Memory, TransfersCountPerLinkAndPerCategory) {
 namespace oovr {
 namespace {
 
-TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
-  const Scene scene = BuiltinScenes::find("courtyard")->make();
+// Frame 5 of the scene's camera path, two 160x128 eyes, drawn with `p`.
+FrameOutput small_frame(const Scene& scene, const PipelineSettings& p = {}) {
   StereoRig rig;
   rig.eye_width = 160;
   rig.eye_height = 128;
-  const FrameOutput out = render_frame(scene, make_stereo_view(scene.camera, 5, rig), PipelineSettings{});
+  return render_frame(scene, make_stereo_view(scene.camera, 5, rig), p);
+}
+
+TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
+  const Scene scene = BuiltinScenes::find("courtyard")->make();
+  const FrameOutput out = small_frame(scene);
   const MemorySpec spec = spec_with({});
   AddressMap map(spec.page, spec.line);
   const SceneLayout layout(map, scene, out.trace);
@@ -498,7 +503,7 @@ TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
   // A trace recorded with other lines cannot be laid out against this map.
   PipelineSettings p;
   p.line_bytes = 64;
-  const FrameOutput other = render_frame(scene, make_stereo_view(scene.camera, 5, rig), p);
+  const FrameOutput other = small_frame(scene, p);
   AddressMap map2(spec.page, spec.line);
   EXPECT_THROW(SceneLayout(map2, scene, other.trace), Error);
 }
@@ -511,10 +516,7 @@ TEST(Memory, SceneLayoutPlacesTraceLinesInsideTheirRegions) {
 // their order shows).
 TEST(Memory, TextureReadsAsTheTraceListsThemAnswerAsTheirAddressesDo) {
   const Scene scene = BuiltinScenes::find("courtyard")->make();
-  StereoRig rig;
-  rig.eye_width = 160;
-  rig.eye_height = 128;
-  const FrameOutput out = render_frame(scene, make_stereo_view(scene.camera, 5, rig), PipelineSettings{});
+  const FrameOutput out = small_frame(scene);
   const MemorySpec spec = spec_with({"gpms=4", "memory.placement=interleaved", "cache.l1.size=1KB", "cache.l1.ways=2",
                                      "cache.l2.size=4KB", "cache.l2.ways=2", "cache.remote.size=2KB", "cache.remote.ways=2"});
   AddressMap map(spec.page, spec.line);
