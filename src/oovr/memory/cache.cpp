@@ -20,8 +20,7 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   std::memset(m_blocks.get(), 0, m_sets * m_block_bytes);
   for (uint64_t s = 0; s < m_sets; ++s) {
     uint8_t* b = block_of(s);
-    set_mru(b, kNoLine);
-    std::fill(tags_of(b), tags_of(b) + m_assoc, kEmpty);
+    empty_set(b);
     std::fill(category_of(b), category_of(b) + m_assoc, Category::command);
   }
   const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
@@ -55,6 +54,12 @@ void Cache::insert(uint8_t* block, uint64_t line, bool write, Category category,
   dirty_of(block)[victim] = write;
   category_of(block)[victim] = category;
   last_use_of(block)[victim] = inserted_of(block)[victim] = m_clock;
+}
+
+void Cache::empty_set(uint8_t* block) {
+  std::fill(tags_of(block), tags_of(block) + m_assoc, kEmpty);
+  std::fill(dirty_of(block), dirty_of(block) + m_assoc, uint8_t(0));
+  set_mru(block, kNoLine);
 }
 
 void Cache::renumber() {
@@ -113,9 +118,7 @@ uint64_t Cache::invalidate_all() {
   for (uint64_t s = 0; s < m_sets; ++s) {
     uint8_t* b = block_of(s);
     for (int i = 0; i < m_assoc; ++i) dirty += dirty_of(b)[i];
-    std::fill(tags_of(b), tags_of(b) + m_assoc, kEmpty);
-    std::fill(dirty_of(b), dirty_of(b) + m_assoc, uint8_t(0));
-    set_mru(b, kNoLine);
+    empty_set(b);
   }
   return dirty;
 }

@@ -111,6 +111,9 @@ class Cache {
       renumber();
   }
   void renumber();
+  // Leaves a set's block holding no line (its ways' counters and categories
+  // as they were: they are read only beside a tag).
+  void empty_set(uint8_t* block);
   void insert(uint8_t* block, uint64_t line, bool write, Category category, Eviction& ev);
 
   struct Free {
