@@ -79,19 +79,31 @@ class ResourceSharing {
   uint64_t unconverged() const { return m_unconverged; }
   // Fixed-point iterations over all allocations, for profiling.
   uint64_t iterations() const { return m_iterations; }
+  // Problems whose iteration's every step was known from its first
+  // (settles()), so that it did not step again.
+  uint64_t settled() const { return m_settled; }
   const SolvedSharing& problems() const { return m_solved; }
 
  private:
   // One step of the fixed-point iteration on the shared resources: the
   // water level each would settle at given the others' levels `in`.
   void step(const std::vector<double>& in, std::vector<double>& out);
+  // Whether the step at every set of levels between `at` and the
+  // capacities gives the same levels as at `at`, bit for bit (a sufficient
+  // test, not a necessary one).
+  bool settles(const std::vector<double>& at);
+  // Per unit, its smallest and second smallest L_r / a_ir over the shared
+  // resources, and on which resource the smallest is (m_best, m_best_resource).
+  void best_levels(const std::vector<double>& in);
+  // What unit k's other shared resources let it run at (best_levels()'s).
+  double other(int k, int r) const { return m_best_resource[size_t(k)] == r ? m_best[2 * size_t(k) + 1] : m_best[2 * size_t(k)]; }
 
   // The shared resources' problem, as the words that decide the
   // iteration's every step (rates()); returns its hash.
   uint64_t make_key();
 
   std::vector<double> m_capacity;
-  uint64_t m_unconverged = 0, m_iterations = 0;
+  uint64_t m_unconverged = 0, m_iterations = 0, m_settled = 0;
   SolvedSharing m_solved;
   std::vector<uint64_t> m_key, m_levels;
   std::vector<int> m_label;  // per unit: its number among the shared resources' users (-1: none)
@@ -102,6 +114,10 @@ class ResourceSharing {
   std::vector<int> m_shared;                                 // resources with two users or more
   std::vector<double> m_rate, m_own, m_level, m_next, m_best, m_demands, m_usage;
   std::vector<int> m_best_resource;
+  // settles(): the users' demands at the capacities, and (demand, whether
+  // it may rise) per user of one resource.
+  std::vector<double> m_top;
+  std::vector<std::pair<double, bool>> m_flagged;
 };
 
 }  // namespace oovr
