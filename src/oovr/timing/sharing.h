@@ -80,18 +80,23 @@ class ResourceSharing {
   // Fixed-point iterations over all allocations, for profiling.
   uint64_t iterations() const { return m_iterations; }
   // Problems whose iteration's every step was known from its first
-  // (settles()), so that it did not step again.
+  // (settle()), so that it did not step again; and those where some of
+  // its resources' steps were.
   uint64_t settled() const { return m_settled; }
+  uint64_t partly_settled() const { return m_partly_settled; }
   const SolvedSharing& problems() const { return m_solved; }
 
  private:
   // One step of the fixed-point iteration on the shared resources: the
   // water level each would settle at given the others' levels `in`.
   void step(const std::vector<double>& in, std::vector<double>& out);
-  // Whether the step at every set of levels between `at` and the
-  // capacities gives the same levels as at `at`, bit for bit (a sufficient
-  // test, not a necessary one).
-  bool settles(const std::vector<double>& at);
+  // Lists in m_moving the shared resources whose step at some levels
+  // between `at` and the capacities may differ from their level at `at`
+  // (a sufficient test: the others' steps there give their `at`, bit for
+  // bit), and in m_watch what their steps read.
+  void settle(const std::vector<double>& at);
+  // step() for the resources in m_moving only.
+  void step_moving(const std::vector<double>& in, std::vector<double>& out);
   // Per unit, its smallest and second smallest L_r / a_ir over the shared
   // resources, and on which resource the smallest is (m_best, m_best_resource).
   void best_levels(const std::vector<double>& in);
@@ -103,7 +108,7 @@ class ResourceSharing {
   uint64_t make_key();
 
   std::vector<double> m_capacity;
-  uint64_t m_unconverged = 0, m_iterations = 0, m_settled = 0;
+  uint64_t m_unconverged = 0, m_iterations = 0, m_settled = 0, m_partly_settled = 0;
   SolvedSharing m_solved;
   std::vector<uint64_t> m_key, m_levels;
   std::vector<int> m_label;  // per unit: its number among the shared resources' users (-1: none)
@@ -118,6 +123,17 @@ class ResourceSharing {
   // it may rise) per user of one resource.
   std::vector<double> m_top;
   std::vector<std::pair<double, bool>> m_flagged;
+  // settle()'s answer: the resources still stepped, the first step's
+  // levels (per shared resource), and their steps' reads.
+  std::vector<int> m_moving;
+  std::vector<double> m_first;
+  struct Watch {
+    int resource, unit;
+    double amount;
+  };
+  std::vector<Watch> m_watch;
+  std::vector<int> m_watched;         // the units in m_watch
+  std::vector<uint8_t> m_is_watched;  // per unit
 };
 
 }  // namespace oovr
