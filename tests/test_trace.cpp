@@ -7,6 +7,7 @@
 #include <map>
 #include <tuple>
 
+#include "oovr/core/hash.h"
 #include "oovr/scene/builtin.h"
 #include "test_util.h"
 
@@ -169,6 +170,29 @@ TEST(Trace, TextureLinesWithoutTheirRepeatsWithinARecord) {
   EXPECT_EQ(v->begin, (std::vector<uint64_t>{0, 4, 4, 9}));
   EXPECT_THROW((void)t.tex_lines_without_repeats(3), Error);
   EXPECT_THROW((void)t.tex_lines_without_repeats(0), Error);
+}
+
+TEST(Trace, TheRecordsChecksumIsTheirBytesAndFollowsAChangedTrace) {
+  // A memory tape is played only on the frames it was recorded on: their
+  // records' checksum, kept on the trace, must be that of the records as
+  // they are when it is asked for.
+  FrameTrace t;
+  t.tiles.resize(3);
+  t.tiles[1].tex_count = 7;
+  const auto bytes = [](const FrameTrace& f) {
+    return checksum64({reinterpret_cast<const char*>(f.tiles.data()), f.tiles.size() * sizeof(TileWork)});
+  };
+  const uint64_t first = t.records_checksum();
+  EXPECT_EQ(first, bytes(t));
+  EXPECT_EQ(t.records_checksum(), first);  // kept
+  // A copy sums its own; another record (new storage and size) anew.
+  FrameTrace copy = t;
+  copy.tiles[1].tex_count = 8;
+  EXPECT_EQ(copy.records_checksum(), bytes(copy));
+  EXPECT_NE(copy.records_checksum(), first);
+  t.tiles.push_back(t.tiles[1]);
+  EXPECT_EQ(t.records_checksum(), bytes(t));
+  EXPECT_NE(t.records_checksum(), first);
 }
 
 TEST(Trace, TextureLinesWithoutTheirSureHitsInAnLruCache) {

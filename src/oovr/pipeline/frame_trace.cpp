@@ -6,6 +6,7 @@
 #include <span>
 
 #include "oovr/core/error.h"
+#include "oovr/core/hash.h"
 
 namespace oovr {
 
@@ -46,6 +47,10 @@ struct FrameTraceMemo::Impl {
     std::shared_ptr<const TexLinesWithoutRepeats> value;  // null: not worth keeping
   };
   std::vector<Entry> without_repeats;
+  // records_checksum(), and the records it was computed from.
+  const TileWork* summed_tiles = nullptr;
+  size_t summed_records = 0;
+  uint64_t checksum = 0;
 };
 
 FrameTraceMemo::FrameTraceMemo() : m_impl(std::make_unique<Impl>()) {}
@@ -53,6 +58,7 @@ FrameTraceMemo::FrameTraceMemo(const FrameTraceMemo&) : m_impl(std::make_unique<
 FrameTraceMemo& FrameTraceMemo::operator=(const FrameTraceMemo&) {
   std::lock_guard lock(m_impl->mutex);
   m_impl->without_repeats.clear();
+  m_impl->summed_tiles = nullptr;
   return *this;
 }
 FrameTraceMemo::~FrameTraceMemo() = default;
@@ -199,6 +205,19 @@ std::shared_ptr<const TexLinesWithoutRepeats> FrameTrace::tex_lines_without_repe
   }
   m.without_repeats.push_back({modulus, lru_ways, tiles.data(), tiles.size(), tex_lines.data(), tex_lines.size(), out});
   return out;
+}
+
+uint64_t FrameTrace::records_checksum() const {
+  // Every run that records or plays a memory tape sums its frames' records
+  // (schemes/frame_sim.cpp): once per frame, not per run and pass.
+  FrameTraceMemo::Impl& m = *memo.m_impl;
+  std::lock_guard lock(m.mutex);
+  if (m.summed_tiles != tiles.data() || m.summed_records != tiles.size() || !m.summed_tiles) {
+    m.checksum = checksum64({reinterpret_cast<const char*>(tiles.data()), tiles.size() * sizeof(TileWork)});
+    m.summed_tiles = tiles.data();
+    m.summed_records = tiles.size();
+  }
+  return m.checksum;
 }
 
 }  // namespace oovr

@@ -152,6 +152,9 @@ struct FrameTrace {
   // Whether tex_lines_without_repeats takes this modulus and these ways (it
   // throws Error otherwise).
   static bool repeats_derivable(uint64_t modulus, int lru_ways);
+  // checksum64 of the records' bytes, computed on first use and kept (as
+  // the list above: for the records as they are then).
+  uint64_t records_checksum() const;
 
   mutable FrameTraceMemo memo;
 };

@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "oovr/core/error.h"
-#include "oovr/core/hash.h"
 #include "oovr/core/parallel.h"
 #include "oovr/core/units.h"
 
@@ -213,8 +212,7 @@ FrameSim::FrameSim(const SchemeInput& in, int framebuffers) : m_in(in) {
   // trace: frames with the same records and other lines are not made).
   if (taped())
     for (const FrameTrace* t : in.frames)
-      mix({uint64_t(t->frame), uint64_t(t->tiles.size()), uint64_t(t->tex_lines.size()),
-           checksum64({reinterpret_cast<const char*>(t->tiles.data()), t->tiles.size() * sizeof(TileWork)})});
+      mix({uint64_t(t->frame), uint64_t(t->tiles.size()), uint64_t(t->tex_lines.size()), t->records_checksum()});
   m_machine = std::make_unique<MachineModel>(m_timing_spec, m_memory_spec, topology(), m_engine);
   m_last.assign(size_t(gpms()), -1);
   m_draw.assign(size_t(gpms()), -1);
