@@ -297,11 +297,11 @@ const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand
       // steps read the levels as before. While every level stays between
       // the first step's and its capacity, which holds for the settled
       // ones and is checked for the others, the steps left out are known;
-      // past it (not met so far) every resource is stepped again. Half of
-      // the problems OO-VR's runs iterate on oa:oa_dm4 settle on every
-      // resource (19,411 of 37,611: each resource's users bound elsewhere,
-      // by its share alone, or all fitting), and the others on three
-      // resources in four.
+      // past it (met in no run measured) every resource is stepped again.
+      // Half of the problems OO-VR's runs iterate on oa:oa_dm4 settle on
+      // every resource (19,411 of 37,611: each resource's users bound
+      // elsewhere, by its share alone, or all fitting), and the others on
+      // three resources in four.
       enum class Steps { all, moving, none } steps = Steps::all;
       for (int i = 0; i < 1000 && !converged; ++i) {
         ++m_iterations;
