@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -10,6 +11,7 @@
 #include "oovr/core/error.h"
 #include "oovr/core/rng.h"
 #include "oovr/memory/memory_system.h"
+#include "oovr/memory/replacement/i_replacement.h"
 #include "oovr/pipeline/pipeline.h"
 #include "oovr/run/result_metrics.h"
 #include "oovr/scene/builtin.h"
@@ -185,6 +187,32 @@ void expect_reference_answers(bool wrap) {
 TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) { expect_reference_answers(false); }
 
 TEST(Cache, ItsCountersRenumberedWhereTheyWouldWrapKeepEveryAnswer) { expect_reference_answers(true); }
+
+TEST(Cache, LruEvictsTheFirstWayOfTheOldestUseWhateverTheSetsWays) {
+  // The policy's victim, for any number of ways: the first way of the
+  // oldest use, ties (the first) and counters past 2^31 (unsigned) included.
+  const std::unique_ptr<ReplacementPolicy> lru = ReplacementPolicies::find("lru")->make(0);
+  Rng rng(5);
+  int tied = 0, high = 0;
+  for (int ways : {1, 2, 3, 4, 5, 8, 12, 16, 20, 32, 64}) {
+    for (int trial = 0; trial < 3000; ++trial) {
+      std::vector<uint32_t> use(static_cast<size_t>(ways)), inserted(static_cast<size_t>(ways), 0);
+      // Few distinct values (ties), values on both sides of 2^31, or any.
+      const int kind = trial % 3;
+      for (auto& u : use)
+        u = kind == 0   ? uint32_t(rng.uniform() * 4)
+            : kind == 1 ? (rng.uniform() < 0.5 ? 0x7ffffffeu : 0x80000000u) + uint32_t(rng.uniform() * 3)
+                        : uint32_t(rng.next());
+      const auto oldest = std::min_element(use.begin(), use.end());
+      const int expected = int(oldest - use.begin());
+      tied += std::count(use.begin(), use.end(), *oldest) > 1;
+      high += *oldest >= 0x80000000u;
+      ASSERT_EQ(lru->victim({use.data(), inserted.data(), ways}), expected) << ways << " ways, trial " << trial;
+    }
+  }
+  EXPECT_GT(tied, 3000);
+  EXPECT_GT(high, 1000);
+}
 
 TEST(Cache, ALinePastWhatItsTagsNameIsRefusedAndHitsNothing) {
   // 4 sets: a tag is the line number less its 2 set bits, in 32 bits. Line
