@@ -119,7 +119,7 @@ class ResourceSharing {
   std::vector<int> m_shared;                                 // resources with two users or more
   std::vector<double> m_rate, m_own, m_level, m_next, m_best, m_demands, m_usage;
   std::vector<int> m_best_resource;
-  // settles(): the users' demands at the capacities, and (demand, whether
+  // settle(): the users' demands at the capacities, and (demand, whether
   // it may rise) per user of one resource.
   std::vector<double> m_top;
   std::vector<std::pair<double, bool>> m_flagged;
