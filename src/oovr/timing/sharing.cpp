@@ -13,33 +13,34 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// The water line of demands sorted by `value`: the index of the first one
+// above the share left and that share, or (all of them, `capacity`) when
+// they fit.
+template <class Demand, class Value>
+std::pair<size_t, double> water_line(const std::vector<Demand>& sorted, double capacity, Value value) {
+  double left = capacity;
+  const size_t n = sorted.size();
+  for (size_t i = 0; i < n; ++i) {
+    const double share = left / double(n - i);
+    if (value(sorted[i]) > share) return {i, share};
+    left -= value(sorted[i]);
+  }
+  return {n, capacity};
+}
+
 // The water level at which users with these demands share `capacity`: each
 // gets min(demand, level) and together they use all of it; `capacity` (no
 // one can use more) when the demands fit. Sorts `demands`.
 double water_level(std::vector<double>& demands, double capacity) {
   std::sort(demands.begin(), demands.end());
-  double left = capacity;
-  const size_t n = demands.size();
-  for (size_t i = 0; i < n; ++i) {
-    const double share = left / double(n - i);
-    if (demands[i] > share) return share;
-    left -= demands[i];
-  }
-  return capacity;
+  return water_line(demands, capacity, [](double d) { return d; }).second;
 }
 
 // Sorts (demand, flag) pairs by demand and returns how many of them lie
-// below the water line, as water_level() finds it: the index of the first
-// demand above the share left, or all of them when they fit.
+// below the water line, as water_level() finds it.
 size_t below_line(std::vector<std::pair<double, bool>>& demands, double capacity) {
   std::sort(demands.begin(), demands.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  double left = capacity;
-  const size_t n = demands.size();
-  for (size_t i = 0; i < n; ++i) {
-    if (demands[i].first > left / double(n - i)) return i;
-    left -= demands[i].first;
-  }
-  return n;
+  return water_line(demands, capacity, [](const auto& d) { return d.first; }).first;
 }
 
 }  // namespace
@@ -52,27 +53,20 @@ void ResourceSharing::best_levels(const std::vector<double>& in) {
   m_best.assign(2 * m, kInf);
   m_best_resource.assign(m, -1);
   for (int r : m_shared)
-    for (const auto& [k, a] : m_users[size_t(r)]) {
-      const double v = in[size_t(r)] / a;
-      double& b1 = m_best[2 * size_t(k)];
-      double& b2 = m_best[2 * size_t(k) + 1];
-      if (v < b1) {
-        b2 = b1;
-        b1 = v;
-        m_best_resource[size_t(k)] = r;
-      } else if (v < b2) {
-        b2 = v;
-      }
-    }
+    for (const auto& [k, a] : m_users[size_t(r)]) note_level(k, r, in[size_t(r)] / a);
+}
+
+void ResourceSharing::water_levels(const std::vector<int>& resources, std::vector<double>& out) {
+  for (int r : resources) {
+    m_demands.clear();
+    for (const auto& [k, a] : m_users[size_t(r)]) m_demands.push_back(demand(k, r, a));
+    out[size_t(r)] = water_level(m_demands, m_capacity[size_t(r)]);
+  }
 }
 
 void ResourceSharing::step(const std::vector<double>& in, std::vector<double>& out) {
   best_levels(in);
-  for (int r : m_shared) {
-    m_demands.clear();
-    for (const auto& [k, a] : m_users[size_t(r)]) m_demands.push_back(a * std::min(other(k, r), m_own[size_t(k)]));
-    out[size_t(r)] = water_level(m_demands, m_capacity[size_t(r)]);
-  }
+  water_levels(m_shared, out);
 }
 
 void ResourceSharing::settle(const std::vector<double>& at) {
@@ -96,7 +90,7 @@ void ResourceSharing::settle(const std::vector<double>& at) {
   best_levels(m_capacity);
   m_top.clear();
   for (int r : m_shared)
-    for (const auto& [k, a] : m_users[size_t(r)]) m_top.push_back(a * std::min(other(k, r), m_own[size_t(k)]));
+    for (const auto& [k, a] : m_users[size_t(r)]) m_top.push_back(demand(k, r, a));
   best_levels(at);
   m_moving.clear();
   size_t u = 0;
@@ -110,8 +104,8 @@ void ResourceSharing::settle(const std::vector<double>& at) {
     }
     m_flagged.clear();
     for (const auto& [k, a] : m_users[size_t(r)]) {
-      const double demand = a * std::min(other(k, r), m_own[size_t(k)]);
-      m_flagged.push_back({demand, demand != m_top[u++]});
+      const double d = demand(k, r, a);
+      m_flagged.push_back({d, d != m_top[u++]});
     }
     const size_t below = below_line(m_flagged, m_capacity[size_t(r)]);
     if (below == 0) continue;
@@ -146,23 +140,8 @@ void ResourceSharing::step_moving(const std::vector<double>& in, std::vector<dou
     m_best[2 * size_t(k)] = m_best[2 * size_t(k) + 1] = kInf;
     m_best_resource[size_t(k)] = -1;
   }
-  for (const Watch& w : m_watch) {
-    const double v = in[size_t(w.resource)] / w.amount;
-    double& b1 = m_best[2 * size_t(w.unit)];
-    double& b2 = m_best[2 * size_t(w.unit) + 1];
-    if (v < b1) {
-      b2 = b1;
-      b1 = v;
-      m_best_resource[size_t(w.unit)] = w.resource;
-    } else if (v < b2) {
-      b2 = v;
-    }
-  }
-  for (int r : m_moving) {
-    m_demands.clear();
-    for (const auto& [k, a] : m_users[size_t(r)]) m_demands.push_back(a * std::min(other(k, r), m_own[size_t(k)]));
-    out[size_t(r)] = water_level(m_demands, m_capacity[size_t(r)]);
-  }
+  for (const Watch& w : m_watch) note_level(w.unit, w.resource, in[size_t(w.resource)] / w.amount);
+  water_levels(m_moving, out);
 }
 
 uint64_t ResourceSharing::make_key() {

@@ -18,6 +18,7 @@
 // what it changes can be measured (`timing.sharing`).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -100,8 +101,25 @@ class ResourceSharing {
   // Per unit, its smallest and second smallest L_r / a_ir over the shared
   // resources, and on which resource the smallest is (m_best, m_best_resource).
   void best_levels(const std::vector<double>& in);
+  // Keeps v = L_r / a_kr among unit k's smallest two (best_levels()).
+  void note_level(int k, int r, double v) {
+    double& b1 = m_best[2 * size_t(k)];
+    double& b2 = m_best[2 * size_t(k) + 1];
+    if (v < b1) {
+      b2 = b1;
+      b1 = v;
+      m_best_resource[size_t(k)] = r;
+    } else if (v < b2) {
+      b2 = v;
+    }
+  }
   // What unit k's other shared resources let it run at (best_levels()'s).
   double other(int k, int r) const { return m_best_resource[size_t(k)] == r ? m_best[2 * size_t(k) + 1] : m_best[2 * size_t(k)]; }
+  // Unit k's demand on r (of amount a): a times what its other shared
+  // resources and its own limit let it run at.
+  double demand(int k, int r, double a) const { return a * std::min(other(k, r), m_own[size_t(k)]); }
+  // The water level of each of `resources` given best_levels()'s, in `out`.
+  void water_levels(const std::vector<int>& resources, std::vector<double>& out);
 
   // The shared resources' problem, as the words that decide the
   // iteration's every step (rates()); returns its hash.
