@@ -246,6 +246,19 @@ int main(int argc, char** argv) {
          R"("uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],)"
          R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
          R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
+  // A triangle strip and a fan, indexed, of four vertices: the modes whose
+  // short forms assimp 5.2 misread (formats/model_checks.cpp).
+  for (const char* mode : {"5", "6"})
+    std::ofstream(dir / "model" / (std::string("mode") + mode + ".gltf"), std::ios::binary)
+        << '\2'
+        << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+           R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":)"
+        << mode
+        << R"(}]}],"buffers":[{"byteLength":64,"uri":"data:application/octet-stream;base64,)"
+           R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAgD8AAAAAAAAAAAEAAAACAAAAAwAAAA=="}],)"
+           R"("bufferViews":[{"buffer":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":16}],)"
+           R"("accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+           R"({"bufferView":1,"componentType":5125,"count":4,"type":"SCALAR"}]})";
   std::ofstream(dir / "model" / "groups.obj", std::ios::binary)
       << '\3'
       << "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"

@@ -217,9 +217,68 @@ PlyMesh parse_ply(const std::string& bytes, const std::string& name) {
   return mesh;
 }
 
+// A glTF primitive's mode and its vertex count (its index accessor's, else
+// its POSITION accessor's). assimp 5.2 takes a strip, fan or loop's
+// primitive count as the vertex count less the vertices of its first
+// primitive, unsigned: a triangle strip or fan of 0 or 1 vertices asked
+// for 2^32 - 2 faces (64 GiB, found by fuzz_model), a line strip of none
+// for 2^32 - 1, and an indexed fan of 2 or an indexed loop of under 2 read
+// or freed memory that was not theirs. Each mode is checked to be one glTF
+// 2 defines and to have at least the vertices of one of its primitives,
+// and the accessors a primitive names are checked to exist.
+void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
+  // A value named in a message: a number as written, anything else by its type.
+  const auto shown = [](const nlohmann::json& v) { return v.is_number() ? v.dump() : std::string("a ") + v.type_name(); };
+  const auto meshes = j.find("meshes");
+  if (meshes == j.end() || !meshes->is_array()) return;
+  const auto accessors = j.find("accessors");
+  const size_t n_accessors = accessors != j.end() && accessors->is_array() ? accessors->size() : 0;
+  static const char* const kModes[] = {"points",    "lines",          "line loop",   "line strip",
+                                       "triangles", "triangle strip", "triangle fan"};
+  static const uint64_t kLeast[] = {0, 0, 2, 2, 0, 3, 3};  // vertices the first primitive of a strip, fan or loop needs
+  for (size_t m = 0; m < meshes->size(); ++m) {
+    const auto& mesh = (*meshes)[m];
+    const auto prims = mesh.is_object() ? mesh.find("primitives") : mesh.end();
+    if (!mesh.is_object() || prims == mesh.end() || !prims->is_array()) continue;
+    for (size_t p = 0; p < prims->size(); ++p) {
+      const auto& prim = (*prims)[p];
+      if (!prim.is_object()) continue;
+      const std::string what = "glTF mesh " + std::to_string(m) + " primitive " + std::to_string(p);
+      uint64_t mode = 4;  // triangles, glTF 2's default
+      if (const auto it = prim.find("mode"); it != prim.end()) {
+        if (!it->is_number_unsigned() || it->get<uint64_t>() > 6)
+          bad(name, what + " has mode " + shown(*it) + "; glTF 2 defines modes 0 to 6");
+        mode = it->get<uint64_t>();
+      }
+      // The accessors named: the index accessor, whose count is the
+      // vertex count when it is there, then the POSITION accessor.
+      const nlohmann::json* named[2] = {nullptr, nullptr};
+      if (const auto it = prim.find("indices"); it != prim.end()) named[0] = &*it;
+      if (const auto attr = prim.find("attributes"); attr != prim.end() && attr->is_object())
+        if (const auto it = attr->find("POSITION"); it != attr->end()) named[1] = &*it;
+      uint64_t vertices = UINT64_MAX;  // unknown: no accessor named
+      for (int k = 0; k < 2; ++k) {
+        if (!named[k]) continue;
+        const nlohmann::json& index = *named[k];
+        const std::string role = k == 0 ? "indices" : "POSITION";
+        if (!index.is_number_unsigned() || index.get<uint64_t>() >= n_accessors)
+          bad(name, what + "'s " + role + " names accessor " + shown(index) + ", which does not exist");
+        const auto& accessor = (*accessors)[size_t(index.get<uint64_t>())];
+        const auto count = accessor.is_object() ? accessor.find("count") : accessor.end();
+        if (!accessor.is_object() || count == accessor.end() || !count->is_number_unsigned())
+          bad(name, "glTF accessor " + shown(index) + " (" + what + "'s " + role + ") has no count");
+        if (vertices == UINT64_MAX) vertices = count->get<uint64_t>();
+      }
+      if (vertices != UINT64_MAX && vertices < kLeast[mode])
+        bad(name, what + " is a " + kModes[mode] + " of " + std::to_string(vertices) + (vertices == 1 ? " vertex" : " vertices") +
+                      "; a " + kModes[mode] + " needs at least " + std::to_string(kLeast[mode]));
+    }
+  }
+}
+
 // glTF 2 JSON: buffers no larger than the bytes that hold them, accessors
 // with counts within the limits, a node graph of bounded depth and
-// instances. Returns the document without what oovr does not draw.
+// instances, primitives assimp can read. Returns the document without what oovr does not draw.
 std::string check_gltf_json(const std::string& text, const std::string& name, uint64_t glb_bin_bytes, bool glb) {
   const InputLimits& lim = InputLimits::get();
   nlohmann::json j;
@@ -340,6 +399,7 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
         check_limit(c->get<uint64_t>(), lim.elements, "elements", "model '" + name + "'", "elements in an accessor");
     }
   }
+  check_gltf_primitives(j, name);
   // Skins, animations and morph targets move or blend geometry over time;
   // oovr draws a model's rest pose, so they are taken out here rather than
   // left to assimp (whose glTF 2 importer crashes on some skins).
