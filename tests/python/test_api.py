@@ -116,6 +116,17 @@ def test_bad_arguments_raise_with_oovrs_message(call, error, message):
         call()
 
 
+@pytest.mark.parametrize("variable, scene", [("OOVR_OPENARENA_DIR", "oa:oa_dm4"), ("OOVR_NEXUIZ_DIR", "nexuiz:strength")])
+def test_game_data_that_is_not_installed_is_file_not_found(tmp_path, monkeypatch, variable, scene):
+    # What a script leaves out when a game is not installed (examples/link_bandwidth.py).
+    monkeypatch.setenv(variable, str(tmp_path / "none"))
+    with pytest.raises(FileNotFoundError, match="game directory .*none' does not exist"):
+        oovr.load_scene(scene)
+    monkeypatch.setenv(variable, str(tmp_path))
+    with pytest.raises(FileNotFoundError, match="holds no .pk3 archives"):
+        oovr.load_scene(scene)
+
+
 def test_a_file_that_is_not_a_results_database_is_refused(tmp_path):
     p = tmp_path / "x.db"
     p.write_text("not sqlite")

@@ -44,11 +44,11 @@ struct Pk3FileSystem::Impl {
 
 Pk3FileSystem::Pk3FileSystem(const std::string& directory) : m(std::make_unique<Impl>()) {
   std::error_code ec;
-  if (!fs::is_directory(directory, ec)) throw Error("game directory '" + directory + "' does not exist");
+  if (!fs::is_directory(directory, ec)) throw NotFoundError("game directory '" + directory + "' does not exist");
   for (const auto& e : fs::directory_iterator(directory, ec)) {
     if (normalize_game_path(e.path().extension().string()) == ".pk3") m_archive_paths.push_back(e.path().string());
   }
-  if (m_archive_paths.empty()) throw Error("game directory '" + directory + "' holds no .pk3 archives");
+  if (m_archive_paths.empty()) throw NotFoundError("game directory '" + directory + "' holds no .pk3 archives");
   // Engine order: ascending by name, case-insensitively; later ones win.
   std::sort(m_archive_paths.begin(), m_archive_paths.end(), [](const std::string& a, const std::string& b) {
     return normalize_game_path(fs::path(a).filename().string()) < normalize_game_path(fs::path(b).filename().string());
