@@ -202,7 +202,7 @@ TEST(Models, GltfSkinsAnimationsAndMorphTargetsAreLeftOut) {
 // the indices (whose count, when named, is the vertex count) or POSITION:
 // the short ones are refused by name before assimp reads them, the rest
 // load.
-TEST(Models, GltfStripsFansAndLoopsTooShortForOnePrimitiveAreRefused) {
+TEST(Models, GltfPrimitivesAssimpWouldMisreadAreRefusedByName) {
   const char* kModes[] = {"points", "lines", "line loop", "line strip", "triangles", "triangle strip", "triangle fan"};
   const int kLeast[] = {0, 0, 2, 2, 0, 3, 3};
   int refused = 0, loaded = 0;
@@ -252,6 +252,24 @@ TEST(Models, GltfStripsFansAndLoopsTooShortForOnePrimitiveAreRefused) {
               (void)load_model_bytes(primitive(R"("attributes":{"POSITION":"zero"})"), "p.gltf");
             }).find("primitive 0's POSITION names accessor a string, which does not exist"),
             std::string::npos);
+  EXPECT_NE(message_of([&] {
+              (void)load_model_bytes(primitive(R"("attributes":{"POSITION":0,"NORMAL":9})"), "n.gltf");
+            }).find("primitive 0's NORMAL names accessor 9, which does not exist"),
+            std::string::npos);
+  // A sparse accessor (assimp 5.2 overran its buffers when the substitutions
+  // outnumber what the buffer views hold): refused where a primitive reads
+  // it, left alone where none does (assimp reads only what is named).
+  const std::string sparse = R"(,{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","sparse":{"count":100,)"
+                             R"("indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":0}}}])";
+  std::string read = primitive(R"("attributes":{"POSITION":1})");
+  read.replace(read.rfind("]"), 1, sparse);
+  EXPECT_NE(message_of([&] {
+              (void)load_model_bytes(read, "s.gltf");
+            }).find("glTF accessor 1 (glTF mesh 0 primitive 0's POSITION) is sparse; oovr does not read sparse accessors"),
+            std::string::npos);
+  std::string unread = primitive(R"("attributes":{"POSITION":0})");
+  unread.replace(unread.rfind("]"), 1, sparse);
+  EXPECT_EQ(message_of([&] { (void)load_model_bytes(unread, "u.gltf"); }), "<no error>");
 }
 
 // Nodes sharing children multiply: 17 levels of two nodes, each naming both

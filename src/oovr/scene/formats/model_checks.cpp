@@ -225,7 +225,12 @@ PlyMesh parse_ply(const std::string& bytes, const std::string& name) {
 // for 2^32 - 1, and an indexed fan of 2 or an indexed loop of under 2 read
 // or freed memory that was not theirs. Each mode is checked to be one glTF
 // 2 defines and to have at least the vertices of one of its primitives,
-// and the accessors a primitive names are checked to exist.
+// and the accessors a primitive names are checked to exist. Sparse
+// accessors are refused: assimp 5.2 copies a sparse accessor's
+// substitutions without checking their count or indices against the
+// buffers (a heap overrun). Those no primitive names (morph targets'
+// usually, taken out below) are left: assimp reads only the accessors
+// something names.
 void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
   // A value named in a message: a number as written, anything else by its type.
   const auto shown = [](const nlohmann::json& v) { return v.is_number() ? v.dump() : std::string("a ") + v.type_name(); };
@@ -251,23 +256,31 @@ void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
         mode = it->get<uint64_t>();
       }
       // The accessors named: the index accessor, whose count is the
-      // vertex count when it is there, then the POSITION accessor.
-      const nlohmann::json* named[2] = {nullptr, nullptr};
-      if (const auto it = prim.find("indices"); it != prim.end()) named[0] = &*it;
+      // vertex count when it is there, then the attributes' (POSITION's
+      // count is the vertex count otherwise).
+      struct Named {
+        std::string role;
+        const nlohmann::json* index;
+        bool counts;  // its count is the vertex count
+      };
+      std::vector<Named> named;
+      const auto indices = prim.find("indices");
+      const bool indexed = indices != prim.end();
+      if (indexed) named.push_back({"indices", &*indices, true});
       if (const auto attr = prim.find("attributes"); attr != prim.end() && attr->is_object())
-        if (const auto it = attr->find("POSITION"); it != attr->end()) named[1] = &*it;
-      uint64_t vertices = UINT64_MAX;  // unknown: no accessor named
-      for (int k = 0; k < 2; ++k) {
-        if (!named[k]) continue;
-        const nlohmann::json& index = *named[k];
-        const std::string role = k == 0 ? "indices" : "POSITION";
-        if (!index.is_number_unsigned() || index.get<uint64_t>() >= n_accessors)
-          bad(name, what + "'s " + role + " names accessor " + shown(index) + ", which does not exist");
-        const auto& accessor = (*accessors)[size_t(index.get<uint64_t>())];
+        for (auto it = attr->begin(); it != attr->end(); ++it)
+          named.push_back({it.key(), &*it, !indexed && it.key() == "POSITION"});
+      uint64_t vertices = UINT64_MAX;  // unknown: neither named
+      for (const auto& [role, index, counts] : named) {
+        if (!index->is_number_unsigned() || index->get<uint64_t>() >= n_accessors)
+          bad(name, what + "'s " + printable(role) + " names accessor " + shown(*index) + ", which does not exist");
+        const std::string accessor_named = "glTF accessor " + shown(*index) + " (" + what + "'s " + printable(role) + ")";
+        const auto& accessor = (*accessors)[size_t(index->get<uint64_t>())];
         const auto count = accessor.is_object() ? accessor.find("count") : accessor.end();
         if (!accessor.is_object() || count == accessor.end() || !count->is_number_unsigned())
-          bad(name, "glTF accessor " + shown(index) + " (" + what + "'s " + role + ") has no count");
-        if (vertices == UINT64_MAX) vertices = count->get<uint64_t>();
+          bad(name, accessor_named + " has no count");
+        if (accessor.contains("sparse")) bad(name, accessor_named + " is sparse; oovr does not read sparse accessors");
+        if (counts) vertices = count->get<uint64_t>();
       }
       if (vertices != UINT64_MAX && vertices < kLeast[mode])
         bad(name, what + " is a " + kModes[mode] + " of " + std::to_string(vertices) + (vertices == 1 ? " vertex" : " vertices") +
