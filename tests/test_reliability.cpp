@@ -249,8 +249,9 @@ TEST(Models, GltfPrimitivesAssimpWouldMisreadAreRefusedByName) {
       {R"("attributes":{"POSITION":0},"indices":5)", "primitive 0's indices names accessor 5, which does not exist"},
       {R"("attributes":{"POSITION":"zero"})", "primitive 0's POSITION names accessor a string, which does not exist"},
       {R"("attributes":{"POSITION":0,"NORMAL":9})", "primitive 0's NORMAL names accessor 9, which does not exist"}};
-  for (const auto& [with, why] : kBad)
-    EXPECT_NE(message_of([&] { (void)load_model_bytes(primitive(with), "bad.gltf"); }).find(why), std::string::npos) << with;
+  for (const auto& bad : kBad)
+    EXPECT_NE(message_of([&] { (void)load_model_bytes(primitive(bad.first), "bad.gltf"); }).find(bad.second), std::string::npos)
+        << bad.first;
   // A sparse accessor (assimp 5.2 overran its buffers when the substitutions
   // outnumber what the buffer views hold): refused where a primitive reads
   // it, left alone where none does (assimp reads only what is named).
