@@ -220,17 +220,17 @@ PlyMesh parse_ply(const std::string& bytes, const std::string& name) {
 // A glTF primitive's mode and its vertex count (its index accessor's, else
 // its POSITION accessor's). assimp 5.2 takes a strip, fan or loop's
 // primitive count as the vertex count less the vertices of its first
-// primitive, unsigned: a triangle strip or fan of 0 or 1 vertices asked
-// for 2^32 - 2 faces (64 GiB, found by fuzz_model), a line strip of none
-// for 2^32 - 1, and an indexed fan of 2 or an indexed loop of under 2 read
-// or freed memory that was not theirs. Each mode is checked to be one glTF
-// 2 defines and to have at least the vertices of one of its primitives,
-// and the accessors a primitive names are checked to exist. Sparse
-// accessors are refused: assimp 5.2 copies a sparse accessor's
-// substitutions without checking their count or indices against the
-// buffers (a heap overrun). Those no primitive names (morph targets'
-// usually, taken out below) are left: assimp reads only the accessors
-// something names.
+// primitive, unsigned: a triangle strip or fan of no vertices asked for
+// 2^32 - 2 faces (64 GiB, found by fuzz_model), one of 1 vertex and a line
+// strip of none for 2^32 - 1, and an indexed fan of 2 or an indexed loop
+// of under 2 read or freed memory that was not theirs. Each mode is
+// checked to be one glTF 2 defines and to have at least the vertices of
+// one of its primitives, and the accessors a primitive names are checked
+// to exist. Sparse ones among them are refused: assimp 5.2 copies a
+// sparse accessor's substitutions without checking their count or indices
+// against the buffers (a heap overrun). Those no primitive names (morph
+// targets' usually, taken out below) are left: assimp reads only the
+// accessors something names.
 void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
   // A value named in a message: a number as written, anything else by its type.
   const auto shown = [](const nlohmann::json& v) { return v.is_number() ? v.dump() : std::string("a ") + v.type_name(); };
@@ -291,7 +291,8 @@ void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
 
 // glTF 2 JSON: buffers no larger than the bytes that hold them, accessors
 // with counts within the limits, a node graph of bounded depth and
-// instances, primitives assimp can read. Returns the document without what oovr does not draw.
+// instances, primitives assimp can read. Returns the document without
+// what oovr does not draw.
 std::string check_gltf_json(const std::string& text, const std::string& name, uint64_t glb_bin_bytes, bool glb) {
   const InputLimits& lim = InputLimits::get();
   nlohmann::json j;
