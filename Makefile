@@ -34,8 +34,11 @@ test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 	@scripts/validation-summary.sh $(BUILD)
 
+# Line tables only for debug information: what the sanitizers' reports need
+# (file, line, inlined frames), for a tenth less compile time than -g.
 $(SAN_BUILD)/build.ninja:
 	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
 	  -DOOVR_SANITIZE=ON -DOOVR_FUZZ=ON -DOOVR_BUILD_BENCH=OFF
 
 # Every test under the sanitizers (ASAN_CTEST_ARGS narrows them: CI passes

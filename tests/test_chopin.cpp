@@ -96,7 +96,9 @@ TEST(Chopin, DrawsGoWhereTheSchedulersDefinitionSays) {
         }
         load[size_t(best)] += f.objects[o].triangles;
         last = best;
-        if (got[o] >= 0) EXPECT_EQ(got[o], best) << "draw " << o << " at " << n << " GPMs";
+        if (got[o] >= 0) {
+          EXPECT_EQ(got[o], best) << "draw " << o << " at " << n << " GPMs";
+        }
       }
     };
     opaque(0, 5);
@@ -115,8 +117,11 @@ TEST(Chopin, DrawsGoWhereTheSchedulersDefinitionSays) {
   }
   // Round-robin: the first group's draws in turn from GPM 0.
   const std::vector<int> rr = gpm_of_draws(f, chopin(4, {"chopin.scheduler=round-robin"}));
-  for (uint32_t o = 0; o < 5; ++o)
-    if (rr[o] >= 0) EXPECT_EQ(rr[o], int(o % 4)) << o;
+  for (uint32_t o = 0; o < 5; ++o) {
+    if (rr[o] >= 0) {
+      EXPECT_EQ(rr[o], int(o % 4)) << o;
+    }
+  }
 }
 
 // One group for the frame is a bound: the blended frame's five groups each

@@ -175,7 +175,9 @@ void expect_reference_answers(bool wrap) {
         set.push_back({line, write});
       }
       ASSERT_EQ(ev.dirty, dirty_out) << policy << ", access " << k;
-      if (dirty_out) ASSERT_EQ(ev.line, out) << policy << ", access " << k;
+      if (dirty_out) {
+        ASSERT_EQ(ev.line, out) << policy << ", access " << k;
+      }
       previous = line;
     }
     // The stream exercised every path: hits, re-reads, evictions.
@@ -794,7 +796,9 @@ TEST(Memory, EnergyIntegratesEachLevelsLookupsAndEachLinksBytes) {
     for (const Metric& m : metrics_of(r)) {
       if (m.location == "frame" && m.metric == "energy") total = m.value;
       if (m.location != "frame" && m.metric == "energy") located += m.value;
-      if (m.metric == "energy") EXPECT_EQ(m.unit, "J");
+      if (m.metric == "energy") {
+        EXPECT_EQ(m.unit, "J");
+      }
     }
     EXPECT_NEAR(total, caches + dram + links, 1e-9 * total);
     EXPECT_NEAR(located, total, 1e-9 * total);

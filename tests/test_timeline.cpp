@@ -71,7 +71,9 @@ TEST(Timeline, ItsSpansAddUpToEachGpmsBusyTime) {
     }
     for (int f = 0; f < frames; ++f) {
       EXPECT_NEAR(last[size_t(f)], r.frame_latencies_s[size_t(f)], 1e-15) << scheme;
-      if (f) EXPECT_NEAR(offset[size_t(f)], offset[size_t(f - 1)] + r.frame_latencies_s[size_t(f - 1)], 1e-15);
+      if (f) {
+        EXPECT_NEAR(offset[size_t(f)], offset[size_t(f - 1)] + r.frame_latencies_s[size_t(f - 1)], 1e-15);
+      }
     }
     // Keeping it changes no number.
     const SchemeResult plain = run(scheme, false);
@@ -187,9 +189,10 @@ TEST(Timeline, SpansNestOrFollowOnEveryTrackAsViewersRequire) {
       std::vector<double> open;  // ends of the spans enclosing the current one
       for (const auto& [a, b] : v) {
         while (!open.empty() && open.back() <= a + eps) open.pop_back();
-        if (!open.empty())
+        if (!open.empty()) {
           EXPECT_LE(b, open.back() + eps) << scheme << ": a span on pid " << track.first << " tid " << track.second << " from "
                                           << a << " to " << b << " overlaps the end (" << open.back() << ") of one it starts in";
+        }
         open.push_back(b);
       }
     }
