@@ -47,6 +47,8 @@ job=$(submitted_job gone.log)
 rm "$PWD/vanishing-oovr"
 release_and_wait "$job"
 if "$oovr" sweep two.toml --db gone.db --slurm-dir gone.slurm --collect > gone-collect.log 2>&1; then cat gone-collect.log; exit 1; fi
-[ "$(grep -c "wrote nothing .*its log ends: oovr: node node[12] has no executable $PWD/vanishing-oovr: the nodes need this oovr" gone-collect.log)" -eq 2 ] || {
+# The path compared as text (grep -F): it may hold [, ] or . of its own.
+[ "$(grep "wrote nothing .*its log ends: oovr: node node[12] has no executable " gone-collect.log |
+  grep -cF "has no executable $PWD/vanishing-oovr: the nodes need this oovr")" -eq 2 ] || {
   cat gone-collect.log; tail -n 3 gone.slurm/task-*.log; exit 1; }
 echo "two-node SLURM sweep equals the local one: 8 runs in 2 tasks, one on each node; a node without the oovr says so"

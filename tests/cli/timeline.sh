@@ -9,7 +9,8 @@ work=$2
 rm -rf "$work" && mkdir -p "$work"
 "$oovr" simulate --scene courtyard --scheme oo-vr --resolution 320x240 --timeline "$work/t.json" > "$work/run.log" 2>&1 || {
   cat "$work/run.log"; exit 1; }
-grep -q "^timeline: [1-9][0-9]* units in $work/t.json" "$work/run.log" || { cat "$work/run.log"; exit 1; }
+# The path compared as text (grep -F): it may hold [, ] or . of its own.
+grep "^timeline: [1-9][0-9]* units in " "$work/run.log" | grep -qF "units in $work/t.json" || { cat "$work/run.log"; exit 1; }
 /usr/bin/python3 - "$work/t.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
