@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "game_data.h"
 #include "oovr/pipeline/pipeline.h"
@@ -113,6 +114,65 @@ TEST(PipelineVersion, ReferenceTracesAreThoseOfThisVersion) {
   if (checked < int(std::size(kReferences)))
     std::printf("[   NOTE   ] %d of %zu reference frames checked; the game levels' need scripts/install-deps.sh --game-data\n",
                 checked, std::size(kReferences));
+}
+
+// Where two traces of a frame part: the first record or texture line that differs.
+std::string difference(const FrameTrace& a, const FrameTrace& b) {
+  if (a.tiles.size() != b.tiles.size())
+    return std::to_string(a.tiles.size()) + " against " + std::to_string(b.tiles.size()) + " records";
+  for (size_t i = 0; i < a.tiles.size(); ++i)
+    if (!(a.tiles[i] == b.tiles[i])) return "record " + std::to_string(i) + " differs";
+  if (a.tex_lines.size() != b.tex_lines.size())
+    return std::to_string(a.tex_lines.size()) + " against " + std::to_string(b.tex_lines.size()) + " texture lines";
+  for (size_t i = 0; i < a.tex_lines.size(); ++i)
+    if (a.tex_lines[i] != b.tex_lines[i]) return "texture line " + std::to_string(i) + " differs";
+  return "the records and lines are the same; the header or the objects differ";
+}
+
+// Drawn without the image (what `simulate`, `compare` and sweeps render for
+// the frames whose picture they do not use), every reference frame gives the
+// trace it gives with it, bit for bit, and no picture: the texture lines
+// recorded without fetching a texel, alpha-tested passes shaded for their
+// alpha, per-pixel lit and blended passes, 16x and trilinear, and a larger
+// frame of each built-in scene with more of every kind of quad.
+TEST(PipelineVersion, TheTraceDrawnWithoutTheImageIsTheSame) {
+  struct Frame {
+    const char* scene;
+    int frame;
+    const char* eye_resolution;
+    int max_anisotropy;
+    bool fetch_layers;
+  };
+  std::vector<Frame> frames;
+  for (const Reference& r : kReferences) frames.push_back({r.scene, r.frame, r.eye_resolution, r.max_anisotropy, r.fetch_layers});
+  for (const char* scene : {"crowd", "courtyard"})
+    for (int aniso : {1, 16}) frames.push_back({scene, 3, "320x256", aniso, false});
+  int checked = 0;
+  for (const Frame& r : frames) {
+    if (!installed(r.scene)) continue;
+    Scene scene = load_scene(r.scene);
+    if (r.fetch_layers)
+      for (Material& m : scene.materials)
+        for (Pass& p : m.passes)
+          if (p.shading == Shading::layers)
+            for (LayerKind k : {LayerKind::normal, LayerKind::gloss})
+              p.layers.push_back({k, 0, TexCoords::surface, Combine::fetch, 1.0f, {}});
+    const StereoView view = make_stereo_view(scene.camera, r.frame, parse_eye_resolution(r.eye_resolution));
+    PipelineSettings settings;
+    settings.max_anisotropy = r.max_anisotropy;
+    const FrameOutput with = render_frame(scene, view, settings, r.frame);
+    settings.draw_image = false;
+    const FrameOutput without = render_frame(scene, view, settings, r.frame);
+    const std::string what = std::string(r.scene) + " frame " + std::to_string(r.frame) + " at " + r.eye_resolution + " (" +
+                             std::to_string(r.max_anisotropy) + "x anisotropic)";
+    EXPECT_TRUE(serialize_trace(without.trace) == serialize_trace(with.trace))
+        << what << ": " << difference(with.trace, without.trace);
+    EXPECT_GT(with.trace.tex_lines.size(), 0u) << what;
+    EXPECT_TRUE(without.colour.rgba.empty()) << what;
+    EXPECT_TRUE(without.object_id.empty()) << what;
+    ++checked;
+  }
+  EXPECT_GE(checked, 6);
 }
 
 }  // namespace

@@ -32,6 +32,13 @@ struct PipelineSettings {
   unsigned threads = 0;
   // Record texture lines in the trace (the largest part of it).
   bool record_texture_lines = true;
+  // Draw the image and object ids. Without them, render_frame gives the
+  // trace alone, the same bit for bit, in less time: passes whose fragments
+  // cannot be discarded record their texture lines and lookups without
+  // fetching or filtering a texel, and nothing is blended or written but
+  // depth (raster.h). `simulate`, `compare` and sweeps render so every
+  // frame whose picture they do not use.
+  bool draw_image = true;
   // How textures are stored in memory (footprint and traffic; the image is
   // the same). The games oovr's workloads stand for shipped or uploaded
   // their textures block-compressed (docs/model.md), so the default is the
@@ -50,6 +57,7 @@ constexpr int kTileSize = 16;
 constexpr uint32_t kNoObject = 0xffffffffu;
 
 struct FrameOutput {
+  // Both empty when drawn without the image (PipelineSettings::draw_image).
   Image colour;                             // frame_width x frame_height, bottom row first; cleared to opaque black
   UninitialisedVector<uint32_t> object_id;  // per pixel: object that last wrote it, or kNoObject
   FrameTrace trace;

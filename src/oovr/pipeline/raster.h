@@ -92,13 +92,6 @@ inline detail::Rgba shade_deluxe(const PreparedPass& pp, const detail::Rgba* tex
 // gloss, glow, lightmap, deluxe and room for two more).
 constexpr size_t kMaxDeluxeLayers = 8;
 
-// Pixels set in a quad's 4-bit mask. A table: without -mpopcnt (oovr is
-// built for any x86-64) the builtin is a library call.
-inline uint32_t pixels_in(unsigned mask) {
-  static constexpr uint8_t kPixels[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-  return kPixels[mask & 15u];
-}
-
 inline bool depth_passes(DepthFunc f, float z, float stored) {
   switch (f) {
     case DepthFunc::less: return z < stored;
@@ -203,6 +196,7 @@ class TileRasterizer {
         m_block_shift_x(__builtin_ctz(unsigned(block_w))),
         m_block_shift_y(__builtin_ctz(unsigned(block_h))),
         m_frame(frame),
+        m_image(settings.draw_image),
         m_fma(cpu_has_fma()) {
     // Framebuffer blocks are powers of two of at least 4x2 pixels
     // (line_block_shape, lines of 32 bytes or more): a 2x2 quad at even
@@ -225,13 +219,16 @@ class TileRasterizer {
     m_out = &out;
     m_open = false;
     // The frame's clear values: opaque black, the far plane, no object.
-    for (int i = 0; i < kTilePixels; ++i) {
-      m_colour[i * 4 + 0] = m_colour[i * 4 + 1] = m_colour[i * 4 + 2] = 0;
-      m_colour[i * 4 + 3] = 255;
-      m_depth[i] = 1.0f;
-      m_ids[i] = kNoObject;
+    for (int i = 0; i < kTilePixels; ++i) m_depth[i] = 1.0f;
+    if (m_image) {
+      for (int i = 0; i < kTilePixels; ++i) {
+        m_colour[i * 4 + 0] = m_colour[i * 4 + 1] = m_colour[i * 4 + 2] = 0;
+        m_colour[i * 4 + 3] = 255;
+        m_ids[i] = kNoObject;
+      }
     }
     draw(bin);
+    if (!m_image) return;
     const int x0 = tx * kTileSize, y0 = ty * kTileSize;
     const int w = std::min(kTileSize, m_frame.width - x0), h = std::min(kTileSize, m_frame.height - y0);
     for (int ly = 0; ly < h; ++ly) {
@@ -295,6 +292,10 @@ class TileRasterizer {
     // Early depth test when the shader cannot discard: occluded fragments
     // are never shaded and fetch no texels.
     const bool early_z = !pass.alpha_tested();
+    // Without the image, a fragment's colour matters only where its alpha
+    // may discard it: other passes record their lines and lookups without
+    // fetching, filtering or combining a texel (the same trace, bit for bit).
+    const bool shade = m_image || pass.alpha_tested();
     const bool reads_colour = pass.reads_colour(), blended = pass.blended();
     const bool test_depth = pass.depth_func != DepthFunc::always;
     const Float4 colour{pass.colour.x, pass.colour.y, pass.colour.z, pass.colour.w};
@@ -340,7 +341,7 @@ class TileRasterizer {
           lu = (b0 * t.luw[0] + b1 * t.luw[1] + b2 * t.luw[2]) * w;
           lv = (b0 * t.lvw[0] + b1 * t.lvw[1] + b2 * t.lvw[2]) * w;
         }
-        if (t.lit != SetupTri::kNoLit) {
+        if (shade && t.lit != SetupTri::kNoLit) {
           const LitTri& L = m_lit[t.lit];
           const int n = pp.coloured ? kColourVaryings : kLitVaryings;
           for (int k = 0; k < n; ++k) m_lit4[k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
@@ -378,6 +379,15 @@ class TileRasterizer {
           const Float4 tv = L.transformed ? L.xf.d * su + L.xf.e * sv + L.xf.f : sv;
           const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
           const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
+          if (!shade) {
+            if (f.probes == 1) {
+              detail::sample_quad_lines(*L.texture, tu, tv, f.lambda, live, lines, m_cur.samples);
+            } else {
+              for (int p = 0; p < 4; ++p)
+                if (live & (1u << p)) detail::sample_lines(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
+            }
+            continue;
+          }
           // The live pixels' samples, in pixel order (their lines are recorded so).
           Float4 texel[4];
           if (f.probes == 1) {
@@ -422,7 +432,9 @@ class TileRasterizer {
           }
           first = false;
         }
-        if (deluxe) {
+        if (!shade) {
+          // c[p] is not used: the pass's alpha test is `always`.
+        } else if (deluxe) {
           for (int p = 0; p < 4; ++p) {
             if (!(live & (1u << p))) continue;
             float lit[kLitVaryings];
@@ -448,6 +460,13 @@ class TileRasterizer {
           if (pass.depth_write) {
             m_depth[pix] = z[p];
             m_cur.depth_write_mask |= quad_line;
+          }
+          if (!m_image) {
+            ++m_cur.passed;
+            if (!pass.colour_write) continue;
+            if (reads_colour) m_cur.colour_read_mask |= quad_line;
+            m_cur.colour_write_mask |= quad_line;
+            continue;
           }
           uint8_t* out = m_colour + pix * 4;
           Float4 src = c[p];
@@ -500,7 +519,8 @@ class TileRasterizer {
   static constexpr int kTilePixels = kTileSize * kTileSize;
   int m_block_shift_x, m_block_shift_y;
   Frame m_frame;
-  bool m_fma;  // plane_depth by the FMA instruction
+  bool m_image;  // PipelineSettings::draw_image
+  bool m_fma;    // plane_depth by the FMA instruction
   int m_tx = 0, m_ty = 0;
   Output* m_out = nullptr;
   TileWork m_cur;

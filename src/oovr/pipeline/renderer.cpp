@@ -89,8 +89,10 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
   // Rasterisation: tiles in parallel. Each clears and writes every pixel of
   // its own, so the frame's buffers are allocated untouched: their pages are
   // first written, and faulted in, by the tiles' threads.
-  result.colour = Image(view.frame_width, view.frame_height, Image::Unset{});
-  result.object_id.resize(size_t(view.frame_width) * size_t(view.frame_height));
+  if (settings.draw_image) {
+    result.colour = Image(view.frame_width, view.frame_height, Image::Unset{});
+    result.object_id.resize(size_t(view.frame_width) * size_t(view.frame_height));
+  }
   std::vector<detail::SamplerTexture> textures;
   textures.reserve(scene.textures.size());
   for (size_t i = 0; i < scene.textures.size(); ++i) {
@@ -135,7 +137,9 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
   // before they are moved to the tile's slot (slots share host cache lines).
   std::vector<TileRasterizer::Output> outputs(bins.size());
   constexpr size_t kRun = 8;
-  const TileRasterizer::Frame target{result.colour.rgba.data(), result.object_id.data(), view.frame_width, view.frame_height};
+  const TileRasterizer::Frame target{settings.draw_image ? result.colour.rgba.data() : nullptr,
+                                     settings.draw_image ? result.object_id.data() : nullptr, view.frame_width,
+                                     view.frame_height};
   parallel_for((bins.size() + kRun - 1) / kRun, threads, [&](size_t run) {
     TileRasterizer r(tris, lit, passes, settings, trace.block_w, trace.block_h, target);
     for (size_t i = run * kRun; i < std::min(bins.size(), run * kRun + kRun); ++i) {

@@ -59,6 +59,13 @@ class QuadLines {
   std::vector<TexLine> m_overflow;
 };
 
+// Pixels set in a quad's 4-bit mask. A table: without -mpopcnt (oovr is
+// built for any x86-64) the builtin is a library call.
+inline uint32_t pixels_in(unsigned mask) {
+  static constexpr uint8_t kPixels[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+  return kPixels[mask & 15u];
+}
+
 struct LevelView {
   int width, height;
   int wrap_mask_x, wrap_mask_y;  // size - 1 for power-of-two sizes, else -1
@@ -347,6 +354,57 @@ inline void sample_quad(const SamplerTexture& t, Float4 u4, Float4 v4, float lam
   }
 }
 
+// The trace without the image (PipelineSettings::draw_image off): the lines
+// and bilinear lookups a sample records, without its texel fetches and
+// filtering. Each does the coordinate arithmetic of the sampling function
+// it stands for, in its order, so the lines are the same, bit for bit; a
+// texel's value never decides which lines are read.
+
+// bilinear()'s lines.
+[[gnu::always_inline]] inline void bilinear_lines(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
+  const LevelView& l = t.levels[size_t(level)];
+  const float s = u * float(l.width) - 0.5f, tt = v * float(l.height) - 0.5f;
+  const float fs = std::floor(s), ft = std::floor(tt);
+  const int i0r = int(std::clamp(fs, -kCoordLimit, kCoordLimit)), j0r = int(std::clamp(ft, -kCoordLimit, kCoordLimit));
+  const int i0 = wrap_coord(i0r, l.width, l.wrap_mask_x, t.repeat);
+  const int i1 = wrap_coord(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
+  const int j0 = wrap_coord(j0r, l.height, l.wrap_mask_y, t.repeat);
+  const int j1 = wrap_coord(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
+  add_tap_lines(t, l, i0 >> t.block_shift_x, i1 >> t.block_shift_x, j0 >> t.block_shift_y, j1 >> t.block_shift_y, *lines);
+}
+
+// sample_lod()'s lines and lookups.
+inline void sample_lod_lines(const SamplerTexture& t, float u, float v, float lambda, QuadLines* lines, uint32_t& samples) {
+  const LevelChoice c = choose_levels(t, lambda);
+  samples += uint32_t(c.count);
+  if (!lines) return;
+  bilinear_lines(t, c.level[0], u, v, lines);
+  if (c.count == 2) bilinear_lines(t, c.level[1], u, v, lines);
+}
+
+// sample_quad()'s lines and lookups: the same blocks from the same taps, in
+// pixel order, the first level's before the second's.
+inline void sample_quad_lines(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, unsigned live, QuadLines* lines,
+                              uint32_t& samples) {
+  const LevelChoice c = choose_levels(t, lambda);
+  samples += uint32_t(c.count) * pixels_in(live);
+  if (!lines) return;
+  const LevelView& l0 = t.levels[size_t(c.level[0])];
+  const QuadTaps q0 = quad_taps(t, l0, u4, v4);
+  if (c.count == 1) {
+    for (int p = 0; p < 4; ++p)
+      if (live & (1u << p)) add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
+    return;
+  }
+  const LevelView& l1 = t.levels[size_t(c.level[1])];
+  const QuadTaps q1 = quad_taps(t, l1, u4, v4);
+  for (int p = 0; p < 4; ++p) {
+    if (!(live & (1u << p))) continue;
+    add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
+    add_tap_lines(t, l1, q1.bx0[p], q1.bx1[p], q1.by0[p], q1.by1[p], *lines);
+  }
+}
+
 // Texture-space derivatives of one quad, in texels of level 0.
 struct Derivs {
   float dudx, dvdx, dudy, dvdy;  // in [0,1] texture units per pixel
@@ -393,6 +451,16 @@ inline Rgba sample(const SamplerTexture& t, float u, float v, const Footprint& f
   }
   const float inv = 1.0f / float(n);
   return to_rgba(acc * inv);
+}
+
+// sample()'s lines and lookups: each probe's, in order.
+inline void sample_lines(const SamplerTexture& t, float u, float v, const Footprint& f, QuadLines* lines, uint32_t& samples) {
+  if (f.probes == 1) return sample_lod_lines(t, u, v, f.lambda, lines, samples);
+  const int n = f.probes;
+  for (int i = 0; i < n; ++i) {
+    const float o = (float(i) + 0.5f) / float(n) - 0.5f;
+    sample_lod_lines(t, u + f.du * o, v + f.dv * o, f.lambda, lines, samples);
+  }
 }
 
 }  // namespace oovr::detail
