@@ -291,6 +291,30 @@ TEST_F(CrowdWindows, ALoaderHandsOutTheTracesLoadWindowMakes) {
   }
 }
 
+// A window draws a picture only for its first frame, and only when asked
+// (the GPM and traffic images): every other frame is drawn as its trace
+// alone, the trace the picture's pass makes.
+TEST_F(CrowdWindows, OnlyAFirstFrameAskedForIsDrawnWithItsPicture) {
+  w.first = 2;
+  w.count = 3;
+  w.use_cache = false;
+  const FrameWindow plain = load_window(scene, rig, config, w);
+  w.need_first_image = true;
+  const FrameWindow pictured = load_window(scene, rig, config, w);
+  ASSERT_EQ(plain.outputs.size(), 3u);
+  ASSERT_EQ(pictured.outputs.size(), 3u);
+  const FrameOutput& first = pictured.outputs.front();
+  EXPECT_EQ(first.colour.width, rig.frame_width());
+  EXPECT_EQ(first.colour.rgba.size(), size_t(rig.frame_width()) * size_t(rig.frame_height()) * 4);
+  EXPECT_EQ(first.object_id.size(), size_t(rig.frame_width()) * size_t(rig.frame_height()));
+  for (size_t k = 0; k < 3; ++k) {
+    if (k > 0) EXPECT_TRUE(pictured.outputs[k].colour.rgba.empty()) << "frame " << k;
+    EXPECT_TRUE(plain.outputs[k].colour.rgba.empty()) << "frame " << k;
+    EXPECT_TRUE(plain.outputs[k].object_id.empty()) << "frame " << k;
+    EXPECT_EQ(serialize_trace(plain.outputs[k].trace), serialize_trace(pictured.outputs[k].trace)) << "frame " << k;
+  }
+}
+
 // The loader's error reaches whoever waits for a frame, and wait().
 TEST_F(CrowdWindows, ALoadersErrorReachesTheSchemesAndTheCaller) {
   w.first = 100000;
