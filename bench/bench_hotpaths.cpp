@@ -117,6 +117,37 @@ void texture_sample_quad(benchmark::State& state) {
   state.counters["bilinear/pixel"] = double(samples) / double(n);
 }
 
+// The same quads' lines and lookups without the image (sample_quad_lines:
+// the trace alone, as simulate draws it): no texel fetched or filtered.
+void texture_quad_lines(benchmark::State& state) {
+  const detail::SamplerTexture tex = sampled_texture();
+  Rng rng(7);
+  struct Probe {
+    detail::Float4 u, v;
+    detail::Derivs d;
+  };
+  std::vector<Probe> probes(1024);
+  for (auto& p : probes) {
+    const float scale = float(1 + rng.below(16)) / float(tex.levels[0].width);
+    const float u = float(rng.below(1 << 16)) / 65536.0f, v = float(rng.below(1 << 16)) / 65536.0f;
+    p = {detail::Float4{u, u + scale, u, u + scale}, detail::Float4{v, v, v + scale, v + scale}, {scale, 0, 0, scale}};
+  }
+  detail::QuadLines lines;
+  uint32_t samples = 0;
+  uint64_t n = 0;
+  for (auto _ : state) {
+    for (const Probe& p : probes) {
+      const detail::Footprint f = detail::footprint(tex, p.d, 1);
+      detail::sample_quad_lines(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples);
+      benchmark::DoNotOptimize(lines);
+      lines.clear();
+    }
+    n += 4 * probes.size();
+  }
+  state.counters["pixels/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsRate);
+  state.counters["bilinear/pixel"] = double(samples) / double(n);
+}
+
 // Cache lookups: an L1 (128 KB, 4 ways) and an L2 (1 MB, 16 ways) of the
 // paper's Table 1 with 128-byte lines; a stream that fits (hits) and one
 // over 64 MB (every access a miss and an LRU eviction).
@@ -179,6 +210,7 @@ BENCHMARK(setup)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(texture_sample, trilinear, 1)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(texture_sample, aniso16, 16)->Unit(benchmark::kMicrosecond);
 BENCHMARK(texture_sample_quad)->Unit(benchmark::kMicrosecond);
+BENCHMARK(texture_quad_lines)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(cache_lookup, l1_hits, 128 << 10, 4, 512)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(cache_lookup, l2_misses, 1 << 20, 16, 1 << 19)->Unit(benchmark::kMicrosecond);
 BENCHMARK(event_engine)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
