@@ -83,28 +83,33 @@ void texture_sample(benchmark::State& state, int aniso) {
 }
 
 // Whole quads (the pipeline's trilinear path) on the same texture: a random
-// point and its neighbours one pixel right and down at a minifying scale,
-// sampled together with the quad's isotropic footprint by sample_quad.
-void texture_sample_quad(benchmark::State& state) {
-  const detail::SamplerTexture tex = sampled_texture();
+// point and its neighbours one pixel right and down at a minifying scale.
+struct QuadProbe {
+  detail::Float4 u, v;
+  detail::Derivs d;
+};
+std::vector<QuadProbe> quad_probes(const detail::SamplerTexture& tex) {
   Rng rng(7);
-  struct Probe {
-    detail::Float4 u, v;
-    detail::Derivs d;
-  };
-  std::vector<Probe> probes(1024);
+  std::vector<QuadProbe> probes(1024);
   for (auto& p : probes) {
     const float scale = float(1 + rng.below(16)) / float(tex.levels[0].width);
     const float u = float(rng.below(1 << 16)) / 65536.0f, v = float(rng.below(1 << 16)) / 65536.0f;
     p = {detail::Float4{u, u + scale, u, u + scale}, detail::Float4{v, v, v + scale, v + scale}, {scale, 0, 0, scale}};
   }
+  return probes;
+}
+
+// The quads sampled together with their isotropic footprint by sample_quad.
+void texture_sample_quad(benchmark::State& state) {
+  const detail::SamplerTexture tex = sampled_texture();
+  const std::vector<QuadProbe> probes = quad_probes(tex);
   detail::QuadLines lines;
   uint32_t samples = 0;
   float sum = 0;
   uint64_t n = 0;
   detail::Float4 out[4];
   for (auto _ : state) {
-    for (const Probe& p : probes) {
+    for (const QuadProbe& p : probes) {
       const detail::Footprint f = detail::footprint(tex, p.d, 1);
       detail::sample_quad(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples, out);
       sum += out[0][0] + out[3][1];
@@ -121,22 +126,12 @@ void texture_sample_quad(benchmark::State& state) {
 // the trace alone, as simulate draws it): no texel fetched or filtered.
 void texture_quad_lines(benchmark::State& state) {
   const detail::SamplerTexture tex = sampled_texture();
-  Rng rng(7);
-  struct Probe {
-    detail::Float4 u, v;
-    detail::Derivs d;
-  };
-  std::vector<Probe> probes(1024);
-  for (auto& p : probes) {
-    const float scale = float(1 + rng.below(16)) / float(tex.levels[0].width);
-    const float u = float(rng.below(1 << 16)) / 65536.0f, v = float(rng.below(1 << 16)) / 65536.0f;
-    p = {detail::Float4{u, u + scale, u, u + scale}, detail::Float4{v, v, v + scale, v + scale}, {scale, 0, 0, scale}};
-  }
+  const std::vector<QuadProbe> probes = quad_probes(tex);
   detail::QuadLines lines;
   uint32_t samples = 0;
   uint64_t n = 0;
   for (auto _ : state) {
-    for (const Probe& p : probes) {
+    for (const QuadProbe& p : probes) {
       const detail::Footprint f = detail::footprint(tex, p.d, 1);
       detail::sample_quad_lines(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples);
       benchmark::DoNotOptimize(lines);

@@ -202,24 +202,20 @@ int main(int argc, char** argv) {
       PipelineSettings settings = trace_settings(MachineSpec::from_config(config), a.aniso);
       settings.threads = threads;
       std::vector<FrameOutput> outputs(static_cast<size_t>(n));
-      row.functional = per_frame(
-          [&](int m) {
-            const auto t0 = std::chrono::steady_clock::now();
-            for (int k = 0; k < m; ++k)
-              outputs[size_t(k)] = render_frame(scene, views[size_t(k)], settings, frame_numbers[size_t(k)]);
-            return seconds_since(t0);
-          },
-          1, n, a.repeats);
+      const auto render_per_frame = [&](const PipelineSettings& drawn) {
+        return per_frame(
+            [&](int m) {
+              const auto t0 = std::chrono::steady_clock::now();
+              for (int k = 0; k < m; ++k)
+                outputs[size_t(k)] = render_frame(scene, views[size_t(k)], drawn, frame_numbers[size_t(k)]);
+              return seconds_since(t0);
+            },
+            1, n, a.repeats);
+      };
+      row.functional = render_per_frame(settings);
       PipelineSettings trace_only = settings;
       trace_only.draw_image = false;
-      row.trace = per_frame(
-          [&](int m) {
-            const auto t0 = std::chrono::steady_clock::now();
-            for (int k = 0; k < m; ++k)
-              outputs[size_t(k)] = render_frame(scene, views[size_t(k)], trace_only, frame_numbers[size_t(k)]);
-            return seconds_since(t0);
-          },
-          1, n, a.repeats);
+      row.trace = render_per_frame(trace_only);
       std::vector<const FrameTrace*> traces;
       for (const auto& o : outputs) traces.push_back(&o.trace);
       for (const std::string& s : replays) {

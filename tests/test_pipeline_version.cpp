@@ -68,6 +68,19 @@ uint64_t image_fnv1a(const FrameOutput& out) {
   return fnv1a(ids, fnv1a(colour));
 }
 
+// A reference frame's scene, with every pass given the two fetch-only
+// layers where asked.
+Scene reference_scene(const std::string& name, bool fetch_layers) {
+  Scene scene = load_scene(name);
+  if (fetch_layers)
+    for (Material& m : scene.materials)
+      for (Pass& p : m.passes)
+        if (p.shading == Shading::layers)
+          for (LayerKind k : {LayerKind::normal, LayerKind::gloss})
+            p.layers.push_back({k, 0, TexCoords::surface, Combine::fetch, 1.0f, {}});
+  return scene;
+}
+
 bool installed(const std::string& scene) {
   if (scene.rfind("oa:", 0) == 0) return test::have_openarena();
   if (scene.rfind("nexuiz:", 0) == 0) return test::have_nexuiz();
@@ -79,13 +92,7 @@ TEST(PipelineVersion, ReferenceTracesAreThoseOfThisVersion) {
   int checked = 0;
   for (const Reference& r : kReferences) {
     if (!installed(r.scene)) continue;
-    Scene scene = load_scene(r.scene);
-    if (r.fetch_layers)
-      for (Material& m : scene.materials)
-        for (Pass& p : m.passes)
-          if (p.shading == Shading::layers)
-            for (LayerKind k : {LayerKind::normal, LayerKind::gloss})
-              p.layers.push_back({k, 0, TexCoords::surface, Combine::fetch, 1.0f, {}});
+    const Scene scene = reference_scene(r.scene, r.fetch_layers);
     const StereoView view = make_stereo_view(scene.camera, r.frame, parse_eye_resolution(r.eye_resolution));
     PipelineSettings settings;
     settings.max_anisotropy = r.max_anisotropy;
@@ -154,13 +161,7 @@ TEST(PipelineVersion, TheTraceDrawnWithoutTheImageIsTheSame) {
   int checked = 0;
   for (const Frame& r : frames) {
     if (!installed(r.scene)) continue;
-    Scene scene = load_scene(r.scene);
-    if (r.fetch_layers)
-      for (Material& m : scene.materials)
-        for (Pass& p : m.passes)
-          if (p.shading == Shading::layers)
-            for (LayerKind k : {LayerKind::normal, LayerKind::gloss})
-              p.layers.push_back({k, 0, TexCoords::surface, Combine::fetch, 1.0f, {}});
+    const Scene scene = reference_scene(r.scene, r.fetch_layers);
     const StereoView view = make_stereo_view(scene.camera, r.frame, parse_eye_resolution(r.eye_resolution));
     PipelineSettings settings;
     settings.max_anisotropy = r.max_anisotropy;
