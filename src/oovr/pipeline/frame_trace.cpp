@@ -114,8 +114,10 @@ class RepeatFilter {
       const uint64_t k = tex_line_index(l) & m_mask;
       TexLine* stack = &m_stack[k * uint64_t(ways)];
       int& depth = m_depth[k];
-      int at = -1;
-      for (int w = 0; w < depth; ++w) at = stack[w] == l ? w : at;
+      // The stack's lines are distinct: the first match is the only one.
+      int at = 0;
+      while (at < depth && stack[at] != l) ++at;
+      if (at == depth) at = -1;
       m_sure[i] = at >= 0;
       if (at < 0) at = depth < ways ? depth++ : ways - 1;
       for (int w = at; w > 0; --w) stack[w] = stack[w - 1];
@@ -133,9 +135,10 @@ class RepeatFilter {
       if (!m_sure[i]) {
         count = 0;
       } else {
-        bool again = false;
-        for (int w = 0; w < count; ++w) again |= after[w] == l;
-        if (again) continue;  // a sure hit read again before the set may miss
+        // The lines after are distinct too.
+        int w = 0;
+        while (w < count && after[w] != l) ++w;
+        if (w < count) continue;  // a sure hit read again before the set may miss
       }
       if (count <= ways) after[count++] = l;
       out.push_back(l);
