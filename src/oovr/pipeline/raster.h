@@ -92,6 +92,9 @@ inline detail::Rgba shade_deluxe(const PreparedPass& pp, const detail::Rgba* tex
 // gloss, glow, lightmap, deluxe and room for two more).
 constexpr size_t kMaxDeluxeLayers = 8;
 
+// Whether two vectors hold the same bits (NaNs and signed zeros told apart).
+inline bool same_bits(Float4 a, Float4 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
 inline bool depth_passes(DepthFunc f, float z, float stored) {
   switch (f) {
     case DepthFunc::less: return z < stored;
@@ -377,17 +380,30 @@ class TileRasterizer {
           const Float4 sv = L.lightmap_coords ? lv : v;
           const Float4 tu = L.transformed ? L.xf.a * su + L.xf.b * sv + L.xf.c : su;
           const Float4 tv = L.transformed ? L.xf.d * su + L.xf.e * sv + L.xf.f : sv;
-          const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
-          const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
           if (!shade) {
-            if (f.probes == 1) {
-              detail::sample_quad_lines(*L.texture, tu, tv, f.lambda, live, lines, m_cur.samples);
-            } else {
-              for (int p = 0; p < 4; ++p)
-                if (live & (1u << p)) detail::sample_lines(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
+            // A layer of the last planned one's shape at the same
+            // coordinates (a per-pixel lit pass's maps) has its footprint,
+            // levels and blocks: only its lines' bases differ.
+            const bool again =
+                L.texture->shape != 0 && L.texture->shape == m_plan_shape && same_bits(tu, m_plan_u) && same_bits(tv, m_plan_v);
+            if (!again) {
+              const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
+              const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
+              if (f.probes != 1) {
+                for (int p = 0; p < 4; ++p)
+                  if (live & (1u << p)) detail::sample_lines(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
+                continue;
+              }
+              detail::plan_quad_lines(*L.texture, tu, tv, f.lambda, m_plan);
+              m_plan_shape = L.texture->shape;
+              m_plan_u = tu;
+              m_plan_v = tv;
             }
+            detail::add_quad_lines(*L.texture, m_plan, live, lines, m_cur.samples);
             continue;
           }
+          const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
+          const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
           // The live pixels' samples, in pixel order (their lines are recorded so).
           Float4 texel[4];
           if (f.probes == 1) {
@@ -527,6 +543,11 @@ class TileRasterizer {
   bool m_open = false;
   std::vector<uint32_t> m_vids;
   detail::QuadLines m_quad_lines;
+  // The trace alone: the last layer's plan of lines, its texture's shape
+  // (0: none) and coordinates.
+  detail::QuadLinePlan m_plan;
+  uint32_t m_plan_shape = 0;
+  Float4 m_plan_u{}, m_plan_v{};
   // A per-pixel lit quad's texels, per pixel and layer (shade_deluxe reads
   // one pixel's row); a member so other passes do not initialise it per quad.
   detail::Rgba m_texel[4][kMaxDeluxeLayers];

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numeric>
 
 #include "oovr/core/error.h"
@@ -99,6 +100,19 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
     int bw = 0, bh = 0;
     texture_line_shape(scene.textures[i], settings.texture_format, settings.line_bytes, bw, bh);
     textures.emplace_back(uint32_t(i), scene.textures[i], bw, bh);
+  }
+  // Each texture's shape (SamplerTexture::shape), numbered from 1 by first
+  // appearance: what its footprints, levels and texel blocks depend on.
+  {
+    std::map<std::vector<int>, uint32_t> shapes;
+    for (detail::SamplerTexture& t : textures) {
+      std::vector<int> key = {t.repeat, t.mipmapped, t.max_level, t.block_shift_x, t.block_shift_y};
+      for (const detail::LevelView& l : t.levels) {
+        key.push_back(l.width);
+        key.push_back(l.height);
+      }
+      t.shape = shapes.emplace(std::move(key), uint32_t(shapes.size() + 1)).first->second;
+    }
   }
   // Each draw's pass, its layers' coordinate transforms at this frame's time.
   const double seconds = scene.camera.seconds(frame);

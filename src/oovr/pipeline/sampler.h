@@ -83,6 +83,11 @@ struct SamplerTexture {
   int block_w = 8, block_h = 4;
   int block_shift_x = 3, block_shift_y = 2;
   std::vector<LevelView> levels;
+  // Textures of one shape (the same wrapping, mipmapping, line blocks and
+  // levels' sizes) have the same footprints, levels and texel blocks at
+  // the same coordinates; only their lines' bases differ. Set by the
+  // renderer per frame (0 until then: a shape of its own is not assumed).
+  uint32_t shape = 0;
 
   SamplerTexture(uint32_t id_, const Texture& t, int bw, int bh) : id(id_), block_w(bw), block_h(bh) {
     repeat = t.wrap == Wrap::repeat;
@@ -382,27 +387,47 @@ inline void sample_lod_lines(const SamplerTexture& t, float u, float v, float la
   if (c.count == 2) bilinear_lines(t, c.level[1], u, v, lines);
 }
 
-// sample_quad()'s lines and lookups: the same blocks from the same taps, in
-// pixel order, the first level's before the second's.
-inline void sample_quad_lines(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, unsigned live, QuadLines* lines,
-                              uint32_t& samples) {
-  const LevelChoice c = choose_levels(t, lambda);
-  samples += uint32_t(c.count) * pixels_in(live);
+// sample_quad()'s taps for a quad's lines: its levels and, per level, each
+// pixel's texel blocks, from sample_quad()'s arithmetic lane for lane.
+struct QuadLinePlan {
+  LevelChoice c;
+  QuadTaps q[2];
+};
+
+inline void plan_quad_lines(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, QuadLinePlan& plan) {
+  plan.c = choose_levels(t, lambda);
+  for (int i = 0; i < plan.c.count; ++i) plan.q[i] = quad_taps(t, t.levels[size_t(plan.c.level[i])], u4, v4);
+}
+
+// The lines and lookups of a plan, for texture `t` (the plan's, or one of
+// the same shape: SamplerTexture::shape), in pixel order, the first level's
+// before the second's, as sample_quad() records them.
+inline void add_quad_lines(const SamplerTexture& t, const QuadLinePlan& plan, unsigned live, QuadLines* lines,
+                           uint32_t& samples) {
+  samples += uint32_t(plan.c.count) * pixels_in(live);
   if (!lines) return;
-  const LevelView& l0 = t.levels[size_t(c.level[0])];
-  const QuadTaps q0 = quad_taps(t, l0, u4, v4);
-  if (c.count == 1) {
+  const LevelView& l0 = t.levels[size_t(plan.c.level[0])];
+  const QuadTaps& q0 = plan.q[0];
+  if (plan.c.count == 1) {
     for (int p = 0; p < 4; ++p)
       if (live & (1u << p)) add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
     return;
   }
-  const LevelView& l1 = t.levels[size_t(c.level[1])];
-  const QuadTaps q1 = quad_taps(t, l1, u4, v4);
+  const LevelView& l1 = t.levels[size_t(plan.c.level[1])];
+  const QuadTaps& q1 = plan.q[1];
   for (int p = 0; p < 4; ++p) {
     if (!(live & (1u << p))) continue;
     add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
     add_tap_lines(t, l1, q1.bx0[p], q1.bx1[p], q1.by0[p], q1.by1[p], *lines);
   }
+}
+
+// sample_quad()'s lines and lookups: the same blocks from the same taps.
+inline void sample_quad_lines(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, unsigned live, QuadLines* lines,
+                              uint32_t& samples) {
+  QuadLinePlan plan;
+  plan_quad_lines(t, u4, v4, lambda, plan);
+  add_quad_lines(t, plan, live, lines, samples);
 }
 
 // Texture-space derivatives of one quad, in texels of level 0.
