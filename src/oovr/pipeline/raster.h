@@ -387,8 +387,7 @@ class TileRasterizer {
             const bool again =
                 L.texture->shape != 0 && L.texture->shape == m_plan_shape && same_bits(tu, m_plan_u) && same_bits(tv, m_plan_v);
             if (!again) {
-              const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
-              const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
+              const detail::Footprint f = footprint_of(*L.texture, tu, tv);
               if (f.probes != 1) {
                 for (int p = 0; p < 4; ++p)
                   if (live & (1u << p)) detail::sample_lines(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
@@ -402,8 +401,7 @@ class TileRasterizer {
             detail::add_quad_lines(*L.texture, m_plan, live, lines, m_cur.samples);
             continue;
           }
-          const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
-          const detail::Footprint f = detail::footprint(*L.texture, d, m_settings.max_anisotropy);
+          const detail::Footprint f = footprint_of(*L.texture, tu, tv);
           // The live pixels' samples, in pixel order (their lines are recorded so).
           Float4 texel[4];
           if (f.probes == 1) {
@@ -477,13 +475,11 @@ class TileRasterizer {
             m_depth[pix] = z[p];
             m_cur.depth_write_mask |= quad_line;
           }
-          if (!m_image) {
-            ++m_cur.passed;
-            if (!pass.colour_write) continue;
-            if (reads_colour) m_cur.colour_read_mask |= quad_line;
-            m_cur.colour_write_mask |= quad_line;
-            continue;
-          }
+          ++m_cur.passed;
+          if (!pass.colour_write) continue;  // glColorMask: depth only
+          if (reads_colour) m_cur.colour_read_mask |= quad_line;
+          m_cur.colour_write_mask |= quad_line;
+          if (!m_image) continue;  // the trace alone
           uint8_t* out = m_colour + pix * 4;
           Float4 src = c[p];
           if (blended) {
@@ -493,12 +489,8 @@ class TileRasterizer {
             const Float4 dst = detail::texel4(out);
             src = src * blend_factor(pass.src, src, dst) + dst * blend_factor(pass.dst, src, dst);
           }
-          ++m_cur.passed;
-          if (!pass.colour_write) continue;  // glColorMask: depth only
-          if (reads_colour) m_cur.colour_read_mask |= quad_line;
           quantize(src, out);
           m_ids[pix] = t.object;
-          m_cur.colour_write_mask |= quad_line;
         }
         if (record) m_quad_lines.flush(m_out->lines);
       }
@@ -522,6 +514,13 @@ class TileRasterizer {
     const Byte4 b = __builtin_convertvector(__builtin_convertvector(r, Int4), Byte4);
     std::memcpy(out, &b, 4);
 #endif
+  }
+
+  // A quad's footprint on a texture from its four pixels' coordinates
+  // (pixel 0's right and lower neighbours give the derivatives).
+  detail::Footprint footprint_of(const detail::SamplerTexture& tex, Float4 tu, Float4 tv) const {
+    const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
+    return detail::footprint(tex, d, m_settings.max_anisotropy);
   }
 
   // Pixel p's vertex colour (the first four varyings).

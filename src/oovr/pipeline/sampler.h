@@ -142,7 +142,7 @@ inline Float4 clamp4(Float4 x, float lo, float hi) {
 }
 
 // A bilinear tap's weighted sum in each channel, ((w00 p00 + w10 p10) +
-// w01 p01) + w11 p11, from its rows and columns: filter()'s and
+// w01 p01) + w11 p11, from its rows and columns: bilinear()'s and
 // filter_tap()'s, so that the two give the same bits.
 [[gnu::always_inline]] inline Float4 tap_sum(const uint8_t* row0, const uint8_t* row1, int i0, int i1, float w00, float w10,
                                              float w01, float w11) {
@@ -171,35 +171,48 @@ inline int wrap_coord(int i, int size, int mask, bool repeat) {
   }
 }
 
-// Bilinear filtering of one level (GL 4.5 equations 8.9-8.11), the four
-// channels at once, from the texel (i0r, j0r) left of and above the sample
-// point (before wrapping) and the point's fractions (a, b) past it.
-[[gnu::always_inline]] inline Float4 filter(const SamplerTexture& t, const LevelView& l, int i0r, int j0r, float a, float b,
-                                            QuadLines* lines) {
-  const int i0 = wrap_coord(i0r, l.width, l.wrap_mask_x, t.repeat);
-  const int i1 = wrap_coord(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
-  const int j0 = wrap_coord(j0r, l.height, l.wrap_mask_y, t.repeat);
-  const int j1 = wrap_coord(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
-  const uint8_t* row0 = l.rgba + size_t(j0) * size_t(l.width) * 4;
-  const uint8_t* row1 = l.rgba + size_t(j1) * size_t(l.width) * 4;
-  const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
-  const Float4 c = tap_sum(row0, row1, i0, i1, w00, w10, w01, w11);
-  if (lines)
-    add_tap_lines(t, l, i0 >> t.block_shift_x, i1 >> t.block_shift_x, j0 >> t.block_shift_y, j1 >> t.block_shift_y, *lines);
-  return c;
-}
-
 // Coordinates far outside [0, 1] are clamped before they are converted, so
 // as not to overflow int (repeat wraps modulo the size, which keeps them exact).
 constexpr float kCoordLimit = 1 << 30;
 
-// One point's bilinear sample of one level.
-[[gnu::always_inline]] inline Float4 bilinear(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
-  const LevelView& l = t.levels[size_t(level)];
+// One point's bilinear tap of one level: its four texels' columns (i0, i1)
+// and rows (j0, j1), wrapped, and the point's fractions (a, b) past the
+// first (GL 4.5 equations 8.9-8.11). What bilinear() filters and
+// bilinear_lines() records, so that the two read the same lines.
+struct BilinearTap {
+  int i0, i1, j0, j1;
+  float a, b;
+};
+
+[[gnu::always_inline]] inline BilinearTap bilinear_tap(const SamplerTexture& t, const LevelView& l, float u, float v) {
   const float s = u * float(l.width) - 0.5f, tt = v * float(l.height) - 0.5f;
   const float fs = std::floor(s), ft = std::floor(tt);
   const int i0r = int(std::clamp(fs, -kCoordLimit, kCoordLimit)), j0r = int(std::clamp(ft, -kCoordLimit, kCoordLimit));
-  return filter(t, l, i0r, j0r, s - fs, tt - ft, lines);
+  return {wrap_coord(i0r, l.width, l.wrap_mask_x, t.repeat),
+          wrap_coord(i0r + 1, l.width, l.wrap_mask_x, t.repeat),
+          wrap_coord(j0r, l.height, l.wrap_mask_y, t.repeat),
+          wrap_coord(j0r + 1, l.height, l.wrap_mask_y, t.repeat),
+          s - fs,
+          tt - ft};
+}
+
+// The lines a bilinear tap's texels lie in.
+[[gnu::always_inline]] inline void add_bilinear_lines(const SamplerTexture& t, const LevelView& l, const BilinearTap& q,
+                                                      QuadLines& lines) {
+  add_tap_lines(t, l, q.i0 >> t.block_shift_x, q.i1 >> t.block_shift_x, q.j0 >> t.block_shift_y, q.j1 >> t.block_shift_y, lines);
+}
+
+// One point's bilinear sample of one level, the four channels at once.
+[[gnu::always_inline]] inline Float4 bilinear(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
+  const LevelView& l = t.levels[size_t(level)];
+  const BilinearTap q = bilinear_tap(t, l, u, v);
+  const uint8_t* row0 = l.rgba + size_t(q.j0) * size_t(l.width) * 4;
+  const uint8_t* row1 = l.rgba + size_t(q.j1) * size_t(l.width) * 4;
+  const float a = q.a, b = q.b;
+  const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
+  const Float4 c = tap_sum(row0, row1, q.i0, q.i1, w00, w10, w01, w11);
+  if (lines) add_bilinear_lines(t, l, q, *lines);
+  return c;
 }
 
 // The levels a sample at level of detail `lambda` filters (GL 4.5 Section
@@ -312,7 +325,7 @@ inline QuadTaps quad_taps(const SamplerTexture& t, const LevelView& l, Float4 u4
   return q;
 }
 
-// filter() for pixel p of a quad's taps: the same fetches, operations and
+// bilinear()'s filtering for pixel p of a quad's taps: the same fetches, operations and
 // lines in the same order.
 [[gnu::always_inline]] inline Float4 filter_tap(const SamplerTexture& t, const LevelView& l, const QuadTaps& q, int p,
                                                 QuadLines* lines) {
@@ -368,14 +381,7 @@ inline void sample_quad(const SamplerTexture& t, Float4 u4, Float4 v4, float lam
 // bilinear()'s lines.
 [[gnu::always_inline]] inline void bilinear_lines(const SamplerTexture& t, int level, float u, float v, QuadLines* lines) {
   const LevelView& l = t.levels[size_t(level)];
-  const float s = u * float(l.width) - 0.5f, tt = v * float(l.height) - 0.5f;
-  const float fs = std::floor(s), ft = std::floor(tt);
-  const int i0r = int(std::clamp(fs, -kCoordLimit, kCoordLimit)), j0r = int(std::clamp(ft, -kCoordLimit, kCoordLimit));
-  const int i0 = wrap_coord(i0r, l.width, l.wrap_mask_x, t.repeat);
-  const int i1 = wrap_coord(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
-  const int j0 = wrap_coord(j0r, l.height, l.wrap_mask_y, t.repeat);
-  const int j1 = wrap_coord(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
-  add_tap_lines(t, l, i0 >> t.block_shift_x, i1 >> t.block_shift_x, j0 >> t.block_shift_y, j1 >> t.block_shift_y, *lines);
+  add_bilinear_lines(t, l, bilinear_tap(t, l, u, v), *lines);
 }
 
 // sample_lod()'s lines and lookups.
@@ -464,6 +470,9 @@ inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_ani
   return f;
 }
 
+// Probe i of n's offset along the major axis, in units of the axis.
+inline float probe_offset(int i, int n) { return (float(i) + 0.5f) / float(n) - 0.5f; }
+
 // One pixel's sample with its quad's footprint: an isotropic sample, or the
 // mean of the probes along the major axis.
 inline Rgba sample(const SamplerTexture& t, float u, float v, const Footprint& f, QuadLines* lines, uint32_t& samples) {
@@ -471,7 +480,7 @@ inline Rgba sample(const SamplerTexture& t, float u, float v, const Footprint& f
   const int n = f.probes;
   Float4 acc{0, 0, 0, 0};
   for (int i = 0; i < n; ++i) {
-    const float o = (float(i) + 0.5f) / float(n) - 0.5f;
+    const float o = probe_offset(i, n);
     acc += sample_lod(t, u + f.du * o, v + f.dv * o, f.lambda, lines, samples);
   }
   const float inv = 1.0f / float(n);
@@ -483,7 +492,7 @@ inline void sample_lines(const SamplerTexture& t, float u, float v, const Footpr
   if (f.probes == 1) return sample_lod_lines(t, u, v, f.lambda, lines, samples);
   const int n = f.probes;
   for (int i = 0; i < n; ++i) {
-    const float o = (float(i) + 0.5f) / float(n) - 0.5f;
+    const float o = probe_offset(i, n);
     sample_lod_lines(t, u + f.du * o, v + f.dv * o, f.lambda, lines, samples);
   }
 }
