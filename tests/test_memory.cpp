@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -127,68 +128,99 @@ TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
   }
 }
 
-// A small cache (4 sets of 4 ways) against a reference kept as lists in
-// order of use (LRU) or of insertion (FIFO), on a stream that re-reads the
-// line just read half the time (the lookup Cache::access skips), and writes
-// and invalidates now and then: the same hits, misses and dirty evictions,
-// access by access. With `wrap`, the cache's 32-bit access counter is moved
-// to within a few hundred accesses of its end every 2,000 accesses, so that
-// it is renumbered ten times in the stream, between accesses to every set.
-void expect_reference_answers(bool wrap) {
+// A small cache (4 sets of `ways` ways) against a reference kept as lists
+// in order of use (LRU) or of insertion (FIFO), on a stream that re-reads
+// the line just read half the time (the lookup Cache::access skips), writes
+// now and then in one of three categories, and invalidates a line, or
+// everything, now and then: the same hits, misses, dirty evictions (line and
+// category), dirty lines dropped and lines held, access by access. LRU's
+// sets are kept in order of use, FIFO's with counters (Cache). With `wrap`,
+// the cache's 32-bit access counter is moved to within a few hundred
+// accesses of its end every 2,000 accesses, so that it is renumbered ten
+// times in the stream, between accesses to every set (counters only).
+void expect_reference_answers(bool wrap, int ways) {
   for (const char* policy : {"lru", "fifo"}) {
     CacheSpec spec;
-    spec.size = Bytes{16 * kLine};
-    spec.ways = 4;
+    spec.size = Bytes{uint64_t(4 * ways) * kLine};
+    spec.ways = ways;
     spec.replacement = policy;
     Cache cache(spec, kLine, "test");
-    std::vector<std::vector<std::pair<uint64_t, bool>>> sets(4);  // per set: (line, dirty), oldest first
+    struct Held {
+      uint64_t line;
+      bool dirty;
+      Category category;
+    };
+    std::vector<std::vector<Held>> sets(4);  // per set, oldest first
     const bool lru = std::string(policy) == "lru";
+    const Category categories[] = {Category::texture, Category::depth, Category::colour};
+    const uint64_t lines = uint64_t(10 * ways);
     Rng rng(7);
-    uint64_t previous = 0, hits = 0, evictions = 0;
+    uint64_t previous = 0, hits = 0, evictions = 0, dropped = 0;
+    const std::string at = std::string(policy) + ", " + std::to_string(ways) + " ways, access ";
     for (int k = 0; k < 20000; ++k) {
       if (wrap && k % 2000 == 0) cache.skip_clock_to(100 + rng.below(400));
-      const uint64_t line = rng.below(2) ? previous : rng.below(40);
+      const uint64_t line = rng.below(2) ? previous : rng.below(lines);
       const bool write = rng.below(8) == 0;
+      const Category category = categories[rng.below(3)];
       auto& set = sets[line % 4];
       if (rng.below(50) == 0) {
         cache.invalidate(line);
-        std::erase_if(set, [&](const auto& e) { return e.first == line; });
+        std::erase_if(set, [&](const Held& e) { return e.line == line; });
+        continue;
+      }
+      if (rng.below(2000) == 0) {
+        uint64_t dirty = 0;
+        for (auto& held : sets) {
+          for (const Held& e : held) dirty += e.dirty;
+          held.clear();
+        }
+        ASSERT_EQ(cache.invalidate_all(), dirty) << at << k;
+        dropped += dirty;
         continue;
       }
       Cache::Eviction ev;
-      const bool hit = cache.access(line, write, Category::texture, ev);
-      const auto it = std::find_if(set.begin(), set.end(), [&](const auto& e) { return e.first == line; });
-      ASSERT_EQ(hit, it != set.end()) << policy << ", access " << k;
-      bool dirty_out = false;
-      uint64_t out = 0;
+      const bool hit = cache.access(line, write, category, ev);
+      const auto it = std::find_if(set.begin(), set.end(), [&](const Held& e) { return e.line == line; });
+      ASSERT_EQ(hit, it != set.end()) << at << k;
+      std::optional<Held> out;
       if (hit) {
         ++hits;
-        it->second = it->second || write;
+        it->dirty = it->dirty || write;
         if (lru) std::rotate(it, it + 1, set.end());
       } else {
-        if (set.size() == 4) {
-          dirty_out = set.front().second;
-          out = set.front().first;
+        if (set.size() == size_t(ways)) {
+          out = set.front();
           set.erase(set.begin());
           ++evictions;
         }
-        set.push_back({line, write});
+        set.push_back({line, write, category});
       }
-      ASSERT_EQ(ev.dirty, dirty_out) << policy << ", access " << k;
+      const bool dirty_out = out && out->dirty;
+      ASSERT_EQ(ev.dirty, dirty_out) << at << k;
       if (dirty_out) {
-        ASSERT_EQ(ev.line, out) << policy << ", access " << k;
+        ASSERT_EQ(ev.line, out->line) << at << k;
+        ASSERT_EQ(ev.category, out->category) << at << k;
       }
+      const uint64_t other = rng.below(lines);
+      const auto& other_set = sets[other % 4];
+      ASSERT_EQ(cache.contains(other),
+                std::any_of(other_set.begin(), other_set.end(), [&](const Held& e) { return e.line == other; }))
+          << at << k << ", line " << other;
       previous = line;
     }
-    // The stream exercised every path: hits, re-reads, evictions.
-    EXPECT_GT(hits, 8000u) << policy;
-    EXPECT_GT(evictions, 1000u) << policy;
+    // The stream exercised every path: hits, re-reads, evictions, and
+    // (where the lines are few enough to stay) dirty lines dropped at once.
+    EXPECT_GT(hits, 8000u) << policy << ", " << ways << " ways";
+    EXPECT_GT(evictions, 1000u) << policy << ", " << ways << " ways";
+    EXPECT_GT(dropped, 0u) << policy << ", " << ways << " ways";
   }
 }
 
-TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) { expect_reference_answers(false); }
+TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
+  for (int ways : {1, 2, 3, 4, 5, 8, 16}) expect_reference_answers(false, ways);
+}
 
-TEST(Cache, ItsCountersRenumberedWhereTheyWouldWrapKeepEveryAnswer) { expect_reference_answers(true); }
+TEST(Cache, ItsCountersRenumberedWhereTheyWouldWrapKeepEveryAnswer) { expect_reference_answers(true, 4); }
 
 TEST(Cache, LruEvictsTheFirstWayOfTheOldestUseWhateverTheSetsWays) {
   // The policy's victim, for any number of ways: the first way of the

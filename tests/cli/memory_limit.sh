@@ -35,9 +35,11 @@ scenes = ["crowd"]
 schemes = ["baseline"]
 resolutions = ["160x128"]
 frames = 4
+# At 1,024 SMs a GPM, 4,096 L1s of 16,384 lines: 512 MB of tags at 8
+# bytes a line (LRU's recency-ordered sets), past the cgroup's 300 MB.
 [sweep]
 "gpm.sms" = [8, 1024]
-"cache.l1.size" = ["1MB"]
+"cache.l1.size" = ["2MB"]
 TOML
 rc=0
 in_cgroup "$oovr" simulate --scene crowd --scheme baseline --resolution 64x64 --set gpms=32 --set gpm.sms=1024 \

@@ -9,32 +9,44 @@
 
 namespace oovr {
 
+uint64_t Cache::state_bytes(const CacheSpec& spec, uint64_t line_bytes) {
+  const uint64_t ways = uint64_t(std::max(spec.ways, 1));
+  const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
+  return spec.size.value / std::max<uint64_t>(line_bytes, 1) / ways * block_bytes(ways, f && f->least_recently_used);
+}
+
 Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_name(std::move(name)), m_assoc(spec.ways) {
+  const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
+  if (!f) throw Error("cache " + m_name + ": unknown replacement policy '" + spec.replacement + "'");
+  m_ordered = f->least_recently_used;
   const uint64_t lines = spec.size.value / line_bytes;
   m_sets = lines / uint64_t(m_assoc);
   if (m_sets == 0 || (m_sets & (m_sets - 1)) != 0) throw Error("cache " + m_name + ": the number of sets must be a power of two");
   m_set_mask = m_sets - 1;
   m_tag_shift = __builtin_ctzll(m_sets);
-  m_block_bytes = block_bytes(uint64_t(m_assoc));
+  m_block_bytes = block_bytes(uint64_t(m_assoc), m_ordered);
   m_blocks.reset(static_cast<uint8_t*>(::operator new[](m_sets* m_block_bytes, std::align_val_t(64))));
   std::memset(m_blocks.get(), 0, m_sets * m_block_bytes);
   for (uint64_t s = 0; s < m_sets; ++s) {
     uint8_t* b = block_of(s);
     empty_set(b);
-    std::fill(category_of(b), category_of(b) + m_assoc, Category::command);
+    if (!m_ordered) std::fill(category_of(b), category_of(b) + m_assoc, Category::command);
   }
-  const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
-  if (!f) throw Error("cache " + m_name + ": unknown replacement policy '" + spec.replacement + "'");
+  if (m_ordered) return;  // the order is the policy: victim() is never asked
   // Seeded by name: reproducible, different per cache.
   uint64_t seed = 0;
   for (char c : m_name) seed = mix64(seed ^ uint64_t(uint8_t(c)));
   m_policy = f->make(seed);
 }
 
+void Cache::refuse(uint64_t line) const {
+  throw Error("cache " + m_name + ": line " + std::to_string(line) + " is past the lines its 32-bit tags can name");
+}
+
 void Cache::insert(uint8_t* block, uint64_t line, bool write, Category category, Eviction& ev) {
   const uint64_t tag = line >> m_tag_shift;
   if (tag >= kEmpty) [[unlikely]]
-    throw Error("cache " + m_name + ": line " + std::to_string(line) + " is past the lines its 32-bit tags can name");
+    refuse(line);
   uint32_t* tags = tags_of(block);
   int victim = -1;
   for (int i = 0; i < m_assoc; ++i)
@@ -57,6 +69,10 @@ void Cache::insert(uint8_t* block, uint64_t line, bool write, Category category,
 }
 
 void Cache::empty_set(uint8_t* block) {
+  if (m_ordered) {
+    std::fill_n(reinterpret_cast<uint64_t*>(block), m_assoc, uint64_t(kEmpty));
+    return;
+  }
   std::fill(tags_of(block), tags_of(block) + m_assoc, kEmpty);
   std::fill(dirty_of(block), dirty_of(block) + m_assoc, uint8_t(0));
   set_mru(block, kNoLine);
@@ -84,6 +100,7 @@ void Cache::renumber() {
 }
 
 void Cache::skip_clock_to(uint32_t left) {
+  if (m_ordered) return;  // no counters to renumber
   const uint32_t target = kEmpty - std::max<uint32_t>(left, 1);
   if (m_clock > target) {
     m_clock = kEmpty - 1;
@@ -93,6 +110,13 @@ void Cache::skip_clock_to(uint32_t left) {
 }
 
 bool Cache::contains(uint64_t line) const {
+  if (m_ordered) {
+    const uint64_t* e = entries_of(line);
+    const uint64_t tag = line >> m_tag_shift;
+    for (int i = 0; i < m_assoc; ++i)
+      if (entry_tag(e[i]) == tag) return tag != kEmpty;
+    return false;
+  }
   const uint8_t* b = block_of(line);
   const uint32_t* tags = tags_of(b);
   const uint64_t tag = line >> m_tag_shift;
@@ -102,6 +126,19 @@ bool Cache::contains(uint64_t line) const {
 }
 
 void Cache::invalidate(uint64_t line) {
+  if (m_ordered) {
+    // The others keep their order; the way freed goes last.
+    uint64_t* e = entries_of(line);
+    const uint64_t tag = line >> m_tag_shift;
+    if (tag >= kEmpty) return;
+    for (int i = 0; i < m_assoc; ++i)
+      if (entry_tag(e[i]) == tag) {
+        std::copy(e + i + 1, e + m_assoc, e + i);
+        e[m_assoc - 1] = kEmpty;
+        return;
+      }
+    return;
+  }
   uint8_t* b = block_of(line);
   uint32_t* tags = tags_of(b);
   const uint64_t tag = line >> m_tag_shift;
@@ -117,7 +154,12 @@ uint64_t Cache::invalidate_all() {
   uint64_t dirty = 0;
   for (uint64_t s = 0; s < m_sets; ++s) {
     uint8_t* b = block_of(s);
-    for (int i = 0; i < m_assoc; ++i) dirty += dirty_of(b)[i];
+    if (m_ordered) {
+      const uint64_t* e = reinterpret_cast<const uint64_t*>(b);
+      for (int i = 0; i < m_assoc; ++i) dirty += entry_tag(e[i]) != kEmpty && (e[i] & kDirtyBit);
+    } else {
+      for (int i = 0; i < m_assoc; ++i) dirty += dirty_of(b)[i];
+    }
     empty_set(b);
   }
   return dirty;

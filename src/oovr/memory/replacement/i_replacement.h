@@ -36,6 +36,10 @@ class ReplacementPolicy {
 struct ReplacementFactory {
   std::string description;
   std::function<std::unique_ptr<ReplacementPolicy>(uint64_t seed)> make;
+  // True for a policy that always evicts the least recently used way: the
+  // ways' order of use is all it reads, so the cache keeps each set's ways
+  // in that order and never asks victim() (Cache's recency-ordered sets).
+  bool least_recently_used = false;
 };
 using ReplacementPolicies = Registry<ReplacementFactory>;
 

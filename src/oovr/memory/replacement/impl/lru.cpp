@@ -21,7 +21,9 @@ class Lru final : public ReplacementPolicy {
   }
 };
 
-const ReplacementPolicies::Add reg("lru", {"least recently used", [](uint64_t) { return std::make_unique<Lru>(); }});
+// Caches keep an LRU set's ways in their order of use (least_recently_used)
+// and take its last; victim() answers for any other user of the policy.
+const ReplacementPolicies::Add reg("lru", {"least recently used", [](uint64_t) { return std::make_unique<Lru>(); }, true});
 
 }  // namespace
 }  // namespace oovr
