@@ -20,9 +20,9 @@ namespace oovr {
 class Cache {
  public:
   // The bytes a cache of this shape keeps (its sets' blocks, below), for
-  // memory estimates: with LRU 8 a line (a little more at 3 ways, and past
-  // 8 ways where the ways are not a multiple of 8); with another policy 16
-  // a line from 4 ways up, 32 at 2 ways, 64 at 1.
+  // memory estimates: with LRU 8 a line where a set's 8 bytes a way fill a
+  // block (1, 2, 4 or 8 ways, or a multiple of 8), up to 15 at other ways;
+  // with another policy 16 a line from 4 ways up, 32 at 2 ways, 64 at 1.
   static uint64_t state_bytes(const CacheSpec& spec, uint64_t line_bytes);
   Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name);
   Cache(Cache&&) noexcept = default;
