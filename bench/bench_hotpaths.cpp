@@ -99,48 +99,47 @@ std::vector<QuadProbe> quad_probes(const detail::SamplerTexture& tex) {
   return probes;
 }
 
-// The quads sampled together with their isotropic footprint by sample_quad.
-void texture_sample_quad(benchmark::State& state) {
+// Runs `sample(tex, probe, footprint, lines, lookups)` on every quad, its
+// lines cleared after each, and reports pixels a second and bilinear
+// lookups a pixel.
+template <class Sample>
+void sample_quads(benchmark::State& state, Sample sample) {
   const detail::SamplerTexture tex = sampled_texture();
   const std::vector<QuadProbe> probes = quad_probes(tex);
   detail::QuadLines lines;
   uint32_t samples = 0;
-  float sum = 0;
   uint64_t n = 0;
-  detail::Float4 out[4];
   for (auto _ : state) {
     for (const QuadProbe& p : probes) {
-      const detail::Footprint f = detail::footprint(tex, p.d, 1);
-      detail::sample_quad(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples, out);
-      sum += out[0][0] + out[3][1];
+      sample(tex, p, detail::footprint(tex, p.d, 1), lines, samples);
       lines.clear();
     }
     n += 4 * probes.size();
   }
-  benchmark::DoNotOptimize(sum);
   state.counters["pixels/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsRate);
   state.counters["bilinear/pixel"] = double(samples) / double(n);
+}
+
+// The quads sampled together with their isotropic footprint by sample_quad.
+void texture_sample_quad(benchmark::State& state) {
+  float sum = 0;
+  detail::Float4 out[4];
+  sample_quads(state, [&](const detail::SamplerTexture& tex, const QuadProbe& p, const detail::Footprint& f,
+                          detail::QuadLines& lines, uint32_t& samples) {
+    detail::sample_quad(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples, out);
+    sum += out[0][0] + out[3][1];
+  });
+  benchmark::DoNotOptimize(sum);
 }
 
 // The same quads' lines and lookups without the image (sample_quad_lines:
 // the trace alone, as simulate draws it): no texel fetched or filtered.
 void texture_quad_lines(benchmark::State& state) {
-  const detail::SamplerTexture tex = sampled_texture();
-  const std::vector<QuadProbe> probes = quad_probes(tex);
-  detail::QuadLines lines;
-  uint32_t samples = 0;
-  uint64_t n = 0;
-  for (auto _ : state) {
-    for (const QuadProbe& p : probes) {
-      const detail::Footprint f = detail::footprint(tex, p.d, 1);
-      detail::sample_quad_lines(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples);
-      benchmark::DoNotOptimize(lines);
-      lines.clear();
-    }
-    n += 4 * probes.size();
-  }
-  state.counters["pixels/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsRate);
-  state.counters["bilinear/pixel"] = double(samples) / double(n);
+  sample_quads(state, [](const detail::SamplerTexture& tex, const QuadProbe& p, const detail::Footprint& f,
+                         detail::QuadLines& lines, uint32_t& samples) {
+    detail::sample_quad_lines(tex, p.u, p.v, f.lambda, 0xfu, &lines, samples);
+    benchmark::DoNotOptimize(lines);
+  });
 }
 
 // Cache lookups: an L1 (128 KB, 4 ways) and an L2 (1 MB, 16 ways) of the
