@@ -299,6 +299,17 @@ const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand
             for (int r : m_shared) m_first.push_back(m_next[size_t(r)]);
             steps = m_moving.empty() ? Steps::none : Steps::moving;
             ++(m_moving.empty() ? m_settled : m_partly_settled);
+            if (steps == Steps::none) {
+              // No step moves again: the iteration would only halve each
+              // level's distance to its first step's value n (at most its
+              // capacity c, settle()) until all are within 1e-13 c, and then
+              // take the values n. Each halving, fl(l + n) / 2, leaves at
+              // most half the distance plus c 2^-53, so that happens within
+              // 50 iterations, well before the limit: the levels are n.
+              for (int r : m_shared) m_level[size_t(r)] = m_next[size_t(r)];
+              converged = true;
+              break;
+            }
           }
         }
         converged = true;
