@@ -585,6 +585,67 @@ TEST(FrontEnd, AHandOffBetweenGpmsPaysTheLinkLatency) {
   EXPECT_NEAR(one_draw("1us", 0), one_draw("32ns", 0), 1e-15) << "nothing handed over, nothing waits";
 }
 
+// A record's replay is its texture reads as the trace lists them, then per
+// line of its tile its framebuffer's depth read, colour read (blending),
+// depth write and colour write, each line at SceneLayout::frame_line: the
+// same accesses given to a second FrameSim's memory system by hand answer
+// the same, record by record, on a machine whose small caches evict (so
+// that an address or order changed shows), on two GPMs (local and remote
+// framebuffer lines). The courtyard blends nothing: every third record
+// here reads the colour it writes, as a blended one does.
+TEST(FrontEnd, ARecordsReplayIsItsTextureReadsThenItsFramebuffersLinesInOrder) {
+  const Rendered& r = courtyard();
+  FrameTrace blending = *r.traces[0];
+  for (size_t i = 0; i < blending.tiles.size(); i += 3) blending.tiles[i].colour_read_mask = blending.tiles[i].colour_write_mask;
+  SchemeInput in;
+  in.scene = &r.scene;
+  in.frames = {&blending};
+  Config c;
+  c.set("gpms", "2");
+  c.set("cache.l1.size", "1KB");
+  c.set("cache.l1.ways", "2");
+  c.set("cache.l2.size", "4KB");
+  c.set("cache.l2.ways", "2");
+  c.set("cache.remote.size", "2KB");
+  c.set("cache.remote.ways", "2");
+  in.spec = std::make_shared<const MachineSpec>(MachineSpec::from_config(c));
+  FrameSim sim(in), by_hand(in);
+  const FrameTrace& f = sim.frame();
+  const SceneLayout& layout = by_hand.layout();
+  MemorySystem& memory = by_hand.memory();
+  const auto totals = [](const TrafficTotals& t) {
+    return std::make_tuple(t.accesses, t.l1_hits, t.l2_hits, t.remote_hits, t.home_l2_hits, t.dram_lines, t.l1_lookups,
+                           t.l2_lookups, t.remote_lookups, t.link_bytes, t.dram_read_bytes, t.dram_write_bytes, t.inter_gpm_bytes,
+                           t.delivered, t.moved);
+  };
+  uint64_t blended = 0, framebuffer_lines = 0;
+  for (size_t i = 0; i < f.tiles.size(); ++i) {
+    const TileWork& w = f.tiles[i];
+    const int gpm = int(i % 2);
+    const TileWork* one[] = {&w};
+    sim.tiles(gpm, one, 0, f);
+    std::vector<LineAccess> lines;
+    for (int l = 0; l < layout.lines_per_tile(); ++l) {
+      const uint32_t bit = 1u << l;
+      const uint64_t depth = layout.frame_line(by_hand.depth(0), w.tile_x, w.tile_y, l);
+      const uint64_t colour = layout.frame_line(by_hand.colour(0), w.tile_x, w.tile_y, l);
+      if (w.depth_read_mask & bit) lines.push_back({depth, Category::depth, false});
+      if (w.colour_read_mask & bit) lines.push_back({colour, Category::colour, false});
+      if (w.depth_write_mask & bit) lines.push_back({depth, Category::depth, true});
+      if (w.colour_write_mask & bit) lines.push_back({colour, Category::colour, true});
+    }
+    blended += w.colour_read_mask != 0;
+    framebuffer_lines += lines.size();
+    UnitTraffic t;
+    const uint32_t tile = uint32_t(w.tile_y) * uint32_t(f.tiles_x) + w.tile_x;
+    memory.access(gpm, int(tile % uint32_t(by_hand.sms())), layout, {f.tex_lines.data() + w.tex_begin, w.tex_count}, lines, t, 0);
+    ASSERT_EQ(totals(sim.memory().totals()), totals(memory.totals())) << "record " << i << " of " << f.tiles.size();
+  }
+  EXPECT_GT(blended, 0u);
+  EXPECT_GT(framebuffer_lines, 4 * f.tiles.size());
+  EXPECT_GT(memory.totals().remote_lookups, 0u);
+}
+
 // FrameSim checks every argument a scheme gives it, so a scheme in C++ and
 // one in Python (python/schemes.cpp only narrows Python's ints) get the
 // same errors, each naming the call, the argument and what exists.

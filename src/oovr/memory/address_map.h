@@ -71,10 +71,14 @@ class SceneLayout {
   uint64_t texture_line(TexLine l) const {
     return m_texture_base[tex_line_texture(l)] + uint64_t(tex_line_index(l)) * m_line_bytes;
   }
+  // Address of a tile of a framebuffer: its line 0 (the tile's lines are
+  // contiguous, one every line's bytes).
+  uint64_t tile_address(uint32_t region, int tile_x, int tile_y) const {
+    return m_map->region(region).base + tile_slot(tile_x, tile_y) * uint64_t(m_lines_per_tile) * m_line_bytes;
+  }
   // Address of line `line` (0 .. lines_per_tile-1) of a tile of a framebuffer.
   uint64_t frame_line(uint32_t region, int tile_x, int tile_y, int line) const {
-    return m_map->region(region).base +
-           (tile_slot(tile_x, tile_y) * uint64_t(m_lines_per_tile) + uint64_t(line)) * m_map->line_bytes();
+    return tile_address(region, tile_x, tile_y) + uint64_t(line) * m_line_bytes;
   }
   int lines_per_tile() const { return m_lines_per_tile; }
   // Which page-sized block of tiles a tile belongs to, and how big blocks are.
