@@ -7,6 +7,7 @@
 
 #include "oovr/core/error.h"
 #include "oovr/core/parallel.h"
+#include "oovr/core/sort.h"
 #include "oovr/core/units.h"
 
 namespace oovr {
@@ -654,8 +655,10 @@ SchemeResult FrameSim::finish(const std::string& scheme, int frames_in_flight, c
     s.gpm_busy_s[size_t(g)] = busy;
   }
   // The owners logged in replay order, as one entry a key: the last GPM
-  // that shaded it (a stable sort keeps the log's order within a key).
-  std::stable_sort(m_owner_log.begin(), m_owner_log.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  // that shaded it (a stable sort keeps the log's order within a key; a
+  // comparison sort of the log was 2.5% of the paper's sweep's
+  // instructions).
+  stable_sort_by_pair(m_owner_log);
   s.owner.clear();
   for (size_t i = 0; i < m_owner_log.size(); ++i)
     if (i + 1 == m_owner_log.size() || m_owner_log[i + 1].first != m_owner_log[i].first) s.owner.push_back(m_owner_log[i]);
