@@ -18,6 +18,7 @@
 #include "oovr/scene/builtin.h"
 #include "oovr/timing/gpm_model.h"
 #include "test_util.h"
+#include "traffic_totals.h"
 
 namespace oovr {
 namespace {
@@ -618,12 +619,7 @@ TEST(Memory, TextureReadsAsTheTraceListsThemAnswerAsTheirAddressesDo) {
   ASSERT_GT(reads, 1000u);
   const TrafficTotals &x = listed.totals(), &y = addressed.totals();
   EXPECT_GT(x.remote_hits + x.home_l2_hits, 0u);  // the remote paths were taken
-  const auto totals = [](const TrafficTotals& t) {
-    return std::make_tuple(t.accesses, t.l1_hits, t.l2_hits, t.remote_hits, t.home_l2_hits, t.dram_lines, t.l1_lookups,
-                           t.l2_lookups, t.remote_lookups, t.link_bytes, t.dram_read_bytes, t.dram_write_bytes, t.inter_gpm_bytes,
-                           t.delivered, t.moved);
-  };
-  EXPECT_EQ(totals(x), totals(y));
+  EXPECT_EQ(test::traffic_totals(x), test::traffic_totals(y));
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "oovr/schemes/i_scheme.h"
 #include "oovr/schemes/sort_first.h"
 #include "test_util.h"
+#include "traffic_totals.h"
 
 namespace oovr {
 namespace {
@@ -613,11 +614,6 @@ TEST(FrontEnd, ARecordsReplayIsItsTextureReadsThenItsFramebuffersLinesInOrder) {
   const FrameTrace& f = sim.frame();
   const SceneLayout& layout = by_hand.layout();
   MemorySystem& memory = by_hand.memory();
-  const auto totals = [](const TrafficTotals& t) {
-    return std::make_tuple(t.accesses, t.l1_hits, t.l2_hits, t.remote_hits, t.home_l2_hits, t.dram_lines, t.l1_lookups,
-                           t.l2_lookups, t.remote_lookups, t.link_bytes, t.dram_read_bytes, t.dram_write_bytes, t.inter_gpm_bytes,
-                           t.delivered, t.moved);
-  };
   uint64_t blended = 0, framebuffer_lines = 0;
   for (size_t i = 0; i < f.tiles.size(); ++i) {
     const TileWork& w = f.tiles[i];
@@ -639,7 +635,8 @@ TEST(FrontEnd, ARecordsReplayIsItsTextureReadsThenItsFramebuffersLinesInOrder) {
     UnitTraffic t;
     const uint32_t tile = uint32_t(w.tile_y) * uint32_t(f.tiles_x) + w.tile_x;
     memory.access(gpm, int(tile % uint32_t(by_hand.sms())), layout, {f.tex_lines.data() + w.tex_begin, w.tex_count}, lines, t, 0);
-    ASSERT_EQ(totals(sim.memory().totals()), totals(memory.totals())) << "record " << i << " of " << f.tiles.size();
+    ASSERT_EQ(test::traffic_totals(sim.memory().totals()), test::traffic_totals(memory.totals()))
+        << "record " << i << " of " << f.tiles.size();
   }
   EXPECT_GT(blended, 0u);
   EXPECT_GT(framebuffer_lines, 4 * f.tiles.size());
