@@ -308,7 +308,9 @@ TEST_F(CrowdWindows, OnlyAFirstFrameAskedForIsDrawnWithItsPicture) {
   EXPECT_EQ(first.colour.rgba.size(), size_t(rig.frame_width()) * size_t(rig.frame_height()) * 4);
   EXPECT_EQ(first.object_id.size(), size_t(rig.frame_width()) * size_t(rig.frame_height()));
   for (size_t k = 0; k < 3; ++k) {
-    if (k > 0) EXPECT_TRUE(pictured.outputs[k].colour.rgba.empty()) << "frame " << k;
+    if (k > 0) {
+      EXPECT_TRUE(pictured.outputs[k].colour.rgba.empty()) << "frame " << k;
+    }
     EXPECT_TRUE(plain.outputs[k].colour.rgba.empty()) << "frame " << k;
     EXPECT_TRUE(plain.outputs[k].object_id.empty()) << "frame " << k;
     EXPECT_EQ(serialize_trace(plain.outputs[k].trace), serialize_trace(pictured.outputs[k].trace)) << "frame " << k;

@@ -19,6 +19,8 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   const ReplacementFactory* f = ReplacementPolicies::find(spec.replacement);
   if (!f) throw Error("cache " + m_name + ": unknown replacement policy '" + spec.replacement + "'");
   m_ordered = f->least_recently_used;
+  if (m_ordered && m_assoc == 4) m_shape = Shape::lru4;
+  if (m_ordered && m_assoc == 16) m_shape = Shape::lru16;
   const uint64_t lines = spec.size.value / line_bytes;
   m_sets = lines / uint64_t(m_assoc);
   if (m_sets == 0 || (m_sets & (m_sets - 1)) != 0) throw Error("cache " + m_name + ": the number of sets must be a power of two");
@@ -37,6 +39,34 @@ Cache::Cache(const CacheSpec& spec, uint64_t line_bytes, std::string name) : m_n
   uint64_t seed = 0;
   for (char c : m_name) seed = mix64(seed ^ uint64_t(uint8_t(c)));
   m_policy = f->make(seed);
+}
+
+bool Cache::access_other(uint64_t line, bool write, Category category, Eviction& ev) {
+  if (m_ordered) return access_ordered<0>(line, write, category, ev);
+  uint8_t* block = block_of(line);
+  // A read of the set's most recently used line hits and changes no
+  // set's order, so nothing else is done (replacement policies read only
+  // the order of the counters: replacement/i_replacement.h). Texture
+  // lines repeat from quad to quad, so this is most of an L1's reads.
+  if (mru(block) == line && !write) return true;
+  const uint32_t* tags = tags_of(block);
+  // Tags are 32 bits wide; the line's is compared at 64, so a line too
+  // far for one (refused by insert()) matches none.
+  const uint64_t tag = line >> m_tag_shift;
+  tick();
+  // Scan every way without an early exit: no hard-to-predict branch per
+  // way, and sets are short (at most 1024 ways, usually 4 to 16).
+  int hit = -1;
+  for (int i = 0; i < m_assoc; ++i) hit = uint64_t(tags[i]) == tag ? i : hit;
+  if (hit >= 0) {
+    last_use_of(block)[hit] = m_clock;
+    set_mru(block, line);
+    if (write) dirty_of(block)[hit] = 1;
+    return true;
+  }
+  insert(block, line, write, category, ev);
+  set_mru(block, line);
+  return false;
 }
 
 void Cache::refuse(uint64_t line) const {
