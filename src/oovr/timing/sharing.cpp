@@ -282,13 +282,12 @@ const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand
       // elsewhere, by its share alone, or all fitting), and the others on
       // three resources in four.
       enum class Steps { all, moving, none } steps = Steps::all;
+      // Whether a level left the range between its first step and its
+      // capacity at the last iteration's end (read while Steps::moving).
+      bool left = false;
       for (int i = 0; i < 1000 && !converged; ++i) {
         ++m_iterations;
-        if (steps == Steps::moving)
-          for (size_t j = 0; j < m_shared.size(); ++j) {
-            const double l = m_level[size_t(m_shared[j])];
-            if (!(l >= m_first[j] && l <= m_capacity[size_t(m_shared[j])])) steps = Steps::all;
-          }
+        if (steps == Steps::moving && left) steps = Steps::all;
         if (steps == Steps::moving) {
           step_moving(m_level, m_next);
         } else if (steps == Steps::all) {
@@ -312,11 +311,23 @@ const std::vector<double>& ResourceSharing::rates(const std::vector<const Demand
             }
           }
         }
+        // One pass: whether every level is within the tolerance of its
+        // step, each level halved towards its step, and whether one left
+        // the range (m_first holds the first step's levels from the first
+        // iteration on). Converged, every level takes its step instead of
+        // the halves. (Three passes were 4% of a replay's instructions.)
         converged = true;
-        for (int r : m_shared)
-          if (std::abs(m_next[size_t(r)] - m_level[size_t(r)]) > 1e-13 * m_capacity[size_t(r)]) converged = false;
-        for (int r : m_shared)
-          m_level[size_t(r)] = converged ? m_next[size_t(r)] : 0.5 * (m_level[size_t(r)] + m_next[size_t(r)]);
+        left = false;
+        for (size_t j = 0; j < m_shared.size(); ++j) {
+          const size_t r = size_t(m_shared[j]);
+          const double l = m_level[r], n = m_next[r], c = m_capacity[r];
+          if (std::abs(n - l) > 1e-13 * c) converged = false;
+          const double half = 0.5 * (l + n);
+          m_level[r] = half;
+          if (!(half >= m_first[j] && half <= c)) left = true;
+        }
+        if (converged)
+          for (int r : m_shared) m_level[size_t(r)] = m_next[size_t(r)];
       }
       if (!converged) ++m_unconverged;
       m_levels.clear();
