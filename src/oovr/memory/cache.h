@@ -131,20 +131,15 @@ class Cache {
       ev.line = entry_tag(last) << m_tag_shift | (line & m_set_mask);
       ev.category = Category(uint8_t(last >> 40));
     }
-    if constexpr (W > 0) {
-      // Every entry one way on, in whole vectors (selects over a copy of
-      // the set spent 2.5% of a replay's instructions on the misses of the
-      // paper's 16-way L2s).
-      shift_all<W>(e);
-    } else {
-      move_on(e, ways - 1);
-    }
+    shift_all<W>(e, ways);
     e[0] = tag | dirty | uint64_t(uint8_t(category)) << 40;
     return false;
   }
-  // e[1 .. W-1] = e[0 .. W-2].
+  // A miss's move: every entry one way on (move_on(e, ways - 1)), for the
+  // paper's shapes in whole vectors (selects over a copy of the set spent
+  // 2.5% of a replay's instructions on the misses of its 16-way L2s).
   template <int W>
-  static void shift_all(uint64_t* e) {
+  static void shift_all(uint64_t* e, int ways) {
 #if defined(__SSE2__)
     if constexpr (W == 4 || W == 16) {
       // Every load before the first store; the last entry moved on is
@@ -157,9 +152,7 @@ class Cache {
       return;
     }
 #endif
-    uint64_t kept[W > 1 ? W - 1 : 1];
-    std::memcpy(kept, e, sizeof(uint64_t) * (W - 1));
-    std::memcpy(e + 1, kept, sizeof(uint64_t) * (W - 1));
+    move_on(e, ways - 1);
   }
   // The first of a set's ways 1 to `ways` - 1 whose entry holds `tag`
   // (below kEmpty), or 0 when none does. A miss in a 16-way
