@@ -132,8 +132,14 @@ class AssimpLoader {
     const aiScene* s = importer.ReadFile(m_path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                                                      aiProcess_ValidateDataStructure);
     if (!io->refused().empty()) throw Error("cannot load '" + m_path + "': it names " + io->refused());
-    if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !s->mRootNode)
-      throw Error("cannot load '" + m_path + "': " + importer.GetErrorString());
+    if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !s->mRootNode) {
+      // assimp gives no reason for a scene it marks incomplete because no
+      // mesh is left (points and lines taken out, here or by the checks).
+      std::string why = importer.GetErrorString();
+      if (why.empty())
+        why = s && s->mNumMeshes == 0 ? "the file has no triangles" : "assimp could not read it and gave no reason";
+      throw Error("cannot load '" + m_path + "': " + why);
+    }
     m_ai = s;
     m_scene.name = fs::path(m_path).stem().string();
     m_scene.description = "loaded from " + m_path;

@@ -270,7 +270,7 @@ void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
       if (const auto attr = prim.find("attributes"); attr != prim.end() && attr->is_object())
         for (auto it = attr->begin(); it != attr->end(); ++it)
           named.push_back({it.key(), &*it, !indexed && it.key() == "POSITION"});
-      uint64_t vertices = UINT64_MAX;  // unknown: neither named
+      uint64_t vertices = UINT64_MAX;  // neither named
       for (const auto& [role, index, counts] : named) {
         if (!index->is_number_unsigned() || index->get<uint64_t>() >= n_accessors)
           bad(name, what + "'s " + printable(role) + " names accessor " + shown(*index) + ", which does not exist");
@@ -282,7 +282,12 @@ void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
         if (accessor.contains("sparse")) bad(name, accessor_named + " is sparse; oovr does not read sparse accessors");
         if (counts) vertices = count->get<uint64_t>();
       }
-      if (vertices != UINT64_MAX && vertices < kLeast[mode])
+      // Neither named: assimp reads no positions and draws the primitive
+      // from none (glTF 2, 3.7.2.1: a client skips it), so a strip, fan or
+      // loop of it is a strip of no vertices (fuzz_model, in CI, found a
+      // position-less line strip asking for 2^32 - 1 faces).
+      if (vertices == UINT64_MAX) vertices = 0;
+      if (vertices < kLeast[mode])
         bad(name, what + " is a " + kModes[mode] + " of " + std::to_string(vertices) + (vertices == 1 ? " vertex" : " vertices") +
                       "; a " + kModes[mode] + " needs at least " + std::to_string(kLeast[mode]));
     }
@@ -430,7 +435,22 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
     drop(*it, {"weights"});
     for (auto& mesh : *it)
       if (mesh.is_object())
-        if (const auto p = mesh.find("primitives"); p != mesh.end()) drop(*p, {"targets"});
+        if (const auto p = mesh.find("primitives"); p != mesh.end()) {
+          drop(*p, {"targets"});
+          // Points and lines (modes 0 to 3; checked above) have no
+          // triangles for oovr to draw, and assimp 5.2 closes an indexed
+          // line loop through its first line even where it dropped that
+          // line for an index past the vertices (a null read, found by
+          // trying each mode with indices out of range): they are taken out.
+          if (p->is_array()) {
+            nlohmann::json kept = nlohmann::json::array();
+            for (auto& prim : *p) {
+              const auto mode = prim.is_object() ? prim.find("mode") : prim.end();
+              if (mode == prim.end() || mode->get<uint64_t>() >= 4) kept.push_back(std::move(prim));
+            }
+            *p = std::move(kept);
+          }
+        }
   }
   return j.dump();
 }
