@@ -82,7 +82,10 @@ class StringStream : public Assimp::IOStream {
 class BoundedIOSystem : public Assimp::IOSystem {
  public:
   BoundedIOSystem(std::string main_path, std::string main_bytes, bool others)
-      : m_main(std::move(main_path)), m_bytes(std::move(main_bytes)), m_others(others) {}
+      : m_main(std::move(main_path)),
+        m_bytes(std::move(main_bytes)),
+        m_others(others),
+        m_text_others(lower_extension(m_main) == ".obj") {}
 
   bool Exists(const char* file) const override {
     if (is_main(file)) return true;
@@ -100,6 +103,12 @@ class BoundedIOSystem : public Assimp::IOSystem {
                   " bytes ($OOVR_LIMITS file_bytes)";
     else if (r.failure != FileRead::Failure::none && r.failure != FileRead::Failure::missing)
       m_refused = std::string("'") + file + "', which cannot be read: " + r.why;
+    if (r.failure == FileRead::Failure::none && m_text_others && r.bytes.find('\0') != std::string::npos) {
+      // An OBJ's material libraries are text, and assimp's reader of
+      // them scans to NULs as its OBJ reader does (check_obj).
+      m_refused = std::string("'") + file + "', a material library with a NUL byte in it (it is text)";
+      return nullptr;
+    }
     if (r.failure != FileRead::Failure::none) return nullptr;
     return new StringStream(std::move(r.bytes));
   }
@@ -116,6 +125,7 @@ class BoundedIOSystem : public Assimp::IOSystem {
   }
   std::string m_main, m_bytes;
   bool m_others;
+  bool m_text_others;  // the other files are an OBJ's material libraries
   std::string m_refused;
 };
 

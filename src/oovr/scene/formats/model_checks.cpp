@@ -419,6 +419,20 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
     }
   }
   check_gltf_primitives(j, name);
+  // glTF 1 (2015) keeps its collections in objects keyed by id, which none
+  // of the checks above reads, and assimp 5.2's glTF 1 reader aborts the
+  // program (an ai_assert) on a buffer without its byteLength (fuzz_model):
+  // a reader oovr cannot make safe, so only glTF 2 is read.
+  const nlohmann::json* version = nullptr;
+  if (const auto asset = j.find("asset"); asset != j.end() && asset->is_object())
+    if (const auto v = asset->find("version"); v != asset->end()) version = &*v;
+  if (!version || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0)
+    bad(name, "the glTF asset's version is " +
+                  (!version               ? std::string("missing")
+                   : version->is_string() ? "'" + printable(version->get<std::string>()) + "'"
+                   : version->is_number() ? version->dump()
+                                          : std::string("a ") + version->type_name()) +
+                  "; oovr reads glTF 2 only (assimp's glTF 1 reader aborts on malformed files)");
   // Skins, animations and morph targets move or blend geometry over time;
   // oovr draws a model's rest pose, so they are taken out here rather than
   // left to assimp (whose glTF 2 importer crashes on some skins).
@@ -472,6 +486,7 @@ void put_le32(std::string& out, uint32_t v) {
 // the GLB rebuilt around the checked JSON, with the first binary chunk.
 std::string check_glb(const std::string& b, const std::string& name) {
   if (b.size() < 12 || b.compare(0, 4, "glTF") != 0) bad(name, "not a GLB file (no 'glTF' magic)");
+  if (le32(b, 4) != 2) bad(name, "GLB version " + std::to_string(le32(b, 4)) + "; oovr reads glTF 2 (GLB version 2) only");
   if (le32(b, 8) != b.size())
     bad(name, "the GLB header declares " + std::to_string(le32(b, 8)) + " bytes, the file has " + std::to_string(b.size()));
   size_t at = 12;
@@ -516,6 +531,12 @@ std::string check_glb(const std::string& b, const std::string& name) {
 // (regular files within file_bytes only).
 void check_obj(const std::string& bytes, const std::string& name) {
   const InputLimits& lim = InputLimits::get();
+  // OBJ is text. assimp 5.2's reader ends some of its scans at a NUL and
+  // not others, and a face list of lines with NULs in them wrote past its
+  // buffers (fuzz_model: ASan's allocator found its own chunk headers
+  // overwritten).
+  if (const size_t nul = bytes.find('\0'); nul != std::string::npos)
+    bad(name, "an OBJ file is text, and byte " + std::to_string(nul) + " is a NUL");
   uint64_t groups = 0, elements = 0;
   size_t at = 0;
   while (at < bytes.size()) {
