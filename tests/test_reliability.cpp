@@ -257,8 +257,9 @@ TEST(Models, GltfPointsAndLinesAreLeftOut) {
 // indices. Every mode is tried with 0 to 4 vertices, indexed and not, from
 // the indices (whose count, when named, is the vertex count) or POSITION:
 // the short ones are refused by name before assimp reads them; triangles,
-// strips and fans of 3 or more load, and the rest (points, lines, empty
-// lists: no triangles to draw) are assimp's errors.
+// strips and fans of 3 or more load, and the rest (points and lines, taken
+// out before assimp reads the file, and empty lists: no triangles to draw)
+// are errors.
 TEST(Models, GltfPrimitivesAssimpWouldMisreadAreRefusedByName) {
   const char* kModes[] = {"points", "lines", "line loop", "line strip", "triangles", "triangle strip", "triangle fan"};
   const int kLeast[] = {0, 0, 2, 2, 0, 3, 3};
