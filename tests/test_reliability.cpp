@@ -230,10 +230,13 @@ TEST(Models, GltfSkinsAnimationsAndMorphTargetsAreLeftOut) {
 // lines alone has no triangles.
 TEST(Models, GltfPointsAndLinesAreLeftOut) {
   // Positions (0,0,0), (1,0,0), (0,1,0), then the indices 9, 0, 1 (9 is past the vertices).
-  const auto doc = [](const std::string& primitives) {
-    return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[)" +
-           primitives +
-           R"(]}],"buffers":[{"byteLength":48,"uri":"data:application/octet-stream;base64,)"
+  // One mesh of `primitives`, or (with `apart`) that mesh and the first
+  // primitive's alone, each drawn by a node.
+  const auto doc = [](const std::string& primitives, const std::string& apart = "") {
+    return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0)" + std::string(apart.empty() ? "" : ",1") +
+           R"(]}],"nodes":[{"mesh":0})" + (apart.empty() ? "" : R"(,{"mesh":1})") + R"(],"meshes":[{"primitives":[)" +
+           primitives + "]}" + (apart.empty() ? "" : R"(,{"primitives":[)" + apart + "]}") +
+           R"(],"buffers":[{"byteLength":48,"uri":"data:application/octet-stream;base64,)"
            R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAACQAAAAAAAAABAAAA"}],)"
            R"("bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":12}],)"
            R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)"
@@ -248,6 +251,10 @@ TEST(Models, GltfPointsAndLinesAreLeftOut) {
     EXPECT_EQ(both.meshes.at(size_t(both.objects[0].mesh)).indices.size(), 3u);
     EXPECT_EQ(message_of([&] { (void)load_model_bytes(doc(lines), "lines.gltf"); }),
               "cannot load 'lines.gltf': the file has no triangles");
+    // A mesh left with no primitives beside one with a triangle.
+    const Scene apart = load_model_bytes(doc(lines, triangle), "apart.gltf");
+    ASSERT_EQ(apart.objects.size(), 1u);
+    EXPECT_EQ(apart.meshes.at(size_t(apart.objects[0].mesh)).indices.size(), 3u);
   }
 }
 
