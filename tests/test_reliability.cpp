@@ -154,6 +154,23 @@ TEST(ModelChecks, OnlyGltf2IsRead) {
             "cannot load 'b.glb': GLB version 1; oovr reads glTF 2 (GLB version 2) only");
 }
 
+// assimp 5.2 takes an embedded image's file extension as what follows the
+// '/' of its mimeType, and read from address 1 where there was none
+// (fuzz_model: "image*png" in a GLB). A mimeType must be a media type.
+TEST(ModelChecks, GltfImageTypesAreMediaTypes) {
+  std::string glb = read(kModels + "/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  const size_t at = glb.find("image/png");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(glb, "b.glb"); }), "<no error>");
+  glb[at + 5] = '*';
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(glb, "b.glb"); }),
+            "cannot load 'b.glb': glTF image 0's mimeType is 'image*png', not a media type such as 'image/png'");
+  EXPECT_NE(message_of([] {
+              precheck_model_bytes(R"({"asset":{"version":"2.0"},"images":[{"uri":"a.png"},{"mimeType":7}]})", "i.gltf");
+            }).find("glTF image 1's mimeType is a number"),
+            std::string::npos);
+}
+
 // assimp walks a glTF's node tree recursively: cycles and trees deeper
 // than $OOVR_LIMITS nesting (256) are refused first.
 TEST(ModelChecks, GltfNodeTreesAreBounded) {

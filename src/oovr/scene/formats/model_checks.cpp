@@ -419,6 +419,21 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
     }
   }
   check_gltf_primitives(j, name);
+  // An image's media type: assimp 5.2 takes an embedded image's file
+  // extension as what follows the '/' in it, and read from address 1 where
+  // there is none (fuzz_model: "image*png"). glTF 2 names its types
+  // "image/png" and "image/jpeg"; extensions name others the same way.
+  if (const auto it = j.find("images"); it != j.end() && it->is_array())
+    for (size_t i = 0; i < it->size(); ++i) {
+      const auto& image = (*it)[i];
+      const auto type = image.is_object() ? image.find("mimeType") : image.end();
+      if (!image.is_object() || type == image.end()) continue;
+      if (!type->is_string() || type->get<std::string>().find('/') == std::string::npos)
+        bad(name,
+            "glTF image " + std::to_string(i) + "'s mimeType is " +
+                (type->is_string() ? "'" + printable(type->get<std::string>()) + "'" : std::string("a ") + type->type_name()) +
+                ", not a media type such as 'image/png'");
+    }
   // glTF 1 (2015) keeps its collections in objects keyed by id, which none
   // of the checks above reads, and assimp 5.2's glTF 1 reader aborts the
   // program (an ai_assert) on a buffer without its byteLength (fuzz_model):
