@@ -169,6 +169,20 @@ TEST(ModelChecks, GltfImageTypesAreMediaTypes) {
               precheck_model_bytes(R"({"asset":{"version":"2.0"},"images":[{"uri":"a.png"},{"mimeType":7}]})", "i.gltf");
             }).find("glTF image 1's mimeType is a number"),
             std::string::npos);
+  // A data URI's media type is read the same way (a texture's image of
+  // type "imagepng" crashed assimp too), and a URI has no control
+  // character (assimp marks a data URI it parsed by a first byte of 0x10).
+  const auto image = [](const std::string& uri) { return R"({"asset":{"version":"2.0"},"images":[{"uri":")" + uri + R"("}]})"; };
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(image("data:image/png;base64,AAAA"), "i.gltf"); }), "<no error>");
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(image("data:;base64,AAAA"), "i.gltf"); }), "<no error>");
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(image("data:imagepng;base64,AAAA"), "i.gltf"); }),
+            "cannot load 'i.gltf': glTF image 0's data URI's media type is 'imagepng', not a media type such as 'image/png'");
+  EXPECT_EQ(message_of([&] { precheck_model_bytes(image("\\u0010abcd.png"), "i.gltf"); }),
+            "cannot load 'i.gltf': glTF image 0's uri has a control character, which no URI has");
+  EXPECT_NE(message_of([] {
+              precheck_model_bytes(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":0,"uri":"a\u007fb.bin"}]})", "b.gltf");
+            }).find("glTF buffer 0's uri has a control character"),
+            std::string::npos);
 }
 
 // assimp walks a glTF's node tree recursively: cycles and trees deeper

@@ -421,18 +421,38 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
   check_gltf_primitives(j, name);
   // An image's media type: assimp 5.2 takes an embedded image's file
   // extension as what follows the '/' in it, and read from address 1 where
-  // there is none (fuzz_model: "image*png"). glTF 2 names its types
-  // "image/png" and "image/jpeg"; extensions name others the same way.
+  // there is none (fuzz_model: "image*png"; a data URI's type is read the
+  // same way). glTF 2 names its types "image/png" and "image/jpeg";
+  // extensions name others the same way. A URI has no control character
+  // (RFC 3986), and assimp marks a data URI it has parsed by a first byte
+  // of 0x10, then reads offsets from the bytes after it.
+  const auto media_type = [&](const std::string& type, const std::string& what) {
+    if (type.find('/') == std::string::npos)
+      bad(name, what + " is '" + printable(type) + "', not a media type such as 'image/png'");
+  };
+  const auto check_uri = [&](const nlohmann::json& item, const std::string& what, bool image) {
+    const auto uri = item.is_object() ? item.find("uri") : item.end();
+    if (!item.is_object() || uri == item.end() || !uri->is_string()) return;
+    const std::string& u = uri->get_ref<const std::string&>();
+    if (std::any_of(u.begin(), u.end(), [](char c) { return uint8_t(c) < 0x20 || c == 0x7f; }))
+      bad(name, what + "'s uri has a control character, which no URI has");
+    if (image && u.rfind("data:", 0) == 0) {
+      const size_t end = std::min(u.find_first_of(";,", 5), u.size());
+      if (end > 5) media_type(u.substr(5, end - 5), what + "'s data URI's media type");
+    }
+  };
+  if (const auto it = j.find("buffers"); it != j.end() && it->is_array())
+    for (size_t i = 0; i < it->size(); ++i) check_uri((*it)[i], "glTF buffer " + std::to_string(i), false);
   if (const auto it = j.find("images"); it != j.end() && it->is_array())
     for (size_t i = 0; i < it->size(); ++i) {
       const auto& image = (*it)[i];
+      const std::string what = "glTF image " + std::to_string(i);
+      check_uri(image, what, true);
       const auto type = image.is_object() ? image.find("mimeType") : image.end();
       if (!image.is_object() || type == image.end()) continue;
-      if (!type->is_string() || type->get<std::string>().find('/') == std::string::npos)
-        bad(name,
-            "glTF image " + std::to_string(i) + "'s mimeType is " +
-                (type->is_string() ? "'" + printable(type->get<std::string>()) + "'" : std::string("a ") + type->type_name()) +
-                ", not a media type such as 'image/png'");
+      if (!type->is_string())
+        bad(name, what + "'s mimeType is a " + std::string(type->type_name()) + ", not a media type such as 'image/png'");
+      media_type(type->get<std::string>(), what + "'s mimeType");
     }
   // glTF 1 (2015) keeps its collections in objects keyed by id, which none
   // of the checks above reads, and assimp 5.2's glTF 1 reader aborts the
