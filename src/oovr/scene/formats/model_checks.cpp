@@ -217,6 +217,9 @@ PlyMesh parse_ply(const std::string& bytes, const std::string& name) {
   return mesh;
 }
 
+// A value named in a message: a number as written, anything else by its type.
+std::string shown(const nlohmann::json& v) { return v.is_number() ? v.dump() : std::string("a ") + v.type_name(); }
+
 // A glTF primitive's mode and its vertex count (its index accessor's, else
 // its POSITION accessor's). assimp 5.2 takes a strip, fan or loop's
 // primitive count as the vertex count less the vertices of its first
@@ -232,8 +235,6 @@ PlyMesh parse_ply(const std::string& bytes, const std::string& name) {
 // targets' usually, taken out below) are left: assimp reads only the
 // accessors something names.
 void check_gltf_primitives(const nlohmann::json& j, const std::string& name) {
-  // A value named in a message: a number as written, anything else by its type.
-  const auto shown = [](const nlohmann::json& v) { return v.is_number() ? v.dump() : std::string("a ") + v.type_name(); };
   const auto meshes = j.find("meshes");
   if (meshes == j.end() || !meshes->is_array()) return;
   const auto accessors = j.find("accessors");
@@ -307,10 +308,33 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
     bad(name, std::string("bad glTF JSON: ") + e.what());
   }
   if (!j.is_object()) bad(name, "the glTF JSON is not an object");
+  // An image's media type: assimp 5.2 takes an embedded image's file
+  // extension as what follows the '/' in it, and read from address 1 where
+  // there is none (fuzz_model: "image*png"; a data URI's type is read the
+  // same way). glTF 2 names its types "image/png" and "image/jpeg";
+  // extensions name others the same way. A URI has no control character
+  // (RFC 3986), and assimp marks a data URI it has parsed by a first byte
+  // of 0x10, then reads offsets from the bytes after it.
+  const auto media_type = [&](const std::string& type, const std::string& what) {
+    if (type.find('/') == std::string::npos)
+      bad(name, what + " is '" + printable(type) + "', not a media type such as 'image/png'");
+  };
+  const auto check_uri = [&](const nlohmann::json& item, const std::string& what, bool image) {
+    const auto uri = item.is_object() ? item.find("uri") : item.end();
+    if (!item.is_object() || uri == item.end() || !uri->is_string()) return;
+    const std::string& u = uri->get_ref<const std::string&>();
+    if (std::any_of(u.begin(), u.end(), [](char c) { return uint8_t(c) < 0x20 || c == 0x7f; }))
+      bad(name, what + "'s uri has a control character, which no URI has");
+    if (image && u.rfind("data:", 0) == 0) {
+      const size_t end = std::min(u.find_first_of(";,", 5), u.size());
+      if (end > 5) media_type(u.substr(5, end - 5), what + "'s data URI's media type");
+    }
+  };
   if (const auto it = j.find("buffers"); it != j.end() && it->is_array()) {
     for (size_t i = 0; i < it->size(); ++i) {
       const auto& b = (*it)[i];
       if (!b.is_object()) bad(name, "glTF buffer " + std::to_string(i) + " is not an object");
+      check_uri(b, "glTF buffer " + std::to_string(i), false);
       const auto len = b.find("byteLength");
       if (len == b.end() || !len->is_number_unsigned()) bad(name, "glTF buffer " + std::to_string(i) + " has no byteLength");
       const uint64_t bytes = len->get<uint64_t>();
@@ -419,30 +443,6 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
     }
   }
   check_gltf_primitives(j, name);
-  // An image's media type: assimp 5.2 takes an embedded image's file
-  // extension as what follows the '/' in it, and read from address 1 where
-  // there is none (fuzz_model: "image*png"; a data URI's type is read the
-  // same way). glTF 2 names its types "image/png" and "image/jpeg";
-  // extensions name others the same way. A URI has no control character
-  // (RFC 3986), and assimp marks a data URI it has parsed by a first byte
-  // of 0x10, then reads offsets from the bytes after it.
-  const auto media_type = [&](const std::string& type, const std::string& what) {
-    if (type.find('/') == std::string::npos)
-      bad(name, what + " is '" + printable(type) + "', not a media type such as 'image/png'");
-  };
-  const auto check_uri = [&](const nlohmann::json& item, const std::string& what, bool image) {
-    const auto uri = item.is_object() ? item.find("uri") : item.end();
-    if (!item.is_object() || uri == item.end() || !uri->is_string()) return;
-    const std::string& u = uri->get_ref<const std::string&>();
-    if (std::any_of(u.begin(), u.end(), [](char c) { return uint8_t(c) < 0x20 || c == 0x7f; }))
-      bad(name, what + "'s uri has a control character, which no URI has");
-    if (image && u.rfind("data:", 0) == 0) {
-      const size_t end = std::min(u.find_first_of(";,", 5), u.size());
-      if (end > 5) media_type(u.substr(5, end - 5), what + "'s data URI's media type");
-    }
-  };
-  if (const auto it = j.find("buffers"); it != j.end() && it->is_array())
-    for (size_t i = 0; i < it->size(); ++i) check_uri((*it)[i], "glTF buffer " + std::to_string(i), false);
   if (const auto it = j.find("images"); it != j.end() && it->is_array())
     for (size_t i = 0; i < it->size(); ++i) {
       const auto& image = (*it)[i];
@@ -465,8 +465,7 @@ std::string check_gltf_json(const std::string& text, const std::string& name, ui
     bad(name, "the glTF asset's version is " +
                   (!version               ? std::string("missing")
                    : version->is_string() ? "'" + printable(version->get<std::string>()) + "'"
-                   : version->is_number() ? version->dump()
-                                          : std::string("a ") + version->type_name()) +
+                                          : shown(*version)) +
                   "; oovr reads glTF 2 only (assimp's glTF 1 reader aborts on malformed files)");
   // Skins, animations and morph targets move or blend geometry over time;
   // oovr draws a model's rest pose, so they are taken out here rather than
