@@ -15,6 +15,7 @@
 #include "oovr/run/simulation.h"
 #include "oovr/schemes/frame_sim.h"
 #include "oovr/schemes/i_scheme.h"
+#include "oovr/schemes/window_run.h"
 #include "test_util.h"
 
 namespace oovr {
@@ -205,6 +206,96 @@ TEST(MemoryTape, ACompareSharesTheBaselinesReplay) {
   EXPECT_EQ(both.replays[2], SharedReplay::Use::none);
   EXPECT_EQ(alone.replays[0], SharedReplay::Use::none);
   EXPECT_TRUE(same(everything(both.results[1]), everything(alone.results[0])));
+}
+
+TEST(MemoryTape, RunsTakenAStepAtATimeAndInterleavedAreTheRunsAlone) {
+  // oovr compare interleaves its runs' steps (run/simulation.cpp): each
+  // run's steps in turn with the others' must give what the run gives
+  // alone, a played one included. AFR has four frames in flight: one group
+  // a pass, two steps; the others a frame a step, eight.
+  const test::RenderedFrames& r = courtyard();
+  const FramesInMemory frames(r.traces);
+  const MachineSpec table1 = MachineSpec::from_config(Config{});
+  SharedReplay recorded;
+  WindowRun baseline(find_scheme("baseline"), r.scene, frames, table1, 4, &recorded);
+  WindowRun afr(find_scheme("afr"), r.scene, frames, table1, 4);
+  WindowRun oo_vr(find_scheme("oo-vr"), r.scene, frames, table1, 4);
+  EXPECT_EQ(baseline.steps_left(), 8u);
+  EXPECT_EQ(afr.steps_left(), 2u);
+  for (WindowRun* w : {&baseline, &afr, &oo_vr})
+    while (!w->done()) {
+      for (WindowRun* v : {&oo_vr, &afr, &baseline})
+        if (!v->done()) v->step();
+    }
+  std::vector<SchemeResult> runs;
+  EXPECT_TRUE(same(everything(baseline.result(&runs), runs), run("baseline", Config{})));
+  EXPECT_TRUE(same(everything(afr.result(&runs), runs), run("afr", Config{})));
+  EXPECT_TRUE(same(everything(oo_vr.result(&runs), runs), run("oo-vr", Config{})));
+  EXPECT_EQ(recorded.use, SharedReplay::Use::recorded);
+  ASSERT_TRUE(recorded.tape);
+  SharedReplay played = recorded;
+  WindowRun faster(find_scheme("baseline-1tb"), r.scene, frames, table1, 4, &played);
+  WindowRun again(find_scheme("oo-vr"), r.scene, frames, table1, 4);
+  while (!faster.done() || !again.done())
+    for (WindowRun* v : {&faster, &again})
+      if (!v->done()) v->step();
+  EXPECT_EQ(played.use, SharedReplay::Use::played) << played.why;
+  EXPECT_TRUE(same(everything(faster.result(&runs), runs), run("baseline-1tb", Config{})));
+  EXPECT_TRUE(same(everything(again.result(&runs), runs), run("oo-vr", Config{})));
+  EXPECT_THROW(again.step(), Error);  // done: no step left
+}
+
+TEST(MemoryTape, APlayedRunWhoseCallsDifferPartWayStartsAgainInFull) {
+  // The third frame's records differ from the recording's: the played run
+  // goes through the warm-up's first two frames, meets the difference on
+  // the third, and starts again in full, with all eight steps left.
+  const test::RenderedFrames& r = courtyard();
+  std::vector<FrameTrace> changed;
+  for (const FrameTrace* t : r.traces) changed.push_back(*t);
+  TileWork& w = changed[2].tiles[changed[2].tiles.size() / 2];
+  w.depth_write_mask = ~w.depth_write_mask;
+  std::vector<const FrameTrace*> pointers;
+  for (const FrameTrace& t : changed) pointers.push_back(&t);
+  const FramesInMemory frames(pointers);
+  const MachineSpec table1 = MachineSpec::from_config(Config{});
+  SharedReplay share;
+  (void)run("sfr-v", Config{}, &share);
+  WindowRun played(find_scheme("sfr-v"), r.scene, frames, table1, 4, &share);
+  std::vector<size_t> left;
+  while (!played.done()) {
+    played.step();
+    left.push_back(played.steps_left());
+  }
+  EXPECT_EQ(share.use, SharedReplay::Use::mismatched) << share.why;
+  EXPECT_EQ(left, (std::vector<size_t>{7, 6, 8, 7, 6, 5, 4, 3, 2, 1, 0}));
+  std::vector<SchemeResult> runs, full_runs;
+  const SchemeResult full = run_scheme_window(find_scheme("sfr-v"), r.scene, frames, table1, 4, &full_runs);
+  EXPECT_TRUE(same(everything(played.result(&runs), runs), everything(full, full_runs)));
+}
+
+TEST(MemoryTape, ASimulationIsTheSameOnOneThreadOrMany) {
+  // The schemes' runs as oovr compare schedules them, their steps
+  // interleaved on three threads, against one thread taking them in turn.
+  SimulationRequest r;
+  r.scene = "courtyard";
+  r.rig.eye_width = 160;
+  r.rig.eye_height = 240;
+  r.frame = 30;
+  r.frames = 4;
+  r.use_cache = false;
+  const std::vector<SchemeRef> schemes = {find_scheme("baseline"), find_scheme("afr"), find_scheme("oo-vr"),
+                                          find_scheme("baseline-1tb"), find_scheme("object")};
+  r.jobs = 1;
+  const Simulation one = run_simulation(r, schemes, Config{});
+  r.jobs = 3;
+  const Simulation three = run_simulation(r, schemes, Config{});
+  ASSERT_EQ(one.results.size(), schemes.size());
+  ASSERT_EQ(three.results.size(), schemes.size());
+  for (size_t i = 0; i < schemes.size(); ++i) {
+    EXPECT_TRUE(same(everything(one.results[i]), everything(three.results[i]))) << schemes[i].name;
+    EXPECT_EQ(one.replays[i], three.replays[i]) << schemes[i].name;
+  }
+  EXPECT_EQ(three.replays[3], SharedReplay::Use::played);
 }
 
 TEST(MemoryTape, AnotherMemorySystemIsNotPlayedBack) {

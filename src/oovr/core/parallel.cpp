@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <exception>
 #include <mutex>
@@ -50,6 +52,91 @@ void parallel_for(size_t n, unsigned threads, const std::function<void(size_t)>&
   std::vector<std::thread> pool;
   pool.reserve(threads - 1);
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+size_t next_step(const std::vector<StepState>& jobs) {
+  size_t best = jobs.size();
+  double most = -1;
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    const StepState& j = jobs[i];
+    if (j.running || j.done || j.waiting) continue;
+    if (j.steps == 0) return i;
+    const double left = double(j.left) * j.seconds / double(j.steps);
+    if (left > most) {
+      best = i;
+      most = left;
+    }
+  }
+  return best;
+}
+
+void run_steps(const SteppedJobs& jobs, unsigned threads) {
+  const size_t n = jobs.count;
+  if (!jobs.after.empty() && jobs.after.size() != n) throw Error("run_steps: one `after` per job, or none");
+  std::vector<StepState> state(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!jobs.after.empty() && jobs.after[i] >= n) throw Error("run_steps: a job waits for one that is not there");
+    state[i].waiting = !jobs.after.empty() && jobs.after[i] != i;
+  }
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::exception_ptr error;
+  size_t done = 0;
+  const auto worker = [&] {
+    std::unique_lock<std::mutex> lock(mutex);
+    for (;;) {
+      if (error || done == n) return;
+      const size_t i = next_step(state);
+      if (i == n) {
+        bool running = false;
+        for (const StepState& s : state) running = running || s.running;
+        if (!running) {  // every job left waits for another left: none would ever start
+          error = std::make_exception_ptr(Error("run_steps: the jobs left wait for each other"));
+          changed.notify_all();
+          return;
+        }
+        changed.wait(lock);
+        continue;
+      }
+      state[i].running = true;
+      lock.unlock();
+      const auto t0 = std::chrono::steady_clock::now();
+      bool last = false;
+      size_t left = 0;
+      try {
+        last = jobs.step(i);
+        if (!last) left = jobs.steps_left(i);
+        if (last && jobs.done) jobs.done(i);
+      } catch (...) {
+        lock.lock();
+        if (!error) error = std::current_exception();
+        changed.notify_all();
+        return;
+      }
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      lock.lock();
+      StepState& s = state[i];
+      s.running = false;
+      s.done = last;
+      s.left = left;
+      s.seconds += seconds;
+      ++s.steps;
+      if (last) {
+        ++done;
+        for (size_t k = 0; k < n; ++k)
+          if (state[k].waiting && jobs.after[k] == i) state[k].waiting = false;
+      }
+      changed.notify_all();
+    }
+  };
+  if (threads == 0) threads = default_thread_count();
+  const size_t count = std::max<size_t>(1, std::min<size_t>(threads, n));
+  std::vector<std::thread> pool;
+  pool.reserve(count - 1);
+  for (size_t t = 1; t < count; ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);

@@ -25,7 +25,7 @@ struct SimulationRequest {
   int aniso = 16;
   bool use_cache = true;                   // the on-disk trace cache
   bool need_first_image = false;           // the first frame's picture, for GPM and traffic images
-  unsigned jobs = 0;                       // schemes run at once (0: every core)
+  unsigned jobs = 0;                       // threads the schemes' runs share, a frame at a time (0: every core)
   std::string frames_option = "--frames";  // how messages name `frames`
   bool timeline = false;                   // keep every unit's time (SchemeResult::timeline)
   // What the simulation is doing, as it moves on (loading, traces, each

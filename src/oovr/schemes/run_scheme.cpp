@@ -10,6 +10,8 @@
 #include "oovr/core/error.h"
 #include "oovr/core/out_of_memory.h"
 #include "oovr/schemes/frame_sim.h"
+#include "oovr/schemes/memory_tape.h"
+#include "oovr/schemes/window_run.h"
 
 namespace oovr {
 
@@ -127,41 +129,9 @@ SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, cons
 
 namespace {
 
-// The window's runs; `tape` sets up their carried state's shared replay.
-SchemeResult run_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
-                        int window, std::vector<SchemeResult>* runs, const std::function<void(CarriedState&)>& tape) {
-  const std::string& name = scheme.name;
-  // Configured once for the window's runs.
-  const std::shared_ptr<const MachineSpec> machine = configured(scheme, spec);
-  const int m = scheme.impl->frames_needed(machine->memory.gpms);
-  if (window < 1 || window % m != 0)
-    throw Error(name + " renders " + std::to_string(m) + " frames at once (one per GPM): the number of frames (" +
-                std::to_string(window) + ") must be a multiple of " + std::to_string(m));
-  if (int(frames.size()) < window)
-    throw Error("not enough frames of trace: " + std::to_string(window) + " needed, " + std::to_string(frames.size()) + " given");
-  // In sequence on one memory system, after an unmeasured warm-up pass over
-  // the same frames: data is then where a game running these views would
-  // have it (pre-allocated copies included), and the distribution engine's
-  // rates are fitted.
-  // Group i's frames, held only while it runs.
-  const auto run_group = [&](size_t i, const std::shared_ptr<CarriedState>& carried) {
-    std::vector<std::shared_ptr<const FrameTrace>> held;
-    std::vector<const FrameTrace*> group;
-    for (size_t k = 0; k < size_t(m); ++k) {
-      held.push_back(frames.at(i * size_t(m) + k));
-      group.push_back(held.back().get());
-    }
-    return run_configured(scheme, scene, group, machine, carried);
-  };
-  const auto carried = std::make_shared<CarriedState>();
-  if (tape) tape(*carried);
-  std::vector<SchemeResult> all;
-  try {
-    for (size_t i = 0; i < size_t(window / m); ++i) (void)run_group(i, carried);
-    for (size_t i = 0; i < size_t(window / m); ++i) all.push_back(run_group(i, carried));
-  } catch (const std::bad_alloc&) {
-    throw Error(out_of_memory_message("simulating " + name + " on " + scene.name + " (" + std::to_string(window) + " frames)"));
-  }
+// The window's result from its measured runs, in order: the frames'
+// latencies and timelines one after the other, counts per frame.
+SchemeResult summarise(std::vector<SchemeResult>& all, int window) {
   SchemeResult s = all.front();
   s.frame_latencies_s.clear();
   double time = 0;  // seconds the window's frames take, frames in flight overlapping
@@ -212,7 +182,6 @@ SchemeResult run_window(const SchemeRef& scheme, const Scene& scene, const Frame
   for (double l : s.frame_latencies_s) sum += l;
   s.frame_latency_s = sum / double(s.frame_latencies_s.size());
   s.throughput_fps = double(window) / time;
-  if (runs) *runs = std::move(all);
   return s;
 }
 
@@ -257,36 +226,138 @@ std::string shared_replay_key(const SchemeRef& scheme, const MachineSpec& spec) 
   return key;
 }
 
-SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
-                               int window, std::vector<SchemeResult>* runs, SharedReplay* share) {
-  if (!share) return run_window(scheme, scene, frames, spec, window, runs, nullptr);
-  const std::string key = shared_replay_key(scheme, spec);
-  if (!share->tape) {
-    auto recording = std::make_shared<MemoryTape>(key);
-    SchemeResult r = run_window(scheme, scene, frames, spec, window, runs, [&](CarriedState& c) { c.recording = recording; });
-    share->tape = std::move(recording);
-    share->use = SharedReplay::Use::recorded;
-    return r;
+struct WindowRun::State {
+  SchemeRef scheme;
+  const Scene& scene;
+  const FrameSequence& frames;
+  std::shared_ptr<const MachineSpec> machine;  // configured once for the window's runs
+  int window = 0;
+  size_t groups = 0;  // of m frames, m the scheme's frames in flight
+  size_t m = 1;
+  SharedReplay* share = nullptr;
+  enum class Mode { full, recording, playing } mode = Mode::full;
+  std::shared_ptr<MemoryTape> recording;
+  std::shared_ptr<MemoryTape::Player> player;
+  std::shared_ptr<CarriedState> carried;  // made by the first step
+  size_t next = 0;                        // steps taken: the warm-up's groups, then the measured pass's
+  std::vector<SchemeResult> all;          // the measured pass's runs
+
+  State(SchemeRef s, const Scene& sc, const FrameSequence& f) : scheme(std::move(s)), scene(sc), frames(f) {}
+
+  // Group i's frames, held only while it runs.
+  SchemeResult run_group(size_t i) {
+    std::vector<std::shared_ptr<const FrameTrace>> held;
+    std::vector<const FrameTrace*> group;
+    for (size_t k = 0; k < m; ++k) {
+      held.push_back(frames.at(i * m + k));
+      group.push_back(held.back().get());
+    }
+    return run_configured(scheme, scene, group, machine, carried);
   }
-  if (share->tape->key() != key) {
+
+  void start() {
+    carried = std::make_shared<CarriedState>();
+    if (mode == Mode::recording) carried->recording = recording;
+    if (mode == Mode::playing) {
+      player = std::make_shared<MemoryTape::Player>(share->tape);
+      carried->playing = player;
+    }
+    all.clear();
+  }
+
+  // Starts the run again without the tape: its calls differed from it.
+  void in_full(const std::string& why) {
+    share->use = SharedReplay::Use::mismatched;
+    share->why = why;
+    mode = Mode::full;
+    player.reset();
+    carried.reset();
+    all.clear();
+    next = 0;
+  }
+};
+
+WindowRun::WindowRun(SchemeRef scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec, int window,
+                     SharedReplay* share)
+    : m(std::make_unique<State>(std::move(scheme), scene, frames)) {
+  const std::string& name = m->scheme.name;
+  m->machine = configured(m->scheme, spec);
+  const int in_flight = m->scheme.impl->frames_needed(m->machine->memory.gpms);
+  if (window < 1 || window % in_flight != 0)
+    throw Error(name + " renders " + std::to_string(in_flight) + " frames at once (one per GPM): the number of frames (" +
+                std::to_string(window) + ") must be a multiple of " + std::to_string(in_flight));
+  if (int(frames.size()) < window)
+    throw Error("not enough frames of trace: " + std::to_string(window) + " needed, " + std::to_string(frames.size()) + " given");
+  m->window = window;
+  m->m = size_t(in_flight);
+  m->groups = size_t(window / in_flight);
+  m->share = share;
+  if (!share) return;
+  const std::string key = shared_replay_key(m->scheme, spec);
+  if (!share->tape) {
+    m->mode = State::Mode::recording;
+    m->recording = std::make_shared<MemoryTape>(key);
+  } else if (share->tape->key() != key) {
     share->use = SharedReplay::Use::mismatched;
     share->why = "the tape was recorded for another scheme or memory system";
-    return run_window(scheme, scene, frames, spec, window, runs, nullptr);
+  } else {
+    m->mode = State::Mode::playing;
   }
+}
+
+WindowRun::~WindowRun() = default;
+
+const std::string& WindowRun::name() const { return m->scheme.name; }
+
+bool WindowRun::done() const { return m->next == 2 * m->groups; }
+
+size_t WindowRun::steps_left() const { return 2 * m->groups - m->next; }
+
+void WindowRun::step() {
+  State& s = *m;
+  if (done()) throw Error("the run of " + s.scheme.name + " has no step left");
+  // In sequence on one memory system, after an unmeasured warm-up pass over
+  // the same frames: data is then where a game running these views would
+  // have it (pre-allocated copies included), and the distribution engine's
+  // rates are fitted.
+  if (s.next == 0) s.start();
   try {
-    std::shared_ptr<MemoryTape::Player> player;
-    SchemeResult r = run_window(scheme, scene, frames, spec, window, runs, [&](CarriedState& c) {
-      player = std::make_shared<MemoryTape::Player>(share->tape);
-      c.playing = player;
-    });
-    if (!player->at_end()) throw TapeMismatch("the run made fewer memory calls than the recording");
-    share->use = SharedReplay::Use::played;
-    return r;
-  } catch (const TapeMismatch& m) {
-    share->use = SharedReplay::Use::mismatched;
-    share->why = m.what();
+    SchemeResult r = s.run_group(s.next % s.groups);
+    if (s.next >= s.groups) s.all.push_back(std::move(r));
+    ++s.next;
+    if (s.mode == State::Mode::playing && done() && !s.player->at_end())
+      throw TapeMismatch("the run made fewer memory calls than the recording");
+  } catch (const TapeMismatch& mismatch) {
+    if (s.mode != State::Mode::playing) throw;
+    s.in_full(mismatch.what());
+    return;
+  } catch (const std::bad_alloc&) {
+    throw Error(out_of_memory_message("simulating " + s.scheme.name + " on " + s.scene.name + " (" + std::to_string(s.window) +
+                                      " frames)"));
   }
-  return run_window(scheme, scene, frames, spec, window, runs, nullptr);
+  if (!done()) return;
+  s.carried.reset();
+  if (s.mode == State::Mode::recording) {
+    s.share->tape = std::move(s.recording);
+    s.share->use = SharedReplay::Use::recorded;
+  } else if (s.mode == State::Mode::playing) {
+    s.share->use = SharedReplay::Use::played;
+    s.player.reset();
+  }
+}
+
+SchemeResult WindowRun::result(std::vector<SchemeResult>* runs) {
+  if (!done()) throw Error("the run of " + m->scheme.name + " is not done");
+  SchemeResult s = summarise(m->all, m->window);
+  if (runs) *runs = std::move(m->all);
+  return s;
+}
+
+SchemeResult run_scheme_window(const SchemeRef& scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec,
+                               int window, std::vector<SchemeResult>* runs, SharedReplay* share) {
+  WindowRun run(scheme, scene, frames, spec, window, share);
+  while (!run.done()) run.step();
+  return run.result(runs);
 }
 
 }  // namespace oovr
