@@ -26,6 +26,29 @@ const test::RenderedFrames& courtyard() {
   return *r;
 }
 
+// The four frames, one record of frame `k` writing other depth lines (its
+// depth write mask inverted): the same records in the same order, so a
+// scheme's calls are those on the frames as rendered but for their hash.
+std::vector<FrameTrace> with_one_record_changed(size_t k) {
+  std::vector<FrameTrace> changed;
+  for (const FrameTrace* t : courtyard().traces) changed.push_back(*t);
+  TileWork& w = changed.at(k).tiles[changed[k].tiles.size() / 2];
+  w.depth_write_mask = ~w.depth_write_mask;
+  return changed;
+}
+
+// oovr compare's simulation of four small courtyard frames, rendered for it.
+SimulationRequest courtyard_simulation() {
+  SimulationRequest r;
+  r.scene = "courtyard";
+  r.rig.eye_width = 160;
+  r.rig.eye_height = 240;
+  r.frame = 30;
+  r.frames = 4;
+  r.use_cache = false;
+  return r;
+}
+
 // Everything a run says, its per-tile bytes and owners included.
 std::string everything(const SchemeResult& r) {
   nlohmann::ordered_json j = to_json(r);
@@ -189,13 +212,7 @@ TEST(MemoryTape, TheBaselineWithFasterLinksPlaysTheBaselines) {
 TEST(MemoryTape, ACompareSharesTheBaselinesReplay) {
   // oovr compare's simulation: baseline-1tb plays the baseline's replay
   // back and says what it says alone.
-  SimulationRequest r;
-  r.scene = "courtyard";
-  r.rig.eye_width = 160;
-  r.rig.eye_height = 240;
-  r.frame = 30;
-  r.frames = 4;
-  r.use_cache = false;
+  SimulationRequest r = courtyard_simulation();
   r.jobs = 2;
   const Simulation both =
       run_simulation(r, {find_scheme("baseline"), find_scheme("baseline-1tb"), find_scheme("sfr-v")}, Config{});
@@ -250,10 +267,7 @@ TEST(MemoryTape, APlayedRunWhoseCallsDifferPartWayStartsAgainInFull) {
   // goes through the warm-up's first two frames, meets the difference on
   // the third, and starts again in full, with all eight steps left.
   const test::RenderedFrames& r = courtyard();
-  std::vector<FrameTrace> changed;
-  for (const FrameTrace* t : r.traces) changed.push_back(*t);
-  TileWork& w = changed[2].tiles[changed[2].tiles.size() / 2];
-  w.depth_write_mask = ~w.depth_write_mask;
+  const std::vector<FrameTrace> changed = with_one_record_changed(2);
   std::vector<const FrameTrace*> pointers;
   for (const FrameTrace& t : changed) pointers.push_back(&t);
   const FramesInMemory frames(pointers);
@@ -276,13 +290,7 @@ TEST(MemoryTape, APlayedRunWhoseCallsDifferPartWayStartsAgainInFull) {
 TEST(MemoryTape, ASimulationIsTheSameOnOneThreadOrMany) {
   // The schemes' runs as oovr compare schedules them, their steps
   // interleaved on three threads, against one thread taking them in turn.
-  SimulationRequest r;
-  r.scene = "courtyard";
-  r.rig.eye_width = 160;
-  r.rig.eye_height = 240;
-  r.frame = 30;
-  r.frames = 4;
-  r.use_cache = false;
+  SimulationRequest r = courtyard_simulation();
   const std::vector<SchemeRef> schemes = {find_scheme("baseline"), find_scheme("afr"), find_scheme("oo-vr"),
                                           find_scheme("baseline-1tb"), find_scheme("object")};
   r.jobs = 1;
@@ -338,10 +346,7 @@ TEST(MemoryTape, ATapeIsPlayedOnlyOnItsOwnFrames) {
   // order), but the frames are folded into the calls' hash, so the run is
   // made in full rather than given the recording's traffic.
   const test::RenderedFrames& r = courtyard();
-  std::vector<FrameTrace> changed;
-  for (const FrameTrace* t : r.traces) changed.push_back(*t);
-  TileWork& w = changed[0].tiles[changed[0].tiles.size() / 2];
-  w.depth_write_mask = ~w.depth_write_mask;
+  const std::vector<FrameTrace> changed = with_one_record_changed(0);
   std::vector<const FrameTrace*> frames;
   for (const FrameTrace& t : changed) frames.push_back(&t);
   const auto on_changed = [&](SharedReplay* share) {

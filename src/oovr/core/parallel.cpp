@@ -25,6 +25,20 @@ unsigned default_thread_count() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+namespace {
+
+// Runs `worker` on `threads` threads, this one among them, and waits for all.
+template <typename F>
+void on_threads(unsigned threads, F& worker) {
+  std::vector<std::thread> pool;
+  pool.reserve(threads - 1);
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+}
+
+}  // namespace
+
 void parallel_for(size_t n, unsigned threads, const std::function<void(size_t)>& fn) {
   if (threads == 0) threads = default_thread_count();
   threads = unsigned(std::min<size_t>(threads, n));
@@ -49,11 +63,7 @@ void parallel_for(size_t n, unsigned threads, const std::function<void(size_t)>&
       }
     }
   };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  on_threads(threads, worker);
   if (error) std::rethrow_exception(error);
 }
 
@@ -133,12 +143,7 @@ void run_steps(const SteppedJobs& jobs, unsigned threads) {
     }
   };
   if (threads == 0) threads = default_thread_count();
-  const size_t count = std::max<size_t>(1, std::min<size_t>(threads, n));
-  std::vector<std::thread> pool;
-  pool.reserve(count - 1);
-  for (size_t t = 1; t < count; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  on_threads(unsigned(std::max<size_t>(1, std::min<size_t>(threads, n))), worker);
   if (error) std::rethrow_exception(error);
 }
 
