@@ -22,12 +22,12 @@ namespace {
 // run with the most work left (core/parallel.h, run_steps). Handing out
 // whole runs instead left the longest (OO-VR's, twice the others' on
 // oa:oa_dm4) to run alone at the end whenever it came late in the order:
-// `compare` of the paper's schemes on oa:oa_dm4, 8 frames, traces cached,
-// took 3.3 s where its steps interleaved take 2.8 s. Schemes whose runs may
-// share a memory replay (the baseline and baseline-1tb:
-// schemes/memory_tape.h) share it: the first of each key records it, and
-// the others begin once it is done and play it back (or run in full when
-// it made none).
+// `compare` on oa:oa_dm4, 8 frames, traces cached, two cores, medians of
+// alternated runs: all 17 schemes 3.12 -> 2.88 s, the paper's eight 1.73
+// -> 1.65 s (docs/performance.md). Schemes whose runs may share a memory
+// replay (the baseline and baseline-1tb: schemes/memory_tape.h) share it:
+// the first of each key records it, and the others begin once it is done
+// and play it back (or run in full when it made none).
 void run_schemes(const std::vector<SchemeRef>& schemes, const Scene& scene, const FrameSequence& frames,
                  const MachineSpec& machine, int window, unsigned jobs, const std::function<void(const std::string&)>& say,
                  Simulation& s) {
