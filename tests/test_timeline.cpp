@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -207,13 +208,13 @@ TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
   const nlohmann::json j = nlohmann::json::parse(t.json);
   ASSERT_TRUE(j.at("traceEvents").is_array());
   std::map<std::string, int> kinds;
-  std::map<std::pair<int, int>, bool> named;  // (pid, tid) with a thread_name
+  std::map<std::pair<int, int>, std::string> named;  // (pid, tid): its thread_name
   std::map<int, std::string> processes;
   size_t spans = 0, waits = 0;
   for (const auto& e : j["traceEvents"]) {
     const std::string ph = e.at("ph");
     if (ph == "M" && e["name"] == "process_name") processes[e["pid"]] = e["args"]["name"];
-    if (ph == "M" && e["name"] == "thread_name") named[{e["pid"], e["tid"]}] = true;
+    if (ph == "M" && e["name"] == "thread_name") named[{e["pid"], e["tid"]}] = e["args"]["name"];
     if (ph == "i") ++kinds[e["cat"]];
     if (ph != "X" || !e.contains("cat")) continue;
     ++kinds[e["cat"]];
@@ -225,6 +226,15 @@ TEST(Timeline, TraceEventFormatNamesEveryTrackAndBoundsItsSize) {
     ++spans;
     EXPECT_GE(double(e["dur"]), 0.0);
     EXPECT_TRUE(named.count({e["pid"], e["tid"]})) << "a span on an unnamed thread: " << e.dump();
+    if (e["cat"] == "transfer") {
+      // "transfer A -> B" on the links' track "GPM A -> GPM B" (or a lane of it).
+      const std::string name = e["name"], track = named[{e["pid"], e["tid"]}];
+      int a = -1, b = -1, c = -1, d = -1;
+      EXPECT_EQ(std::sscanf(name.c_str(), "transfer %d -> %d", &a, &b), 2) << name;
+      EXPECT_EQ(std::sscanf(track.c_str(), "GPM %d -> GPM %d", &c, &d), 2) << track;
+      EXPECT_TRUE(a >= 0 && a < r.gpms && b >= 0 && b < r.gpms && a != b) << name;
+      EXPECT_EQ(std::pair(a, b), std::pair(c, d)) << name << " on " << track;
+    }
   }
   EXPECT_EQ(spans, r.timeline.size());
   // A wait inside every unit that had latency after its work, ending with it.
