@@ -259,7 +259,42 @@ TEST(MemoryTape, RunsTakenAStepAtATimeAndInterleavedAreTheRunsAlone) {
   EXPECT_EQ(played.use, SharedReplay::Use::played) << played.why;
   EXPECT_TRUE(same(everything(faster.result(&runs), runs), run("baseline-1tb", Config{})));
   EXPECT_TRUE(same(everything(again.result(&runs), runs), run("oo-vr", Config{})));
-  EXPECT_THROW(again.step(), Error);  // done: no step left
+  EXPECT_THROW(again.step(), Error);               // done: no step left
+  EXPECT_THROW((void)again.result(&runs), Error);  // taken already
+}
+
+// The frames given, but frame `broken` fails to load, as a window whose
+// loader failed does (run/frames.h).
+class FramesFailingAt final : public FrameSequence {
+ public:
+  FramesFailingAt(std::vector<const FrameTrace*> frames, size_t broken) : m_frames(std::move(frames)), m_broken(broken) {}
+  size_t size() const override { return m_frames.size(); }
+  std::shared_ptr<const FrameTrace> at(size_t k) const override {
+    if (k == m_broken) throw Error("frame " + std::to_string(k) + " did not load");
+    return FramesInMemory(m_frames).at(k);
+  }
+
+ private:
+  std::vector<const FrameTrace*> m_frames;
+  size_t m_broken;
+};
+
+TEST(MemoryTape, ARunWhoseStepFailedTakesNoMoreSteps) {
+  // Its memory system is half way through the failed step: a run going on
+  // from there would say what no run says.
+  const test::RenderedFrames& r = courtyard();
+  const FramesFailingAt frames(r.traces, 2);
+  WindowRun run(find_scheme("baseline"), r.scene, frames, MachineSpec::from_config(Config{}), 4);
+  run.step();
+  run.step();
+  EXPECT_THROW(run.step(), Error);
+  try {
+    run.step();
+    ADD_FAILURE() << "a failed run took another step";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("failed"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(run.done());
 }
 
 TEST(MemoryTape, APlayedRunWhoseCallsDifferPartWayStartsAgainInFull) {
@@ -276,7 +311,7 @@ TEST(MemoryTape, APlayedRunWhoseCallsDifferPartWayStartsAgainInFull) {
   (void)run("sfr-v", Config{}, &share);
   WindowRun played(find_scheme("sfr-v"), r.scene, frames, table1, 4, &share);
   std::vector<size_t> left;
-  while (!played.done()) {
+  while (!played.done() && left.size() < 20) {  // 11 steps; a run that never ends fails here
     played.step();
     left.push_back(played.steps_left());
   }
@@ -302,6 +337,9 @@ TEST(MemoryTape, ASimulationIsTheSameOnOneThreadOrMany) {
   for (size_t i = 0; i < schemes.size(); ++i) {
     EXPECT_TRUE(same(everything(one.results[i]), everything(three.results[i]))) << schemes[i].name;
     EXPECT_EQ(one.replays[i], three.replays[i]) << schemes[i].name;
+    // And each as it runs alone, with nothing interleaved.
+    const Simulation alone = run_simulation(r, {schemes[i]}, Config{});
+    EXPECT_TRUE(same(everything(alone.results.at(0)), everything(three.results[i]))) << schemes[i].name;
   }
   EXPECT_EQ(three.replays[3], SharedReplay::Use::played);
 }

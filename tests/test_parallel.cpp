@@ -42,7 +42,7 @@ TEST(Parallel, AFreeThreadTakesTheJobWithTheMostWorkLeft) {
 }
 
 TEST(Parallel, EveryStepRunsOnceInOrderAndAJobWaitsForItsAfter) {
-  // Jobs of 1 to 12 steps on 1, 2 and 5 threads: each job's steps run in
+  // Jobs of 3 to 14 steps on 1, 2 and 5 threads: each job's steps run in
   // order, never two at once, and a job's first step only after the last
   // of the job it waits for.
   for (unsigned threads : {1u, 2u, 5u}) {
@@ -52,7 +52,7 @@ TEST(Parallel, EveryStepRunsOnceInOrderAndAJobWaitsForItsAfter) {
     std::vector<int> finished_at(n, -1), started_at(n, -1), done_calls(n, 0);
     std::atomic<int> clock{0};
     std::atomic<bool> overlap{false};
-    for (size_t i = 0; i < n; ++i) length[i] = 1 + (i * 5) % 12;
+    for (size_t i = 0; i < n; ++i) length[i] = 3 + (i * 5) % 12;
     SteppedJobs jobs;
     jobs.count = n;
     jobs.after = {0, 0, 2, 3, 0, 5, 3, 7, 8};  // 1 and 4 wait for 0, 3 for 2, 6 for 3

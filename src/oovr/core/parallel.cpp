@@ -10,7 +10,9 @@
 #include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <new>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -28,11 +30,17 @@ unsigned default_thread_count() {
 namespace {
 
 // Runs `worker` on `threads` threads, this one among them, and waits for all.
+// The workers share the work out among themselves, so when the system will
+// not start another thread the ones started (this one at least) do it all.
 template <typename F>
 void on_threads(unsigned threads, F& worker) {
   std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  try {
+    pool.reserve(threads - 1);
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  } catch (const std::system_error&) {
+  } catch (const std::bad_alloc&) {
+  }
   worker();
   for (auto& t : pool) t.join();
 }

@@ -241,6 +241,8 @@ struct WindowRun::State {
   std::shared_ptr<CarriedState> carried;  // made by the first step
   size_t next = 0;                        // steps taken: the warm-up's groups, then the measured pass's
   std::vector<SchemeResult> all;          // the measured pass's runs
+  bool failed = false;                    // a step threw: the memory system is half way through it
+  bool taken = false;                     // result() has moved the runs out
 
   State(SchemeRef s, const Scene& sc, const FrameSequence& f) : scheme(std::move(s)), scene(sc), frames(f) {}
 
@@ -315,13 +317,18 @@ size_t WindowRun::steps_left() const { return 2 * m->groups - m->next; }
 
 void WindowRun::step() {
   State& s = *m;
+  if (s.failed) throw Error("the run of " + s.scheme.name + " failed: it has no step left");
   if (done()) throw Error("the run of " + s.scheme.name + " has no step left");
+  // A step that throws (but for a played run's difference from its tape,
+  // which starts it again) leaves the run failed, not to go on from a
+  // memory system half way through a frame.
+  s.failed = true;
   // In sequence on one memory system, after an unmeasured warm-up pass over
   // the same frames: data is then where a game running these views would
   // have it (pre-allocated copies included), and the distribution engine's
   // rates are fitted.
-  if (s.next == 0) s.start();
   try {
+    if (s.next == 0) s.start();
     SchemeResult r = s.run_group(s.next % s.groups);
     if (s.next >= s.groups) s.all.push_back(std::move(r));
     ++s.next;
@@ -330,11 +337,13 @@ void WindowRun::step() {
   } catch (const TapeMismatch& mismatch) {
     if (s.mode != State::Mode::playing) throw;
     s.in_full(mismatch.what());
+    s.failed = false;
     return;
   } catch (const std::bad_alloc&) {
     throw Error(out_of_memory_message("simulating " + s.scheme.name + " on " + s.scene.name + " (" + std::to_string(s.window) +
                                       " frames)"));
   }
+  s.failed = false;
   if (!done()) return;
   s.carried.reset();
   if (s.mode == State::Mode::recording) {
@@ -348,6 +357,8 @@ void WindowRun::step() {
 
 SchemeResult WindowRun::result(std::vector<SchemeResult>* runs) {
   if (!done()) throw Error("the run of " + m->scheme.name + " is not done");
+  if (m->taken) throw Error("the result of the run of " + m->scheme.name + " was taken already");
+  m->taken = true;
   SchemeResult s = summarise(m->all, m->window);
   if (runs) *runs = std::move(m->all);
   return s;

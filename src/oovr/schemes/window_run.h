@@ -20,8 +20,10 @@ class WindowRun {
  public:
   // Checks the window against the scheme (a multiple of its frames in
   // flight, enough frames) and throws Error when it is not. `share`, when
-  // given, as run_scheme_window's: kept by the caller until done(), and
-  // filled in by the last step.
+  // given, as run_scheme_window's: kept by the caller until done(); its
+  // `use` and `why` are set when a played run's calls differ from the tape
+  // (then, or here for a tape of another key), its tape and `use` by the
+  // last step otherwise.
   WindowRun(SchemeRef scheme, const Scene& scene, const FrameSequence& frames, const MachineSpec& spec, int window,
             SharedReplay* share = nullptr);
   ~WindowRun();
@@ -33,9 +35,11 @@ class WindowRun {
   // Steps left (both passes; a played run whose calls differ from its tape
   // starts again in full, and has more left than it had).
   size_t steps_left() const;
-  // Runs the next step (not when done). Throws Error as run_scheme_window.
+  // Runs the next step (not when done). Throws Error as run_scheme_window;
+  // after a step has thrown, the run takes no more.
   void step();
-  // After done(): the window's result, and each measured run's in `runs`.
+  // After done(), once: the window's result, and each measured run's in
+  // `runs`.
   SchemeResult result(std::vector<SchemeResult>* runs = nullptr);
 
  private:
