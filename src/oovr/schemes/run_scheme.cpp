@@ -2,7 +2,6 @@
 // sequence (i_scheme.h).
 #include <algorithm>
 #include <cstdint>
-#include <functional>
 #include <new>
 #include <set>
 
@@ -131,7 +130,7 @@ namespace {
 
 // The window's result from its measured runs, in order: the frames'
 // latencies and timelines one after the other, counts per frame.
-SchemeResult summarise(std::vector<SchemeResult>& all, int window) {
+SchemeResult summarise(const std::vector<SchemeResult>& all, int window) {
   SchemeResult s = all.front();
   s.frame_latencies_s.clear();
   double time = 0;  // seconds the window's frames take, frames in flight overlapping
@@ -308,8 +307,6 @@ WindowRun::WindowRun(SchemeRef scheme, const Scene& scene, const FrameSequence& 
 }
 
 WindowRun::~WindowRun() = default;
-
-const std::string& WindowRun::name() const { return m->scheme.name; }
 
 bool WindowRun::done() const { return m->next == 2 * m->groups; }
 

@@ -30,7 +30,6 @@ class WindowRun {
   WindowRun(const WindowRun&) = delete;
   WindowRun& operator=(const WindowRun&) = delete;
 
-  const std::string& name() const;
   bool done() const;
   // Steps left (both passes; a played run whose calls differ from its tape
   // starts again in full, and has more left than it had).
