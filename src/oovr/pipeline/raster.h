@@ -286,6 +286,61 @@ class TileRasterizer {
     return uint32_t(((ly >> m_block_shift_y) << (kTileShift - m_block_shift_x)) + (lx >> m_block_shift_x));
   }
 
+  // Triangle t's three edge values at the quad's four pixels (pixel p of
+  // edge i in e[i][p], as base + {0, a, b, a + b} from base = a qx + b qy
+  // + c), and the pixels inside all three (bit p): a pixel is out where
+  // e + bias < 0, its sign bit, taken without a branch (edge pixels would
+  // mispredict one). Integer arithmetic, so lanes give the scalar values.
+  // `row` holds b qy + c per edge (the quad row's part).
+  static unsigned edge_values(const SetupTri& t, int qx, const int64_t row[3], int64_t e[3][4]) {
+    unsigned out = 0;
+    for (int i = 0; i < 3; ++i) {
+      const int64_t base = t.a[i] * qx + row[i];
+#if defined(__SSE2__)
+      // Two pixels to a register; the sign bits of e + bias by one movmskpd.
+      const __m128i b = _mm_set1_epi64x(base), bias = _mm_set1_epi64x(t.bias[i]);
+      const __m128i e01 = _mm_add_epi64(b, _mm_set_epi64x(t.a[i], 0));
+      const __m128i e23 = _mm_add_epi64(b, _mm_set_epi64x(t.a[i] + t.b[i], t.b[i]));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(&e[i][0]), e01);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(&e[i][2]), e23);
+      out |= unsigned(_mm_movemask_pd(_mm_castsi128_pd(_mm_add_epi64(e01, bias)))) |
+             unsigned(_mm_movemask_pd(_mm_castsi128_pd(_mm_add_epi64(e23, bias)))) << 2;
+#else
+      e[i][0] = base;
+      e[i][1] = base + t.a[i];
+      e[i][2] = base + t.b[i];
+      e[i][3] = base + t.a[i] + t.b[i];
+      for (int p = 0; p < 4; ++p) out |= unsigned(uint64_t(e[i][p] + t.bias[i]) >> 63) << p;
+#endif
+    }
+    return ~out & 0xfu;
+  }
+
+  // Which of a quad's four depths pass `f` against the stored ones `stored`
+  // (bit p for pixel p), each compared as depth_passes() compares it (a
+  // NaN passes nothing but `always`).
+  static unsigned depths_passing(DepthFunc f, Float4 z, Float4 stored) {
+#if defined(__SSE2__)
+    const __m128 a = __m128(z), b = __m128(stored);
+    switch (f) {
+      case DepthFunc::less: return unsigned(_mm_movemask_ps(_mm_cmplt_ps(a, b)));
+      case DepthFunc::lequal: return unsigned(_mm_movemask_ps(_mm_cmple_ps(a, b)));
+      case DepthFunc::equal: return unsigned(_mm_movemask_ps(_mm_cmpeq_ps(a, b)));
+      case DepthFunc::always: return 0xfu;
+    }
+    return 0;
+#else
+    unsigned out = 0;
+    for (int p = 0; p < 4; ++p) out |= unsigned(depth_passes(f, z[p], stored[p])) << p;
+    return out;
+#endif
+  }
+
+  // The tile's stored depths at a quad's four pixels, from pixel 0's index.
+  Float4 quad_depths(size_t pix) const {
+    return Float4{m_depth[pix], m_depth[pix + 1], m_depth[pix + kTileSize], m_depth[pix + kTileSize + 1]};
+  }
+
   void raster(const SetupTri& t) {
     const int x0 = std::max(t.minx, m_tx * kTileSize), x1 = std::min(t.maxx, m_tx * kTileSize + kTileSize - 1);
     const int y0 = std::max(t.miny, m_ty * kTileSize), y1 = std::min(t.maxy, m_ty * kTileSize + kTileSize - 1);
@@ -307,20 +362,11 @@ class TileRasterizer {
     const int qx0 = x0 & ~1, qy0 = y0 & ~1;
 
     for (int qy = qy0; qy <= y1; qy += 2) {
+      const int64_t row[3] = {t.b[0] * qy + t.c[0], t.b[1] * qy + t.c[1], t.b[2] * qy + t.c[2]};
       for (int qx = qx0; qx <= x1; qx += 2) {
         // Edge values at the quad's four pixels: (qx,qy) (qx+1,qy) (qx,qy+1) (qx+1,qy+1).
         int64_t e[3][4];
-        unsigned mask = 0xf;
-        for (int i = 0; i < 3; ++i) {
-          const int64_t base = t.a[i] * qx + t.b[i] * qy + t.c[i];
-          e[i][0] = base;
-          e[i][1] = base + t.a[i];
-          e[i][2] = base + t.b[i];
-          e[i][3] = base + t.a[i] + t.b[i];
-          // A pixel is out where e + bias < 0: its sign bit, without a
-          // branch (edge pixels would mispredict one).
-          for (int p = 0; p < 4; ++p) mask &= ~(unsigned(uint64_t(e[i][p] + t.bias[i]) >> 63) << p);
-        }
+        unsigned mask = edge_values(t, qx, row, e);
         if (qx < x0) mask &= ~0x5u;
         if (qx + 1 > x1) mask &= ~0xau;
         if (qy < y0) mask &= ~0x3u;
@@ -354,14 +400,15 @@ class TileRasterizer {
         const Float4 z = plane_depth(t, qx, qy, m_fma);
 
         const uint32_t quad_line = 1u << line_of_pixel(qx, qy);
+        // Pixel p's index in the tile's buffers is quad_pix + kPixelOffset[p]
+        // (the quad lies in the tile: tiles start at even coordinates).
+        const size_t quad_pix = in_tile(qx, qy);
         unsigned live = mask;
         if (early_z && test_depth) {
-          for (int p = 0; p < 4; ++p) {
-            if (!(live & (1u << p))) continue;
-            const int x = qx + (p & 1), y = qy + (p >> 1);
-            m_cur.depth_read_mask |= quad_line;
-            if (!depth_passes(pass.depth_func, z[p], m_depth[in_tile(x, y)])) live &= ~(1u << p);
-          }
+          // Every covered pixel reads its depth line (the quad's), and each
+          // keeps its own result: the quad's pixels are different pixels.
+          m_cur.depth_read_mask |= quad_line;
+          live &= depths_passing(pass.depth_func, z, quad_depths(quad_pix));
           if (!live) continue;
         }
         ++m_cur.quads;
@@ -462,11 +509,27 @@ class TileRasterizer {
           }
         }
 
+        if (!shade) {
+          // The trace alone of a pass that cannot discard: every live pixel
+          // passed the early depth test (or has none) and is written, what
+          // the loop below does pixel by pixel.
+          if (pass.depth_write && live) {
+            for (int p = 0; p < 4; ++p)
+              if (live & (1u << p)) m_depth[quad_pix + kPixelOffset[p]] = z[p];
+            m_cur.depth_write_mask |= quad_line;
+          }
+          m_cur.passed += pixels_in(live);
+          if (pass.colour_write && live) {
+            if (reads_colour) m_cur.colour_read_mask |= quad_line;
+            m_cur.colour_write_mask |= quad_line;
+          }
+          if (record) m_quad_lines.flush(m_out->lines);
+          continue;
+        }
         for (int p = 0; p < 4; ++p) {
           if (!(live & (1u << p))) continue;
-          const int x = qx + (p & 1), y = qy + (p >> 1);
           if (!alpha_passes(pass.alpha_func, c[p][3], ref255)) continue;  // discard
-          const size_t pix = in_tile(x, y);
+          const size_t pix = quad_pix + kPixelOffset[p];
           if (!early_z && test_depth) {
             m_cur.depth_read_mask |= quad_line;
             if (!depth_passes(pass.depth_func, z[p], m_depth[pix])) continue;
@@ -532,6 +595,8 @@ class TileRasterizer {
   const PipelineSettings& m_settings;
   static constexpr int kTileShift = __builtin_ctz(unsigned(kTileSize));
   static constexpr int kTilePixels = kTileSize * kTileSize;
+  // A quad's pixel p from its pixel 0, in the tile's buffers.
+  static constexpr size_t kPixelOffset[4] = {0, 1, kTileSize, kTileSize + 1};
   int m_block_shift_x, m_block_shift_y;
   Frame m_frame;
   bool m_image;  // PipelineSettings::draw_image

@@ -138,7 +138,13 @@ inline Float4 splat4(float x) { return Float4{x, x, x, x}; }
 // std::clamp(x, lo, hi) in each lane (a NaN stays NaN, as std::clamp keeps it).
 inline Float4 clamp4(Float4 x, float lo, float hi) {
   const Float4 l = splat4(lo), h = splat4(hi);
+#if defined(__SSE2__)
+  // maxps(a, b) is a > b ? a : b and minps(a, b) a < b ? a : b, to the bit
+  // (a NaN or a tie of zeros gives b): x < l ? l : x, then h < y ? h : y.
+  return Float4(_mm_min_ps(__m128(h), _mm_max_ps(__m128(l), __m128(x))));
+#else
   return x < l ? l : (h < x ? h : x);
+#endif
 }
 
 // A bilinear tap's weighted sum in each channel, ((w00 p00 + w10 p10) +
@@ -304,20 +310,27 @@ struct QuadTaps {
   Int4 bx0, bx1, by0, by1;
 };
 
+// With `weights` false (the trace alone: lines, no filtering), the weights
+// are left 0, not computed; the rest is the same arithmetic.
+template <bool weights = true>
 inline QuadTaps quad_taps(const SamplerTexture& t, const LevelView& l, Float4 u4, Float4 v4) {
   const Float4 s = u4 * float(l.width) - 0.5f, tt = v4 * float(l.height) - 0.5f;
   const Float4 fs = floor4(s), ft = floor4(tt);
-  const Float4 a = s - fs, b = tt - ft;
   const Int4 i0r = clamp_to_int4(fs), j0r = clamp_to_int4(ft);
   QuadTaps q;
   q.i0 = wrap4(i0r, l.width, l.wrap_mask_x, t.repeat);
   q.i1 = wrap4(i0r + 1, l.width, l.wrap_mask_x, t.repeat);
   q.j0 = wrap4(j0r, l.height, l.wrap_mask_y, t.repeat);
   q.j1 = wrap4(j0r + 1, l.height, l.wrap_mask_y, t.repeat);
-  q.w00 = (1 - a) * (1 - b);
-  q.w10 = a * (1 - b);
-  q.w01 = (1 - a) * b;
-  q.w11 = a * b;
+  if constexpr (weights) {
+    const Float4 a = s - fs, b = tt - ft;
+    q.w00 = (1 - a) * (1 - b);
+    q.w10 = a * (1 - b);
+    q.w01 = (1 - a) * b;
+    q.w11 = a * b;
+  } else {
+    q.w00 = q.w10 = q.w01 = q.w11 = Float4{};
+  }
   q.bx0 = q.i0 >> t.block_shift_x;
   q.bx1 = q.i1 >> t.block_shift_x;
   q.by0 = q.j0 >> t.block_shift_y;
@@ -402,7 +415,22 @@ struct QuadLinePlan {
 
 inline void plan_quad_lines(const SamplerTexture& t, Float4 u4, Float4 v4, float lambda, QuadLinePlan& plan) {
   plan.c = choose_levels(t, lambda);
-  for (int i = 0; i < plan.c.count; ++i) plan.q[i] = quad_taps(t, t.levels[size_t(plan.c.level[i])], u4, v4);
+  for (int i = 0; i < plan.c.count; ++i) plan.q[i] = quad_taps<false>(t, t.levels[size_t(plan.c.level[i])], u4, v4);
+}
+
+// Whether every live pixel's tap of `q` reads one texel block, the same for
+// all (its four texels' columns and rows in the first live pixel's block).
+inline bool one_block(const QuadTaps& q, unsigned live) {
+  const int p = __builtin_ctz(live);
+  const Int4 x = Int4{} + q.bx0[p], y = Int4{} + q.by0[p];
+  const Int4 same = (q.bx0 == x) & (q.bx1 == x) & (q.by0 == y) & (q.by1 == y);
+#if defined(__SSE2__)
+  const unsigned bits = unsigned(_mm_movemask_ps(_mm_castsi128_ps(__m128i(same))));
+#else
+  unsigned bits = 0;
+  for (int k = 0; k < 4; ++k) bits |= unsigned(same[k] & 1) << k;
+#endif
+  return (bits & live) == live;
 }
 
 // The lines and lookups of a plan, for texture `t` (the plan's, or one of
@@ -411,18 +439,36 @@ inline void plan_quad_lines(const SamplerTexture& t, Float4 u4, Float4 v4, float
 inline void add_quad_lines(const SamplerTexture& t, const QuadLinePlan& plan, unsigned live, QuadLines* lines,
                            uint32_t& samples) {
   samples += uint32_t(plan.c.count) * pixels_in(live);
-  if (!lines) return;
+  if (!lines || !(live & 0xfu)) return;
   const LevelView& l0 = t.levels[size_t(plan.c.level[0])];
   const QuadTaps& q0 = plan.q[0];
+  // Most quads read one block of each level: its line is all the pixels
+  // add, the first pixel's first and the others' repeats, so the first
+  // pixel's lines are the quad's (in its order: the first level's, then the
+  // second's).
+  if (one_block(q0, live) && (plan.c.count == 1 || one_block(plan.q[1], live))) {
+    const int p = __builtin_ctz(live);
+    lines->add(make_tex_line(t.id, l0.first_line + uint32_t(q0.by0[p] * l0.blocks_x + q0.bx0[p])));
+    if (plan.c.count == 2) {
+      const LevelView& l1 = t.levels[size_t(plan.c.level[1])];
+      const QuadTaps& q1 = plan.q[1];
+      lines->add(make_tex_line(t.id, l1.first_line + uint32_t(q1.by0[p] * l1.blocks_x + q1.bx0[p])));
+    }
+    return;
+  }
+  // The live pixels in ascending order, one step each (a test of every
+  // pixel's bit would mispredict on the quads triangles' edges cut).
   if (plan.c.count == 1) {
-    for (int p = 0; p < 4; ++p)
-      if (live & (1u << p)) add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
+    for (unsigned m = live & 0xfu; m; m &= m - 1) {
+      const int p = __builtin_ctz(m);
+      add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
+    }
     return;
   }
   const LevelView& l1 = t.levels[size_t(plan.c.level[1])];
   const QuadTaps& q1 = plan.q[1];
-  for (int p = 0; p < 4; ++p) {
-    if (!(live & (1u << p))) continue;
+  for (unsigned m = live & 0xfu; m; m &= m - 1) {
+    const int p = __builtin_ctz(m);
     add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
     add_tap_lines(t, l1, q1.bx0[p], q1.bx1[p], q1.by0[p], q1.by1[p], *lines);
   }
