@@ -4,6 +4,7 @@
 // not change with how the pipeline computes them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -63,7 +64,7 @@ TEST(Sampler, QuadSamplesAreThoseOfFourPixels) {
   std::mt19937 rng(5);
   const auto uniform = [&](float lo, float hi) { return lo + (hi - lo) * float(rng() >> 8) / float(1u << 24); };
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  int compared = 0;
+  int compared = 0, few_line_quads = 0;
   for (size_t ci = 0; ci < std::size(cases); ++ci) {
     const Case& c = cases[ci];
     const Texture tex = noise_texture(c.w, c.h, c.wrap, c.mips, uint32_t(ci + 1));
@@ -73,7 +74,10 @@ TEST(Sampler, QuadSamplesAreThoseOfFourPixels) {
       // (a lambda of 2.0 fetches one level) and magnification.
       const float span = q % 7 == 0 ? 1e4f : 3.0f;
       const float u0 = uniform(-span, span), v0 = uniform(-span, span);
-      const float du = uniform(-0.05f, 0.05f), dv = uniform(-0.05f, 0.05f);
+      // Every fourth quad spans a texel or less, so that each level's taps
+      // often lie in one block (add_quad_lines adds its line once).
+      const float d = q % 4 == 1 ? 0.002f : 0.05f;
+      const float du = uniform(-d, d), dv = uniform(-d, d);
       float u[4] = {u0, u0 + du, u0 + dv * 0.5f, u0 + du + dv * 0.5f};
       float v[4] = {v0, v0 - dv, v0 + du, v0 + du - dv};
       float lambda = uniform(-2.0f, float(st.max_level) + 2.0f);
@@ -101,9 +105,61 @@ TEST(Sampler, QuadSamplesAreThoseOfFourPixels) {
       sl.flush(scalar_lines);
       ASSERT_EQ(quad_lines, scalar_lines) << "case " << ci << " quad " << q;
       ASSERT_EQ(quad_samples, scalar_samples);
+      // The trace alone's lines and lookups (the plan of sample_quad_lines).
+      detail::QuadLines pl;
+      std::vector<TexLine> plan_lines;
+      uint32_t plan_samples = 0;
+      detail::sample_quad_lines(st, detail::Float4{u[0], u[1], u[2], u[3]}, detail::Float4{v[0], v[1], v[2], v[3]}, lambda, live,
+                                &pl, plan_samples);
+      pl.flush(plan_lines);
+      ASSERT_EQ(plan_lines, scalar_lines) << "case " << ci << " quad " << q;
+      ASSERT_EQ(plan_samples, scalar_samples);
+      few_line_quads += plan_lines.size() <= 2;
     }
   }
   EXPECT_GT(compared, 20000);
+  EXPECT_GT(few_line_quads, 1000);  // quads of one block a level (at most two lines) were met
+}
+
+// A quad's lines: each line's first add, in order, whatever the textures
+// (searched among their own texture's lines) and however many (past 64
+// lines, the rest sorted after them).
+TEST(Sampler, QuadLinesKeepEachLinesFirstAddInOrder) {
+  std::mt19937 rng(17);
+  for (int round = 0; round < 20000; ++round) {
+    // Few textures and lines, so that textures come back after others and
+    // lines repeat; some rounds read more than eight textures or add more
+    // than 64 lines.
+    const uint32_t textures = 1 + rng() % (round % 10 == 0 ? 12 : 4);
+    const uint32_t per_texture = 1 + rng() % (round % 25 == 0 ? 40 : 6);
+    const int adds = 1 + int(rng() % (round % 25 == 0 ? 300 : 24));
+    detail::QuadLines ql;
+    std::vector<TexLine> added;
+    for (int i = 0; i < adds; ++i) {
+      const TexLine l = make_tex_line(rng() % textures * 7919u, rng() % per_texture);
+      ql.add(l);
+      added.push_back(l);
+      if (rng() % 3 == 0) {  // the same line again at once
+        ql.add(l);
+        added.push_back(l);
+      }
+    }
+    std::vector<TexLine> want, rest;
+    for (const TexLine l : added) {
+      if (std::find(want.begin(), want.end(), l) != want.end() || std::find(rest.begin(), rest.end(), l) != rest.end()) continue;
+      (want.size() < 64 ? want : rest).push_back(l);
+    }
+    std::sort(rest.begin(), rest.end());
+    want.insert(want.end(), rest.begin(), rest.end());
+    std::vector<TexLine> got;
+    ql.flush(got);
+    ASSERT_EQ(got, want) << "round " << round;
+    // Flushed, it starts again.
+    ql.add(make_tex_line(1, 1));
+    got.clear();
+    ql.flush(got);
+    ASSERT_EQ(got, std::vector<TexLine>{make_tex_line(1, 1)});
+  }
 }
 
 }  // namespace

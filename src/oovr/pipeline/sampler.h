@@ -26,11 +26,18 @@ class QuadLines {
   void clear() {
     m_count = 0;
     m_last = ~TexLine(0);
+    m_texture = kNone;
+    m_from = 0;
+    m_textures = 0;
   }
-  void add(TexLine l) {
+  [[gnu::always_inline]] void add(TexLine l) {
     if (l == m_last) return;  // most repeats are of the line just added
     m_last = l;
-    for (int i = 0; i < m_count; ++i)
+    // A line is searched for among its texture's lines alone: the quad's
+    // other textures' lines differ from it in their texture.
+    if (tex_line_texture(l) != m_texture) [[unlikely]]
+      begin_texture(tex_line_texture(l));
+    for (int i = m_from; i < m_count; ++i)
       if (m_lines[i] == l) return;
     if (m_count < kMax) {
       m_lines[m_count++] = l;
@@ -52,10 +59,30 @@ class QuadLines {
   }
 
  private:
-  static constexpr int kMax = 64;
+  static constexpr int kMax = 64, kTextures = 8;
+  static constexpr uint32_t kNone = ~0u;  // no texture is number 2^32 - 1
+  // Lines of `texture` follow: searched for from the first line added
+  // after this call if the quad has not read the texture before, else
+  // (or past kTextures textures) from its first line.
+  [[gnu::noinline]] void begin_texture(uint32_t texture) {
+    bool seen = m_textures > kTextures;
+    for (int i = 0; i < m_textures && i < kTextures; ++i) seen = seen || m_seen[i] == texture;
+    m_from = seen ? 0 : m_count;
+    if (!seen) {
+      if (m_textures < kTextures) m_seen[m_textures] = texture;
+      ++m_textures;  // at most kTextures + 1: `seen` holds from then on
+    }
+    m_texture = texture;
+  }
   TexLine m_lines[kMax];
   int m_count = 0;
   TexLine m_last = ~TexLine(0);
+  uint32_t m_texture = kNone;  // the texture of the lines being added
+  int m_from = 0;              // where their search begins
+  // The textures the quad has read, in order (m_textures of them; more
+  // than kTextures: too many to list, any may be read again).
+  uint32_t m_seen[kTextures];
+  int m_textures = 0;
   std::vector<TexLine> m_overflow;
 };
 
@@ -436,8 +463,8 @@ inline bool one_block(const QuadTaps& q, unsigned live) {
 // The lines and lookups of a plan, for texture `t` (the plan's, or one of
 // the same shape: SamplerTexture::shape), in pixel order, the first level's
 // before the second's, as sample_quad() records them.
-inline void add_quad_lines(const SamplerTexture& t, const QuadLinePlan& plan, unsigned live, QuadLines* lines,
-                           uint32_t& samples) {
+[[gnu::always_inline]] inline void add_quad_lines(const SamplerTexture& t, const QuadLinePlan& plan, unsigned live,
+                                                  QuadLines* lines, uint32_t& samples) {
   samples += uint32_t(plan.c.count) * pixels_in(live);
   if (!lines || !(live & 0xfu)) return;
   const LevelView& l0 = t.levels[size_t(plan.c.level[0])];
