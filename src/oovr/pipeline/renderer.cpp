@@ -168,14 +168,23 @@ FrameOutput render_frame(const Scene& scene, const StereoView& view, const Pipel
     uint32_t tile;
     uint32_t index;
   };
-  std::vector<Ref> refs;
+  // A tile holds at most one record per object and eye (an object's
+  // triangles are binned eye after eye, each eye's together), so the order
+  // is that of a counting sort by (object, eye) over the tiles in turn.
+  const size_t eyes = size_t(view.eyes), keys = draws.size() * eyes;
+  std::vector<uint32_t> first(keys + 1, 0);  // per (object, eye): its first record's place
+  size_t records = 0;
+  for (const TileRasterizer::Output& o : outputs) {
+    records += o.work.size();
+    for (const TileWork& w : o.work) ++first[size_t(w.object) * eyes + w.eye + 1];
+  }
+  for (size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
+  std::vector<Ref> refs(records);
   for (uint32_t i = 0; i < outputs.size(); ++i)
-    for (uint32_t k = 0; k < outputs[i].work.size(); ++k) refs.push_back({i, k});
-  auto key = [&](const Ref& r) {
-    const TileWork& w = outputs[r.tile].work[r.index];
-    return std::make_tuple(w.object, w.eye, r.tile);
-  };
-  std::sort(refs.begin(), refs.end(), [&](const Ref& a, const Ref& b) { return key(a) < key(b); });
+    for (uint32_t k = 0; k < outputs[i].work.size(); ++k) {
+      const TileWork& w = outputs[i].work[k];
+      refs[first[size_t(w.object) * eyes + w.eye]++] = {i, k};
+    }
   // Each record's place in the frame's line list, then the copies in
   // parallel (they are most of the merge's time).
   trace.tiles.resize(refs.size());
