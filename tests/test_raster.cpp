@@ -66,6 +66,16 @@ TEST(Raster, SharedDiagonalCoveredOnce) {
   expect_single_coverage(s, ortho_view(16, 16));
 }
 
+TEST(Raster, SharedDiagonalOfALargeSquareCoveredOnce) {
+  // The same at 2048x2048: near the diagonal a tile's edge values pass 2^30,
+  // so it is drawn by the tile loop's 64-bit edges (edges_fit_32 fails),
+  // where the 16x16 square's are 32-bit.
+  const Scene s = triangle_scene({{0, 0}, {2048, 0}, {2048, 2048}, {0, 2048}}, {0, 1, 2, 0, 2, 3});
+  const FrameOutput out = render_frame(s, ortho_view(2048, 2048), exact_settings());
+  EXPECT_EQ(out.trace.total_covered(), 2048u * 2048u);
+  EXPECT_EQ(written_pixels(out), 2048u * 2048u);
+}
+
 TEST(Raster, RandomFansHaveNoGapsAndNoOverlaps) {
   Rng rng(7);
   for (int trial = 0; trial < 40; ++trial) {

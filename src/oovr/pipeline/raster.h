@@ -316,6 +316,37 @@ class TileRasterizer {
     return ~out & 0xfu;
   }
 
+#if defined(__SSE2__)
+  // Whether every edge value of t at pixels x in [xa, xb], y in [ya, yb]
+  // lies within +-2^30 (at the rectangle's corners, the values being
+  // linear): then it, its sum with the bias and the quad's offsets {0, a,
+  // b, a + b} are 32-bit integers, and edge_values32() gives the values
+  // edge_values() does.
+  static bool edges_fit_32(const SetupTri& t, int xa, int ya, int xb, int yb) {
+    constexpr int64_t kLimit = int64_t(1) << 30;
+    for (int i = 0; i < 3; ++i)
+      for (const int64_t x : {xa, xb})
+        for (const int64_t y : {ya, yb}) {
+          const int64_t v = t.a[i] * x + t.b[i] * y + t.c[i];
+          if (v >= kLimit || v <= -kLimit) return false;
+        }
+    return true;
+  }
+
+  // edge_values() where edges_fit_32(): the four pixels of an edge in one
+  // register of 32-bit lanes (`offsets[i]` = {0, a, b, a + b}, `bias[i]`
+  // its bias in each lane), their sign bits by one movmskps.
+  static unsigned edge_values32(const SetupTri& t, int qx, const int64_t row[3], const __m128i offsets[3], const __m128i bias[3],
+                                __m128i e[3]) {
+    unsigned out = 0;
+    for (int i = 0; i < 3; ++i) {
+      e[i] = _mm_add_epi32(_mm_set1_epi32(int32_t(t.a[i] * qx + row[i])), offsets[i]);
+      out |= unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(e[i], bias[i]))));
+    }
+    return ~out & 0xfu;
+  }
+#endif
+
   // Which of a quad's four depths pass `f` against the stored ones `stored`
   // (bit p for pixel p), each compared as depth_passes() compares it (a
   // NaN passes nothing but `always`).
@@ -360,13 +391,32 @@ class TileRasterizer {
     const float ref255 = pass.alpha_ref * 255.0f;
     const bool record = m_settings.record_texture_lines;
     const int qx0 = x0 & ~1, qy0 = y0 & ~1;
+#if defined(__SSE2__)
+    // Most triangles' edge values in a tile are 32-bit integers: four
+    // pixels to a register, converted to float by one instruction (the same
+    // floats: the same integers, rounded alike).
+    const bool narrow = edges_fit_32(t, qx0, qy0, x1 | 1, y1 | 1);
+    __m128i offsets[3], bias[3], e32[3];
+    if (narrow)
+      for (int i = 0; i < 3; ++i) {
+        offsets[i] = _mm_setr_epi32(0, int32_t(t.a[i]), int32_t(t.b[i]), int32_t(t.a[i] + t.b[i]));
+        bias[i] = _mm_set1_epi32(int32_t(t.bias[i]));
+      }
+#else
+    constexpr bool narrow = false;
+#endif
 
     for (int qy = qy0; qy <= y1; qy += 2) {
       const int64_t row[3] = {t.b[0] * qy + t.c[0], t.b[1] * qy + t.c[1], t.b[2] * qy + t.c[2]};
       for (int qx = qx0; qx <= x1; qx += 2) {
         // Edge values at the quad's four pixels: (qx,qy) (qx+1,qy) (qx,qy+1) (qx+1,qy+1).
         int64_t e[3][4];
-        unsigned mask = edge_values(t, qx, row, e);
+        unsigned mask;
+#if defined(__SSE2__)
+        if (narrow) mask = edge_values32(t, qx, row, offsets, bias, e32);
+        else
+#endif
+          mask = edge_values(t, qx, row, e);
         if (qx < x0) mask &= ~0x5u;
         if (qx + 1 > x1) mask &= ~0xau;
         if (qy < y0) mask &= ~0x3u;
@@ -379,9 +429,14 @@ class TileRasterizer {
         // lane does the per-pixel scalar operations in their order (no fused
         // multiply-add: -ffp-contract=off), so every value is that of the
         // pixel-by-pixel code, bit for bit.
-        const Float4 b0 = Float4{float(e[0][0]), float(e[0][1]), float(e[0][2]), float(e[0][3])} * t.inv_area;
-        const Float4 b1 = Float4{float(e[1][0]), float(e[1][1]), float(e[1][2]), float(e[1][3])} * t.inv_area;
-        const Float4 b2 = Float4{float(e[2][0]), float(e[2][1]), float(e[2][2]), float(e[2][3])} * t.inv_area;
+        Float4 ef[3];
+#if defined(__SSE2__)
+        if (narrow)
+          for (int i = 0; i < 3; ++i) ef[i] = Float4(_mm_cvtepi32_ps(e32[i]));
+        else
+#endif
+          for (int i = 0; i < 3; ++i) ef[i] = Float4{float(e[i][0]), float(e[i][1]), float(e[i][2]), float(e[i][3])};
+        const Float4 b0 = ef[0] * t.inv_area, b1 = ef[1] * t.inv_area, b2 = ef[2] * t.inv_area;
         const Float4 w = 1.0f / (b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2]);
         const Float4 u = (b0 * t.uw[0] + b1 * t.uw[1] + b2 * t.uw[2]) * w;
         const Float4 v = (b0 * t.vw[0] + b1 * t.vw[1] + b2 * t.vw[2]) * w;
