@@ -158,8 +158,10 @@ inline bool cpu_has_fma() {
 // std::fma pixel by pixel (a library call without the instruction). The
 // same bits either way: fma rounds once.
 inline Float4 plane_depth(const SetupTri& t, int qx, int qy, bool use_fma) {
-  const Float4 x{float(qx), float(qx + 1), float(qx), float(qx + 1)};
-  const Float4 y{float(qy), float(qy), float(qy + 1), float(qy + 1)};
+  // float(q + 1) is float(q) + 1 exactly: pixel coordinates are at most 16384
+  // (a frame's side, scene/stereo.cpp), far below 2^24.
+  const Float4 x = splat4(float(qx)) + Float4{0, 1, 0, 1};
+  const Float4 y = splat4(float(qy)) + Float4{0, 0, 1, 1};
   Float4 zp;
 #if defined(__x86_64__) && defined(__GNUC__)
   if (use_fma) {

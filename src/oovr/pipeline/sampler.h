@@ -46,15 +46,10 @@ class QuadLines {
     }
   }
   template <class Out>
-  void flush(Out& out) {
+  [[gnu::always_inline]] void flush(Out& out) {
     out.insert(out.end(), m_lines, m_lines + m_count);
-    if (!m_overflow.empty()) {
-      std::sort(m_overflow.begin(), m_overflow.end());
-      m_overflow.erase(std::unique(m_overflow.begin(), m_overflow.end()), m_overflow.end());
-      for (TexLine l : m_overflow)
-        if (std::find(m_lines, m_lines + m_count, l) == m_lines + m_count) out.push_back(l);
-      m_overflow.clear();
-    }
+    if (!m_overflow.empty()) [[unlikely]]
+      flush_overflow(out);
     clear();
   }
 
@@ -64,6 +59,15 @@ class QuadLines {
   // Lines of `texture` follow: searched for from the first line added
   // after this call if the quad has not read the texture before, else
   // (or past kTextures textures) from its first line.
+  // The lines past kMax, sorted, each once, less those in m_lines.
+  template <class Out>
+  [[gnu::noinline]] void flush_overflow(Out& out) {
+    std::sort(m_overflow.begin(), m_overflow.end());
+    m_overflow.erase(std::unique(m_overflow.begin(), m_overflow.end()), m_overflow.end());
+    for (TexLine l : m_overflow)
+      if (std::find(m_lines, m_lines + m_count, l) == m_lines + m_count) out.push_back(l);
+    m_overflow.clear();
+  }
   [[gnu::noinline]] void begin_texture(uint32_t texture) {
     bool seen = m_textures > kTextures;
     for (int i = 0; i < m_textures && i < kTextures; ++i) seen = seen || m_seen[i] == texture;
