@@ -394,9 +394,9 @@ class TileRasterizer {
     const bool record = m_settings.record_texture_lines;
     const int qx0 = x0 & ~1, qy0 = y0 & ~1;
 #if defined(__SSE2__)
-    // Most triangles' edge values in a tile are 32-bit integers: four
-    // pixels to a register, converted to float by one instruction (the same
-    // floats: the same integers, rounded alike).
+    // Where a triangle's edge values in the tile are 32-bit integers (a
+    // small triangle's), four pixels to a register, converted to float by
+    // one instruction (the same floats: the same integers, rounded alike).
     const bool narrow = edges_fit_32(t, qx0, qy0, x1 | 1, y1 | 1);
     __m128i offsets[3], bias[3], e32[3];
     if (narrow)
@@ -404,8 +404,6 @@ class TileRasterizer {
         offsets[i] = _mm_setr_epi32(0, int32_t(t.a[i]), int32_t(t.b[i]), int32_t(t.a[i] + t.b[i]));
         bias[i] = _mm_set1_epi32(int32_t(t.bias[i]));
       }
-#else
-    constexpr bool narrow = false;
 #endif
 
     for (int qy = qy0; qy <= y1; qy += 2) {
