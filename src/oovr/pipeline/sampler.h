@@ -479,11 +479,11 @@ inline bool one_block(const QuadTaps& q, unsigned live) {
   // order: the first level's, then the second's).
   if (one_block(q0, live) && (plan.c.count == 1 || one_block(plan.q[1], live))) {
     const int p = __builtin_ctz(live);
-    lines->add(make_tex_line(t.id, l0.first_line + uint32_t(q0.by0[p] * l0.blocks_x + q0.bx0[p])));
+    add_tap_lines(t, l0, q0.bx0[p], q0.bx1[p], q0.by0[p], q0.by1[p], *lines);
     if (plan.c.count == 2) {
       const LevelView& l1 = t.levels[size_t(plan.c.level[1])];
       const QuadTaps& q1 = plan.q[1];
-      lines->add(make_tex_line(t.id, l1.first_line + uint32_t(q1.by0[p] * l1.blocks_x + q1.bx0[p])));
+      add_tap_lines(t, l1, q1.bx0[p], q1.bx1[p], q1.by0[p], q1.by1[p], *lines);
     }
     return;
   }
