@@ -454,6 +454,53 @@ TEST(Memory, RingRoutesTakeTheShortestWay) {
   EXPECT_EQ(u.total_inter_gpm_bytes(), 4096u) << "one transfer, however many hops";
 }
 
+TEST(Memory, OneAccessMovesEachPeersLinesOverItsRouteOnce) {
+  // One access reading two GPMs' pages and writing through to a third's,
+  // interleaved, on an 8-GPM ring: each read crosses its home's route to
+  // the requester, each write the requester's route to the home, and the
+  // reads' hops are their routes' lengths (the memory system moves a
+  // record's lines per peer and category at its end: MemorySystem::tally).
+  Fixture f(spec_with({"gpms=8", "link.topology=ring", "memory.placement=pinned"}));
+  const uint32_t a = f.map.add("a", Category::texture, kPage);
+  const uint32_t b = f.map.add("b", Category::vertex, kPage);
+  const uint32_t c = f.map.add("c", Category::colour, kPage);
+  f.build();
+  f.mem->pin(a, 3);
+  f.mem->pin(b, 6);
+  f.mem->pin(c, 2);
+  std::vector<LineAccess> mixed;
+  for (uint64_t at = 0; at < 2048; at += kLine) {
+    mixed.push_back({f.map.region(a).base + at, Category::texture, false});
+    mixed.push_back({f.map.region(c).base + at, Category::colour, true});
+    if (at < 1024) mixed.push_back({f.map.region(b).base + at, Category::vertex, false});
+  }
+  const Topology& t = f.mem->topology();
+  const UnitTraffic& u = f.run(0, 0, mixed);
+  EXPECT_EQ(u.remote_hops, 16u * 3 + 8u * 2) << "3 hops from GPM 3, 2 from GPM 6";
+  const auto on = [&](int from, int to) { return u.link_bytes[size_t(link_id(t, from, to))]; };
+  for (auto [x, y] : {std::pair{3, 2}, std::pair{2, 1}, std::pair{1, 0}}) EXPECT_EQ(on(x, y), 2048u) << x << "->" << y;
+  for (auto [x, y] : {std::pair{6, 7}, std::pair{7, 0}}) EXPECT_EQ(on(x, y), 1024u) << x << "->" << y;
+  for (auto [x, y] : {std::pair{0, 1}, std::pair{1, 2}}) EXPECT_EQ(on(x, y), 2048u) << x << "->" << y;
+  EXPECT_EQ(u.total_link_bytes(), 3u * 2048 + 2u * 1024 + 2u * 2048);
+  EXPECT_EQ(u.inter_gpm_bytes[size_t(Category::texture)], 2048u);
+  EXPECT_EQ(u.inter_gpm_bytes[size_t(Category::vertex)], 1024u);
+  EXPECT_EQ(u.inter_gpm_bytes[size_t(Category::colour)], 2048u);
+  const TrafficTotals& tot = f.mem->totals();
+  EXPECT_EQ(tot.link_bytes[size_t(link_id(t, 1, 0))][size_t(Category::texture)], 2048u);
+  EXPECT_EQ(tot.link_bytes[size_t(link_id(t, 7, 0))][size_t(Category::vertex)], 1024u);
+  EXPECT_EQ(tot.link_bytes[size_t(link_id(t, 1, 2))][size_t(Category::colour)], 2048u);
+  EXPECT_EQ(tot.moved[3 * 8 + 0], 2048u);
+  EXPECT_EQ(tot.moved[6 * 8 + 0], 1024u);
+  EXPECT_EQ(tot.moved[0 * 8 + 2], 2048u);
+  EXPECT_EQ(tot.delivered[3 * 8 + 0], 2048u);
+  EXPECT_EQ(tot.delivered[6 * 8 + 0], 1024u);
+  EXPECT_EQ(tot.delivered[2 * 8 + 0], 0u) << "writes deliver nothing";
+  // The next access starts from nothing: what this one moved is not moved again.
+  const UnitTraffic& again = f.run(0, 1, reads(f.map.region(a).base, kLine));
+  EXPECT_EQ(again.total_link_bytes(), 0u) << "served by GPM 0's remote cache";
+  EXPECT_EQ(again.remote_hops, 0u);
+}
+
 TEST(Memory, SwitchRoutesTakeTwoHops) {
   Fixture f(spec_with({"gpms=16", "link.topology=switch"}));
   f.map.add("buffer", Category::texture, kPage);

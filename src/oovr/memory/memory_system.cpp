@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <tuple>
+#include <utility>
 
 #include "oovr/core/error.h"
 #include "oovr/core/host.h"
@@ -9,10 +10,17 @@
 namespace oovr {
 
 void UnitTraffic::reset(int gpms, int links) {
+  // The vectors' storage is kept (a unit's traffic is reset for every
+  // piece of work a replay adds: their allocations were 1% of one).
+  std::vector<uint64_t> reads = std::move(dram_read_bytes), writes = std::move(dram_write_bytes),
+                        on_links = std::move(link_bytes);
   *this = UnitTraffic{};
-  dram_read_bytes.assign(size_t(gpms), 0);
-  dram_write_bytes.assign(size_t(gpms), 0);
-  link_bytes.assign(size_t(links), 0);
+  reads.assign(size_t(gpms), 0);
+  writes.assign(size_t(gpms), 0);
+  on_links.assign(size_t(links), 0);
+  dram_read_bytes = std::move(reads);
+  dram_write_bytes = std::move(writes);
+  link_bytes = std::move(on_links);
 }
 
 UnitTraffic& UnitTraffic::operator+=(const UnitTraffic& o) {
@@ -97,6 +105,10 @@ MemorySystem::MemorySystem(const MemorySpec& spec, const AddressMap& map)
   m_totals.dram_write_bytes.assign(size_t(spec.gpms), PerCategory{});
   m_totals.delivered.assign(size_t(spec.gpms) * size_t(spec.gpms), 0);
   m_totals.moved.assign(size_t(spec.gpms) * size_t(spec.gpms), 0);
+  m_hops.resize(size_t(spec.gpms) * size_t(spec.gpms));
+  for (int from = 0; from < spec.gpms; ++from)
+    for (int to = 0; to < spec.gpms; ++to) m_hops[size_t(from * spec.gpms + to)] = uint32_t(m_topology->route(from, to).size());
+  m_tally.assign(2 * size_t(spec.gpms) * kCategories, 0);
 }
 
 void MemorySystem::set_home(uint64_t page, int gpm) {
@@ -133,21 +145,18 @@ uint64_t MemorySystem::page_data_bytes(uint64_t page) const {
   return (m_map.page_used_bytes(page) + m_line_bytes - 1) / m_line_bytes * m_line_bytes;
 }
 
-int MemorySystem::home(uint64_t page, int requester) {
-  int h = m_home[page];
-  if (h < 0) [[unlikely]] {
-    h = m_policy->assign(page, m_map.region_of_page(page), requester);
-    set_home(page, h);
-  }
+int MemorySystem::place_first(uint64_t page, int requester) {
+  const int h = m_policy->assign(page, m_map.region_of_page(page), requester);
+  set_home(page, h);
   return h;
 }
 
-int MemorySystem::nearest_holder(uint64_t page, int requester) const {
+int MemorySystem::nearest_copy(uint64_t page, int requester) const {
   int best = m_home[page];
-  size_t hops = m_topology->route(best, requester).size();
+  uint32_t hops = m_hops[size_t(best * m_spec.gpms + requester)];
   for (uint32_t m = m_copies[page]; m; m &= m - 1) {
     const int g = __builtin_ctz(m);
-    const size_t h = m_topology->route(g, requester).size();
+    const uint32_t h = m_hops[size_t(g * m_spec.gpms + requester)];
     if (h < hops) {
       best = g;
       hops = h;
@@ -159,12 +168,6 @@ int MemorySystem::nearest_holder(uint64_t page, int requester) const {
 void MemorySystem::shape(UnitTraffic& out) const {
   if (out.link_bytes.size() != m_topology->links().size() || out.dram_read_bytes.size() != size_t(m_spec.gpms))
     out.reset(m_spec.gpms, int(m_topology->links().size()));
-}
-
-void MemorySystem::writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out) {
-  if (!ev.dirty) return;
-  out.dram_write_bytes[size_t(gpm)] += m_line_bytes;
-  m_totals.dram_write_bytes[size_t(gpm)][size_t(ev.category)] += m_line_bytes;
 }
 
 void MemorySystem::serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out) {
@@ -218,6 +221,9 @@ void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std:
            local_delivered = 0, remote_dram = 0, hops = 0, l1_lookups = l1_repeats, l2_lookups = 0, remote_lookups = 0;
   const uint64_t dram_before = out.dram_lines;
   const uint64_t now = ++m_clock;
+  // What an access that threw part-way tallied is dropped with it.
+  for (const uint32_t at : m_tallied) m_tally[at] = 0;
+  m_tallied.clear();
   // One line's access, each level's counters kept above.
   const auto one = [&](const LineAccess& a) __attribute__((always_inline)) {
     if (a.address >= end) [[unlikely]]
@@ -253,7 +259,7 @@ void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std:
     if (a.write) {
       // Write-through to the home over the links; a cached copy is dropped.
       rc.invalidate(line);
-      move(gpm, h, m_line_bytes, a.category, out);
+      tally(size_t(h) * kCategories + size_t(a.category));
       ++l2_lookups;
       serve(h, line, true, a.category, out);
       return;
@@ -269,15 +275,14 @@ void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std:
     serve(src, line, false, a.category, out);
     if (out.dram_lines == before) ++home_l2_hits;
     else ++remote_dram;
-    hops += m_topology->route(src, gpm).size();
-    move(src, gpm, m_line_bytes, a.category, out);
-    m_totals.delivered[size_t(src * m_spec.gpms + gpm)] += m_line_bytes;
+    tally((size_t(m_spec.gpms) + size_t(src)) * kCategories + size_t(a.category));
   };
   // A record's texture reads (FrameSim::replay) come as the trace lists
   // them: their addresses are found here rather than copied into `lines`.
   if (layout)
     for (const TexLine t : texture_reads) one(LineAccess{layout->texture_line(t), Category::texture, false});
   for (const LineAccess& a : lines) one(a);
+  move_tallied(gpm, out, hops);
   out.dram_lines += local_dram;
   out.accesses += texture_reads.size() + lines.size() + l1_repeats;
   out.l1_hits += l1_hits;
@@ -298,6 +303,24 @@ void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std:
   m_totals.l1_lookups += l1_lookups;
   m_totals.l2_lookups += l2_lookups;
   m_totals.remote_lookups += remote_lookups;
+}
+
+void MemorySystem::move_tallied(int gpm, UnitTraffic& out, uint64_t& hops) {
+  const size_t n = size_t(m_spec.gpms);
+  for (const uint32_t at : m_tallied) {
+    const uint64_t lines = std::exchange(m_tally[at], 0);
+    const auto c = Category(at % kCategories);
+    const size_t peer = (at / kCategories) % n;
+    const bool in = at / kCategories >= n;
+    const int from = in ? int(peer) : gpm, to = in ? gpm : int(peer);
+    move(from, to, lines * m_line_bytes, c, out);
+    if (in) {
+      // Reads served by another GPM: their hops and the bytes it delivered.
+      hops += lines * m_hops[peer * n + size_t(gpm)];
+      m_totals.delivered[peer * n + size_t(gpm)] += lines * m_line_bytes;
+    }
+  }
+  m_tallied.clear();
 }
 
 bool MemorySystem::drop_copy(int gpm, bool any) {

@@ -180,7 +180,12 @@ class MemorySystem {
   // then `lines`.
   void access_lines(int gpm, int sm, const SceneLayout* layout, std::span<const TexLine> texture_reads,
                     std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats);
-  int home(uint64_t page, int requester);
+  int home(uint64_t page, int requester) {
+    const int h = m_home[page];
+    return h >= 0 ? h : place_first(page, requester);
+  }
+  // Places an untouched page by the policy (home()'s first touch).
+  int place_first(uint64_t page, int requester);
   // Makes `gpm` the home of an untouched page (every GPM's, replicated).
   // Homes come first in a GPM's DRAM: copies are dropped (any, the least
   // recently used first) when a new home needs their room; data that does
@@ -194,11 +199,29 @@ class MemorySystem {
   // A page's data in whole lines: the unused end of a small buffer's page
   // holds nothing to copy.
   uint64_t page_data_bytes(uint64_t page) const;
-  int nearest_holder(uint64_t page, int requester) const;
+  // The holder of the page fewest hops from `requester`: its home unless a
+  // copy is nearer (the first such GPM in number order).
+  int nearest_holder(uint64_t page, int requester) const {
+    const int h = m_home[page];
+    return (m_copies[page] & ~(1u << h)) ? nearest_copy(page, requester) : h;
+  }
+  int nearest_copy(uint64_t page, int requester) const;
   // Serves a line from GPM `src`'s L2 (DRAM on a miss).
   void serve(int src, uint64_t line, bool write, Category c, UnitTraffic& out);
   void move(int from, int to, uint64_t bytes, Category c, UnitTraffic& out);
-  void writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out);
+  void writeback(int gpm, const Cache::Eviction& ev, UnitTraffic& out) {
+    if (!ev.dirty) return;
+    out.dram_write_bytes[size_t(gpm)] += m_line_bytes;
+    m_totals.dram_write_bytes[size_t(gpm)][size_t(ev.category)] += m_line_bytes;
+  }
+  // access_lines()' lines moved between its GPM and another, counted per
+  // direction, peer and category (m_tally) and moved in bulk at its end:
+  // every count they reach is a sum of whole lines, the same in any order,
+  // and a line's route is walked once per record, not once per line.
+  void tally(size_t at) {
+    if (m_tally[at]++ == 0) m_tallied.push_back(uint32_t(at));
+  }
+  void move_tallied(int gpm, UnitTraffic& out, uint64_t& hops);
   // Drops copies of `gpm` (not of the current batch) until `bytes` more fit;
   // false when they cannot.
   bool make_room(int gpm, uint64_t bytes);
@@ -224,6 +247,12 @@ class MemorySystem {
   uint64_t m_page_bytes, m_line_bytes;
   int m_line_shift, m_page_shift;
   TrafficTotals m_totals;
+  std::vector<uint32_t> m_hops;  // [from * gpms + to]: the route's links
+  // access_lines()' lines to move: [(direction * gpms + peer) * kCategories
+  // + category], direction 0 to the peer (writes through to their home), 1
+  // from it (reads); the entries in use listed in m_tallied.
+  std::vector<uint64_t> m_tally;
+  std::vector<uint32_t> m_tallied;
 };
 
 }  // namespace oovr

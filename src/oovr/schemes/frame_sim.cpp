@@ -486,7 +486,11 @@ std::vector<int> FrameSim::tiles_together(const std::vector<TileJob>& jobs, cons
 
 std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const FrameTrace& frame) {
   const size_t n = jobs.size();
-  std::vector<UnitTraffic> traffic(n, empty_traffic());
+  // The jobs' traffic in storage kept from the last call (taken, so that a
+  // call made while this one runs would only allocate its own).
+  std::vector<UnitTraffic> traffic = std::move(m_job_traffic);
+  traffic.resize(n);
+  for (UnitTraffic& t : traffic) t.reset(gpms(), int(topology().links().size()));
   std::vector<WorkCounts> work(n);
   std::vector<std::vector<int>> after(n);
   size_t rounds = 0;
@@ -522,6 +526,7 @@ std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const
     info.object = jobs[j].records.empty() ? -1 : int(jobs[j].records.front()->object);
     units.push_back(add(jobs[j].gpm, work[j], traffic[j], std::move(after[j]), info));
   }
+  m_job_traffic = std::move(traffic);
   return units;
 }
 

@@ -253,9 +253,10 @@ class FrameSim {
   std::shared_ptr<const Topology> m_topology;  // the memory system's, or the played run's own
   MemoryTape* m_recording = nullptr;
   MemoryTape::Player* m_playing = nullptr;
-  uint64_t m_calls = 0;    // carried back at finish
-  TrafficTotals m_before;  // the memory system's totals when this frame began
-  Stats m_stats_before;    // and its statistics
+  uint64_t m_calls = 0;                    // carried back at finish
+  std::vector<UnitTraffic> m_job_traffic;  // tiles_checked()'s, kept between calls
+  TrafficTotals m_before;                  // the memory system's totals when this frame began
+  Stats m_stats_before;                    // and its statistics
   TimingEngine m_engine;
   std::unique_ptr<MachineModel> m_machine;
   std::vector<uint32_t> m_colour, m_depth;
