@@ -139,7 +139,7 @@ class Cache {
   // paper's shapes in whole vectors (selects over a copy of the set spent
   // 2.5% of a replay's instructions on the misses of its 16-way L2s).
   template <int W>
-  static void shift_all(uint64_t* e, int ways) {
+  [[gnu::always_inline]] static void shift_all(uint64_t* e, int ways) {
 #if defined(__SSE2__)
     if constexpr (W == 4 || W == 16) {
       // Every load before the first store; the last entry moved on is
@@ -159,7 +159,7 @@ class Cache {
   // set compared every way one by one, 6% of a replay's instructions; with
   // SSE2 four ways' tags (each entry's low 32 bits) are compared at once.
   template <int W>
-  static int find_after_first(const uint64_t* e, int ways, uint64_t tag) {
+  [[gnu::always_inline]] static int find_after_first(const uint64_t* e, int ways, uint64_t tag) {
 #if defined(__SSE2__)
     if constexpr (W == 4 || W == 16) {
       // The blocks start at a 64-byte boundary and are 32 or 128 bytes

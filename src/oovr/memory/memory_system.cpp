@@ -1,6 +1,7 @@
 #include "oovr/memory/memory_system.h"
 
 #include <algorithm>
+#include <bit>
 #include <tuple>
 #include <utility>
 
@@ -195,16 +196,21 @@ void MemorySystem::move(int from, int to, uint64_t bytes, Category c, UnitTraffi
 }
 
 void MemorySystem::access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
-  access_lines(gpm, sm, nullptr, {}, lines, out, l1_repeats);
+  access_lines(gpm, sm, nullptr, {}, lines, TileLines{}, out, l1_repeats);
+}
+
+void MemorySystem::access(int gpm, int sm, const SceneLayout& layout, std::span<const TexLine> texture_reads,
+                          const TileLines& tile, UnitTraffic& out, uint64_t l1_repeats) {
+  access_lines(gpm, sm, &layout, texture_reads, {}, tile, out, l1_repeats);
 }
 
 void MemorySystem::access(int gpm, int sm, const SceneLayout& layout, std::span<const TexLine> texture_reads,
                           std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
-  access_lines(gpm, sm, &layout, texture_reads, lines, out, l1_repeats);
+  access_lines(gpm, sm, &layout, texture_reads, lines, TileLines{}, out, l1_repeats);
 }
 
 void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std::span<const TexLine> texture_reads,
-                                std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats) {
+                                std::span<const LineAccess> lines, const TileLines& tile, UnitTraffic& out, uint64_t l1_repeats) {
   if (gpm < 0 || gpm >= m_spec.gpms || sm < 0 || sm >= m_spec.sms_per_gpm)
     throw Error("memory access by GPM " + std::to_string(gpm) + " SM " + std::to_string(sm) + ", which does not exist");
   shape(out);
@@ -282,9 +288,33 @@ void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std:
   if (layout)
     for (const TexLine t : texture_reads) one(LineAccess{layout->texture_line(t), Category::texture, false});
   for (const LineAccess& a : lines) one(a);
+  // The framebuffer's lines, line by line (only the lines a mask names),
+  // counted as they go (std::popcount is a library call without -mpopcnt).
+  uint64_t tile_lines = 0;
+  for (uint32_t m = tile.depth_read | tile.colour_read | tile.depth_write | tile.colour_write; m; m &= m - 1) {
+    const int l = std::countr_zero(m);
+    const uint32_t bit = 1u << l;
+    const uint64_t at = uint64_t(l) << m_line_shift;
+    if (tile.depth_read & bit) {
+      one(LineAccess{tile.depth + at, Category::depth, false});
+      ++tile_lines;
+    }
+    if (tile.colour_read & bit) {
+      one(LineAccess{tile.colour + at, Category::colour, false});
+      ++tile_lines;
+    }
+    if (tile.depth_write & bit) {
+      one(LineAccess{tile.depth + at, Category::depth, true});
+      ++tile_lines;
+    }
+    if (tile.colour_write & bit) {
+      one(LineAccess{tile.colour + at, Category::colour, true});
+      ++tile_lines;
+    }
+  }
   move_tallied(gpm, out, hops);
   out.dram_lines += local_dram;
-  out.accesses += texture_reads.size() + lines.size() + l1_repeats;
+  out.accesses += texture_reads.size() + lines.size() + tile_lines + l1_repeats;
   out.l1_hits += l1_hits;
   out.l2_hits += l2_hits;
   out.remote_hits += remote_hits;
@@ -295,7 +325,7 @@ void MemorySystem::access_lines(int gpm, int sm, const SceneLayout* layout, std:
   out.remote_hops += hops;
   m_totals.delivered[size_t(gpm * m_spec.gpms + gpm)] += local_delivered;
   m_totals.dram_lines += out.dram_lines - dram_before;
-  m_totals.accesses += texture_reads.size() + lines.size() + l1_repeats;
+  m_totals.accesses += texture_reads.size() + lines.size() + tile_lines + l1_repeats;
   m_totals.l1_hits += l1_hits;
   m_totals.l2_hits += l2_hits;
   m_totals.remote_hits += remote_hits;

@@ -39,6 +39,15 @@ struct LineAccess {
 
 using PerCategory = std::array<uint64_t, kCategories>;
 
+// A record's framebuffer lines (FrameSim::replay): bit l of a mask names line
+// l of the tile, at `depth` or `colour` + l * the line's bytes; the lines are
+// accessed line by line, each as depth read, colour read, depth write,
+// colour write.
+struct TileLines {
+  uint64_t depth = 0, colour = 0;  // the tiles' first lines' addresses
+  uint32_t depth_read = 0, colour_read = 0, depth_write = 0, colour_write = 0;
+};
+
 // What one work unit's accesses cost: the answer of the narrow interface.
 struct UnitTraffic {
   uint64_t accesses = 0;
@@ -110,8 +119,12 @@ class MemorySystem {
   // FrameTrace::tex_lines_without_repeats): each is counted as the hit it is.
   void access(int gpm, int sm, std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats = 0);
   // The same for a record's texture reads, as the trace lists them (each at
-  // layout.texture_line), followed by `lines`: the replay's accesses without
-  // a copy of every read's address in between (FrameSim::replay).
+  // layout.texture_line), followed by its framebuffer lines: the replay's
+  // accesses without a copy of every address in between (FrameSim::replay).
+  void access(int gpm, int sm, const SceneLayout& layout, std::span<const TexLine> texture_reads, const TileLines& tile,
+              UnitTraffic& out, uint64_t l1_repeats);
+  // The same with the framebuffer's lines listed one by one (the tests'
+  // records replayed by hand).
   void access(int gpm, int sm, const SceneLayout& layout, std::span<const TexLine> texture_reads,
               std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats);
   // Every SM's L1 has the same sets: a line's is (address / line) & this.
@@ -177,9 +190,9 @@ class MemorySystem {
 
  private:
   // Both access()es: the texture reads at `layout` (none without one),
-  // then `lines`.
+  // then `lines`, then the tile's lines.
   void access_lines(int gpm, int sm, const SceneLayout* layout, std::span<const TexLine> texture_reads,
-                    std::span<const LineAccess> lines, UnitTraffic& out, uint64_t l1_repeats);
+                    std::span<const LineAccess> lines, const TileLines& tile, UnitTraffic& out, uint64_t l1_repeats);
   int home(uint64_t page, int requester) {
     const int h = m_home[page];
     return h >= 0 ? h : place_first(page, requester);

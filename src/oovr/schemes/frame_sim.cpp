@@ -421,31 +421,28 @@ void FrameSim::replay(int gpm, const TileWork& r, int colour_fb, int depth_fb, c
       }
     }
     // The texture reads go to the memory system as listed (it finds their
-    // addresses), the framebuffer's lines after them: each framebuffer's
-    // tile found once (its block and slot take four integer divisions), its
-    // lines one every line's bytes from there.
-    m_scratch.clear();
+    // addresses), the framebuffer's lines after them, named by the record's
+    // masks (line by line: depth read, colour read as blending reads the
+    // frame's colour, depth write, colour write): each framebuffer's tile
+    // found once (its block and slot take four integer divisions), its
+    // lines one every line's bytes from there. Bits past a tile's lines name
+    // none.
     const int per_tile = m_layout->lines_per_tile();
-    const uint32_t lines = r.depth_read_mask | r.colour_read_mask | r.depth_write_mask | r.colour_write_mask;
-    if (lines & (per_tile >= 32 ? ~0u : (1u << per_tile) - 1)) {
-      const uint64_t line_bytes = m_map->line_bytes();
-      const uint64_t depth_tile = m_layout->tile_address(depth(depth_fb), r.tile_x, r.tile_y);
-      const uint64_t colour_tile = m_layout->tile_address(colour(colour_fb), r.tile_x, r.tile_y);
-      for (int l = 0; l < per_tile; ++l) {
-        const uint32_t bit = 1u << l;
-        if (!(lines & bit)) continue;
-        const uint64_t at = uint64_t(l) * line_bytes;
-        if (r.depth_read_mask & bit) m_scratch.push_back({depth_tile + at, Category::depth, false});
-        if (r.colour_read_mask & bit)  // blending reads the frame's colour
-          m_scratch.push_back({colour_tile + at, Category::colour, false});
-        if (r.depth_write_mask & bit) m_scratch.push_back({depth_tile + at, Category::depth, true});
-        if (r.colour_write_mask & bit) m_scratch.push_back({colour_tile + at, Category::colour, true});
-      }
+    const uint32_t on_tile = per_tile >= 32 ? ~0u : (1u << per_tile) - 1;
+    TileLines fb{0,
+                 0,
+                 r.depth_read_mask & on_tile,
+                 r.colour_read_mask & on_tile,
+                 r.depth_write_mask & on_tile,
+                 r.colour_write_mask & on_tile};
+    if (fb.depth_read | fb.colour_read | fb.depth_write | fb.colour_write) {
+      fb.depth = m_layout->tile_address(depth(depth_fb), r.tile_x, r.tile_y);
+      fb.colour = m_layout->tile_address(colour(colour_fb), r.tile_x, r.tile_y);
     }
     // Straight into the unit's total (access adds to it); the record's
     // own inter-GPM bytes are what the total gained.
     const uint64_t before = total.total_inter_gpm_bytes();
-    m_memory->access(gpm, int(tile % uint32_t(sms())), *m_layout, {in, size_t(count)}, m_scratch, total, repeats);
+    m_memory->access(gpm, int(tile % uint32_t(sms())), *m_layout, {in, size_t(count)}, fb, total, repeats);
     if (&frame == m_in.frames[0]) m_result.tile_inter_gpm_bytes[tile] += total.total_inter_gpm_bytes() - before;
   }
   w.covered += r.covered;
