@@ -70,16 +70,22 @@ std::string RunLedger::describe(const TileWork& r) {
 
 void RunLedger::rasterised(const FrameTrace& frame, const TileWork& r, int gpm, int draw, int colour_fb) {
   work(gpm, draw, r.object, "tile work");
-  const Where w = find(r);
-  if (w.frame < 0 || m_frames[size_t(w.frame)] != &frame) {
+  // The record's place in `frame` (the frame replayed last, found again
+  // only when another is): a record of another frame, or of none, breaks
+  // the law either way.
+  if (m_last_frame >= m_frames.size() || m_frames[m_last_frame] != &frame)
+    m_last_frame = size_t(std::find(m_frames.begin(), m_frames.end(), &frame) - m_frames.begin());
+  const std::vector<TileWork>& t = frame.tiles;
+  if (m_last_frame >= m_frames.size() || t.empty() || &r < t.data() || &r >= t.data() + t.size()) {
     // Replayed against a frame it is not of: its texture lines would be
     // another frame's.
     if (m_frame_breaches++ == 0)
       m_frame_breach = describe(r) + " was rasterised on GPM " + std::to_string(gpm) + " as part of a frame it is not of";
     return;
   }
-  uint16_t& n = m_times[size_t(w.frame)][w.record];
-  if (n == 0) m_fb[size_t(w.frame)][w.record] = int16_t(colour_fb);
+  const size_t record = size_t(&r - t.data());
+  uint16_t& n = m_times[m_last_frame][record];
+  if (n == 0) m_fb[m_last_frame][record] = int16_t(colour_fb);
   bump(n);
 }
 
@@ -113,6 +119,8 @@ void RunLedger::check(const std::string& scheme, int frames_in_flight) const {
     const uint16_t allowed = k < in_flight ? uint16_t(m_repeats) : 0;
     for (size_t i = 0; i < t.size(); ++i) {
       const uint16_t n = m_times[k][i];
+      // As the rules below, asked first without building a message.
+      if (k < in_flight ? n <= allowed && (n > 0 || t[i].covered == 0) : n == 0) continue;
       std::string what;
       if (n == 0 && t[i].covered > 0 && k < in_flight) what = "was never rasterised";
       else if (n > allowed && k < in_flight)
@@ -132,6 +140,10 @@ void RunLedger::check(const std::string& scheme, int frames_in_flight) const {
       if (n == 0 || t[i].colour_write_mask == 0) continue;
       const int fb = m_fb[k][i];
       const uint16_t c = m_composed[k][i];
+      // As the rules below, asked first without building a message: written
+      // into the final framebuffer and not composed, or into a private one
+      // and composed at least once and at most as often as written.
+      if (size_t(fb) == k ? c == 0 : !(fb >= 0 && size_t(fb) < in_flight) && c > 0 && c <= n) continue;
       std::string what;
       if (fb >= 0 && size_t(fb) < in_flight && size_t(fb) != k)
         what = "was written into frame " + std::to_string(fb) + "'s final framebuffer";

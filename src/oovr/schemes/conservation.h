@@ -82,6 +82,9 @@ class RunLedger {
   uint64_t m_draw_breaches = 0, m_frame_breaches = 0;
   // Records composed that belong to no frame of the run.
   uint64_t m_stray_composed = 0;
+  // The index in m_frames of the frame rasterised() saw last (past the end:
+  // none yet).
+  size_t m_last_frame = ~size_t(0);
 };
 
 }  // namespace oovr
