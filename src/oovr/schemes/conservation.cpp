@@ -119,8 +119,6 @@ void RunLedger::check(const std::string& scheme, int frames_in_flight) const {
     const uint16_t allowed = k < in_flight ? uint16_t(m_repeats) : 0;
     for (size_t i = 0; i < t.size(); ++i) {
       const uint16_t n = m_times[k][i];
-      // As the rules below, asked first without building a message.
-      if (k < in_flight ? n <= allowed && (n > 0 || t[i].covered == 0) : n == 0) continue;
       std::string what;
       if (n == 0 && t[i].covered > 0 && k < in_flight) what = "was never rasterised";
       else if (n > allowed && k < in_flight)
@@ -140,10 +138,6 @@ void RunLedger::check(const std::string& scheme, int frames_in_flight) const {
       if (n == 0 || t[i].colour_write_mask == 0) continue;
       const int fb = m_fb[k][i];
       const uint16_t c = m_composed[k][i];
-      // As the rules below, asked first without building a message: written
-      // into the final framebuffer and not composed, or into a private one
-      // and composed at least once and at most as often as written.
-      if (size_t(fb) == k ? c == 0 : !(fb >= 0 && size_t(fb) < in_flight) && c > 0 && c <= n) continue;
       std::string what;
       if (fb >= 0 && size_t(fb) < in_flight && size_t(fb) != k)
         what = "was written into frame " + std::to_string(fb) + "'s final framebuffer";
