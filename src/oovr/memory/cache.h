@@ -119,7 +119,16 @@ class Cache {
     }
     if (const int i = find_after_first<W>(e, ways, tag)) {
       const uint64_t hit = e[i] | dirty;
-      move_on(e, i);
+      if constexpr (W == 4) {
+        // Four ways: the entries in front of the hit moved on by selects
+        // (a call to memmove of 8 to 24 bytes cost more).
+        const uint64_t e0 = e[0], e1 = e[1], e2 = e[2], e3 = e[3];
+        e[1] = e0;
+        e[2] = i >= 2 ? e1 : e2;
+        e[3] = i >= 3 ? e2 : e3;
+      } else {
+        move_on(e, i);
+      }
       e[0] = hit;
       return true;
     }
