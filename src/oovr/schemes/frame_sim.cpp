@@ -88,18 +88,14 @@ std::string named(const char* fn, const char* param, int64_t value) {
 
 }  // namespace
 
-int FrameSim::gpm_arg(int gpm, const char* fn, const char* param) const {
-  if (gpm < 0 || gpm >= gpms())
-    throw Error(named(fn, param, gpm) + "GPM " + std::to_string(gpm) + " does not exist (GPMs 0 to " +
-                std::to_string(gpms() - 1) + ")");
-  return gpm;
+void FrameSim::no_gpm(int gpm, const char* fn, const char* param) const {
+  throw Error(named(fn, param, gpm) + "GPM " + std::to_string(gpm) + " does not exist (GPMs 0 to " + std::to_string(gpms() - 1) +
+              ")");
 }
 
-int FrameSim::fb_arg(int fb, const char* fn, const char* param) const {
-  if (fb < 0 || size_t(fb) >= m_colour.size())
-    throw Error(named(fn, param, fb) + "framebuffer " + std::to_string(fb) + " does not exist (this FrameSim has " +
-                std::to_string(m_colour.size()) + ")");
-  return fb;
+void FrameSim::no_fb(int fb, const char* fn, const char* param) const {
+  throw Error(named(fn, param, fb) + "framebuffer " + std::to_string(fb) + " does not exist (this FrameSim has " +
+              std::to_string(m_colour.size()) + ")");
 }
 
 int FrameSim::unit_arg(int unit, const char* fn, const char* param) const {
