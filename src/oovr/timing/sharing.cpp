@@ -38,14 +38,19 @@ double water_level(std::span<double> demands, double capacity) {
   // of oa:oa_dm4, 1.9 million had two or three, none over 13), where
   // std::sort's calls and moves cost more than the comparisons. Any sort
   // gives the same values in the same order (the demands are never NaN),
-  // so the same bits.
+  // so the same bits; a resource of many users (a link of a large machine)
+  // keeps std::sort, whose time does not grow with their square.
   double* d = demands.data();
   const size_t n = demands.size();
-  for (size_t i = 1; i < n; ++i) {
-    const double v = d[i];
-    size_t j = i;
-    for (; j > 0 && v < d[j - 1]; --j) d[j] = d[j - 1];
-    d[j] = v;
+  if (n > 16) {
+    std::sort(demands.begin(), demands.end());
+  } else {
+    for (size_t i = 1; i < n; ++i) {
+      const double v = d[i];
+      size_t j = i;
+      for (; j > 0 && v < d[j - 1]; --j) d[j] = d[j - 1];
+      d[j] = v;
+    }
   }
   return water_line(std::span<const double>(demands), capacity, [](double x) { return x; }).second;
 }
