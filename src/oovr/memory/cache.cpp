@@ -161,20 +161,16 @@ void Cache::invalidate(uint64_t line) {
     uint64_t* e = entries_of(line);
     const uint64_t tag = line >> m_tag_shift;
     if (tag >= kEmpty) return;
-    // The way holding the line: for the paper's shapes by access()'s
-    // search, four tags at a time (a write through to another GPM's memory
+    // The way holding the line, by access()'s search (for the paper's
+    // shapes four tags at a time: a write through to another GPM's memory
     // invalidates its line in the remote cache, which most often holds none).
-    int i = entry_tag(e[0]) == tag ? 0 : -1;
-    if (i < 0 && m_shape != Shape::other) {
-      if (const int at = m_shape == Shape::lru4 ? find_after_first<4>(e, 4, tag) : find_after_first<16>(e, 16, tag)) i = at;
-    } else if (i < 0) {
-      for (int w = 1; w < m_assoc; ++w)
-        if (entry_tag(e[w]) == tag) {
-          i = w;
-          break;
-        }
+    int i = 0;
+    if (entry_tag(e[0]) != tag) {
+      i = m_shape == Shape::lru4    ? find_after_first<4>(e, 4, tag)
+          : m_shape == Shape::lru16 ? find_after_first<16>(e, 16, tag)
+                                    : find_after_first<0>(e, m_assoc, tag);
+      if (i == 0) return;
     }
-    if (i < 0) return;
     std::copy(e + i + 1, e + m_assoc, e + i);
     e[m_assoc - 1] = kEmpty;
     return;
