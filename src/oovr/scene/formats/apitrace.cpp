@@ -338,9 +338,9 @@ struct Reader::Impl {
         v.i = tag == kTrue;
         return;
       case kSint: {
-        const uint64_t m = uint();
+        const uint64_t magnitude = uint();
         v.kind = Value::Kind::sint;
-        v.i = m > uint64_t(INT64_MAX) ? INT64_MIN : -int64_t(m);
+        v.i = magnitude > uint64_t(INT64_MAX) ? INT64_MIN : -int64_t(magnitude);
         return;
       }
       case kUint:
