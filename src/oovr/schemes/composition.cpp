@@ -147,6 +147,8 @@ bool Composer::deferred() const {
 void Composer::target(FrameSim::TileJob& job) const {
   job.fbs.clear();
   job.depth_fbs.clear();
+  job.fbs.reserve(job.records.size());
+  job.depth_fbs.reserve(job.records.size());
   for (const TileWork* r : job.records) {
     const bool mine = owner(*r) == job.gpm;
     job.fbs.push_back(mine ? 0 : 1 + job.gpm);

@@ -489,7 +489,10 @@ std::vector<int> FrameSim::tiles_checked(const std::vector<TileJob>& jobs, const
   size_t rounds = 0;
   for (size_t j = 0; j < n; ++j) {
     const TileJob& job = jobs[j];
-    after[j] = job.after;
+    // Room for the set-up's transfer and the draw (add()) as well: copied
+    // at its size, the list was allocated again for each.
+    after[j].reserve(job.after.size() + 2);
+    after[j].assign(job.after.begin(), job.after.end());
     // The set-up triangles come over the links first (with their latency).
     if (job.from >= 0 && job.from != job.gpm && job.incoming)
       after[j].push_back(transfer(job.from, job.gpm, job.incoming, Category::vertex, job.after));

@@ -119,6 +119,18 @@ TimingEngine::Result TimingEngine::run(const std::function<void(int)>& on_finish
   m_queue_units.assign(m_queue_names.size(), {});
   m_queue_head.assign(m_queue_names.size(), 0);
   m_queue_idle.assign(m_queue_names.size(), true);
+  // Each list sized once (counted first): grown entry by entry, they were
+  // a chain of allocations per unit.
+  {
+    std::vector<uint32_t> dependents(n, 0), in_queue(m_queue_names.size(), 0);
+    for (size_t i = 0; i < n; ++i) {
+      for (int d : m_units[i].after) ++dependents[size_t(d)];
+      if (m_units[i].queue >= 0) ++in_queue[size_t(m_units[i].queue)];
+    }
+    for (size_t i = 0; i < n; ++i)
+      if (dependents[i]) m_dependents[i].reserve(dependents[i]);
+    for (size_t q = 0; q < in_queue.size(); ++q) m_queue_units[q].reserve(in_queue[q]);
+  }
   for (size_t i = 0; i < n; ++i) {
     m_deps[i] = int(m_units[i].after.size());
     for (int d : m_units[i].after) m_dependents[size_t(d)].push_back(int(i));

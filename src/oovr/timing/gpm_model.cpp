@@ -79,9 +79,16 @@ MachineModel::MachineModel(const TimingSpec& timing, const MemorySpec& memory, c
 
 std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCounts& w, const UnitTraffic& t) const {
   const Gpm& r = m_gpm[size_t(gpm)];
-  std::vector<std::pair<int, double>> d;
   const double instructions =
       double(w.vertices) * m_timing.vertex_instructions + m_timing.fragment_work(w.quads, w.fragment_instructions);
+  // Sized once: grown pair by pair, a unit's list was up to four
+  // allocations, and a frame's replay makes thousands of units.
+  size_t n = size_t(instructions > 0) + size_t(w.samples != 0) + size_t(w.covered != 0) + size_t(w.triangles != 0) +
+             size_t(w.covered + w.composed != 0) + size_t(r.requests >= 0);
+  for (size_t g = 0; g < t.dram_read_bytes.size(); ++g) n += size_t(t.dram_read_bytes[g] + t.dram_write_bytes[g] != 0);
+  for (const uint64_t bytes : t.link_bytes) n += size_t(bytes != 0);
+  std::vector<std::pair<int, double>> d;
+  d.reserve(n);
   if (instructions > 0) d.push_back({r.shader, instructions});
   if (w.samples) d.push_back({r.texture, double(w.samples)});
   if (w.covered) d.push_back({r.raster, double(w.covered)});
@@ -110,7 +117,10 @@ double MachineModel::read_latency(const UnitTraffic& t) const {
 }
 
 std::vector<std::pair<int, double>> MachineModel::transfer_demand(const UnitTraffic& t) const {
+  size_t n = 0;
+  for (const uint64_t bytes : t.link_bytes) n += size_t(bytes != 0);
   std::vector<std::pair<int, double>> d;
+  d.reserve(n);
   for (size_t l = 0; l < t.link_bytes.size(); ++l)
     if (t.link_bytes[l]) d.push_back({m_link[l], double(t.link_bytes[l])});
   return d;
