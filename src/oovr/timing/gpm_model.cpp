@@ -5,6 +5,15 @@
 
 namespace oovr {
 
+namespace {
+// The links a unit's traffic crossed (each one a demand of its own).
+size_t links_used(const UnitTraffic& t) {
+  size_t n = 0;
+  for (const uint64_t bytes : t.link_bytes) n += size_t(bytes != 0);
+  return n;
+}
+}  // namespace
+
 TimingSpec TimingSpec::from_config(const Config& c) {
   TimingSpec d, s;
   const auto positive = [&](const char* key, int def) { return int(c.get_int(key, def, 1, 1000000)); };
@@ -86,7 +95,7 @@ std::vector<std::pair<int, double>> MachineModel::demand(int gpm, const WorkCoun
   size_t n = size_t(instructions > 0) + size_t(w.samples != 0) + size_t(w.covered != 0) + size_t(w.triangles != 0) +
              size_t(w.covered + w.composed != 0) + size_t(r.requests >= 0);
   for (size_t g = 0; g < t.dram_read_bytes.size(); ++g) n += size_t(t.dram_read_bytes[g] + t.dram_write_bytes[g] != 0);
-  for (const uint64_t bytes : t.link_bytes) n += size_t(bytes != 0);
+  n += links_used(t);
   std::vector<std::pair<int, double>> d;
   d.reserve(n);
   if (instructions > 0) d.push_back({r.shader, instructions});
@@ -117,10 +126,8 @@ double MachineModel::read_latency(const UnitTraffic& t) const {
 }
 
 std::vector<std::pair<int, double>> MachineModel::transfer_demand(const UnitTraffic& t) const {
-  size_t n = 0;
-  for (const uint64_t bytes : t.link_bytes) n += size_t(bytes != 0);
   std::vector<std::pair<int, double>> d;
-  d.reserve(n);
+  d.reserve(links_used(t));
   for (size_t l = 0; l < t.link_bytes.size(); ++l)
     if (t.link_bytes[l]) d.push_back({m_link[l], double(t.link_bytes[l])});
   return d;
