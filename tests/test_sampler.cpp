@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "oovr/pipeline/sampler.h"
 
@@ -159,6 +160,62 @@ TEST(Sampler, QuadLinesKeepEachLinesFirstAddInOrder) {
     got.clear();
     ql.flush(got);
     ASSERT_EQ(got, std::vector<TexLine>{make_tex_line(1, 1)});
+  }
+}
+
+// The trace alone's level of detail (lod_for_levels, without log2f where
+// the exponent decides) picks the levels, and their count, that log2f's
+// would, for every exponent, at the edges of the range it takes and past
+// them (powers of two and their neighbours, where log2f may round to an
+// integer), for zero, subnormals, negatives, infinities and NaN, on
+// textures of 1 to 14 levels and one without mipmaps; and whole footprints,
+// trilinear and anisotropic, give the same probes, axis and levels.
+TEST(Sampler, TheTraceAlonesLevelOfDetailChoosesTheLevelsLog2fWould) {
+  std::vector<detail::SamplerTexture> textures;
+  std::vector<Texture> keep;
+  for (const auto& [w, h, mips] : std::vector<std::tuple<int, int, bool>>{
+           {1, 1, true}, {2, 1, true}, {16, 8, true}, {256, 256, true}, {8192, 1, true}, {64, 64, false}}) {
+    keep.push_back(noise_texture(w, h, Wrap::repeat, mips, 3));
+    textures.emplace_back(0, keep.back(), 8, 4);
+  }
+  EXPECT_EQ(textures[4].max_level, 13);
+  const auto same = [](const detail::LevelChoice& a, const detail::LevelChoice& b) {
+    if (a.count != b.count) return false;
+    for (int i = 0; i < a.count; ++i)
+      if (a.level[i] != b.level[i]) return false;
+    return true;
+  };
+  // Zero, the smallest, the middle and the largest mantissas, each end of
+  // the range the exponent decides with its neighbours, and random ones.
+  std::vector<uint32_t> mantissas = {0, 1, 2, 1u << 22, (1u << 23) - 2, (1u << 23) - 1};
+  for (const uint32_t end : {1u << 11, (1u << 23) - (1u << 11)})
+    for (uint32_t m = end - 2; m <= end + 1; ++m) mantissas.push_back(m);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 64; ++i) mantissas.push_back(rng() & 0x7fffffu);
+  std::vector<float> xs;
+  for (uint32_t sign = 0; sign < 2; ++sign)
+    for (uint32_t e = 0; e < 256; ++e)
+      for (const uint32_t m : mantissas) xs.push_back(std::bit_cast<float>(sign << 31 | e << 23 | m));
+  int fast = 0;
+  for (const float x : xs) {
+    const float lod = detail::lod_for_levels(x);
+    if (bits(lod) != bits(std::log2(x))) ++fast;
+    for (const detail::SamplerTexture& t : textures)
+      ASSERT_TRUE(same(detail::choose_levels(t, lod), detail::choose_levels(t, std::log2(x))))
+          << "x = " << x << " (bits " << std::hex << bits(x) << std::dec << "), max level " << t.max_level;
+  }
+  EXPECT_GT(fast, 15000);  // the exponent decided most of the 19,968 positive ones
+  for (int i = 0; i < 200000; ++i) {
+    const auto any = [&] { return float(int32_t(rng() % 2000001) - 1000000) / float(1u << (rng() % 30)); };
+    const detail::Derivs d{any(), any(), any(), any()};
+    const detail::SamplerTexture& t = textures[size_t(rng() % textures.size())];
+    for (const int aniso : {1, 16}) {
+      const detail::Footprint a = detail::footprint(t, d, aniso), b = detail::footprint<true>(t, d, aniso);
+      ASSERT_EQ(a.probes, b.probes);
+      ASSERT_EQ(bits(a.du), bits(b.du));
+      ASSERT_EQ(bits(a.dv), bits(b.dv));
+      ASSERT_TRUE(same(detail::choose_levels(t, a.lambda), detail::choose_levels(t, b.lambda))) << "round " << i;
+    }
   }
 }
 

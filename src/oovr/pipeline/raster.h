@@ -144,37 +144,48 @@ inline bool cpu_has_fma() {
 #endif
 }
 
+// A quad's depths at its four pixel centres (x, y), clamped to [0, 1] as
+// std::max(std::min(z, 1), 0) does (NaN kept), from the plane's
+// fma(dzdy, y, fma(dzdx, x, z0)) in `zp`.
+[[gnu::always_inline]] inline Float4 clamp_depth(Float4 zp) {
+  const Float4 one = splat4(1.0f), zero = splat4(0.0f);
+  const Float4 m = one < zp ? one : zp;
+  return m < zero ? zero : m;
+}
+
+// A quad's pixel centres' coordinates, pixel p in lane p. float(q + 1) is
+// float(q) + 1 exactly: pixel coordinates are at most 16384 (a frame's
+// side, scene/stereo.cpp), far below 2^24.
+[[gnu::always_inline]] inline void quad_xy(int qx, int qy, Float4& x, Float4& y) {
+  x = splat4(float(qx)) + Float4{0, 1, 0, 1};
+  y = splat4(float(qy)) + Float4{0, 0, 1, 1};
+}
+
 #if defined(__x86_64__) && defined(__GNUC__)
-// fma(a, x, c) in four lanes by the FMA3 instruction: one rounding, as
-// std::fma, so the same bits. Called only where cpu_has_fma().
-[[gnu::target("fma")]] inline Float4 fma4_hw(Float4 a, Float4 x, Float4 c) {
-  return Float4(_mm_fmadd_ps(__m128(a), __m128(x), __m128(c)));
+// plane_depth() by the FMA3 instruction, four lanes at a time: one rounding,
+// as std::fma, so the same bits; the whole quad in one call (a function of
+// another target is not inlined). Called only where cpu_has_fma().
+[[gnu::target("fma")]] inline Float4 plane_depth_fma(const SetupTri& t, int qx, int qy) {
+  Float4 x, y;
+  quad_xy(qx, qy, x, y);
+  const __m128 inner = _mm_fmadd_ps(__m128(splat4(t.dzdx)), __m128(x), __m128(splat4(t.z0)));
+  return clamp_depth(Float4(_mm_fmadd_ps(__m128(splat4(t.dzdy)), __m128(y), inner)));
 }
 #endif
 
 // A quad's depths: fma(dzdy, y, fma(dzdx, x, z0)) at its four pixel
-// centres, clamped to [0, 1] as std::max(std::min(z, 1), 0) does (NaN
-// kept). With `use_fma`, by the instruction four lanes at a time; else by
-// std::fma pixel by pixel (a library call without the instruction). The
-// same bits either way: fma rounds once.
+// centres, clamped to [0, 1]. With `use_fma`, by the instruction four lanes
+// at a time; else by std::fma pixel by pixel (a library call without the
+// instruction). The same bits either way: fma rounds once.
 inline Float4 plane_depth(const SetupTri& t, int qx, int qy, bool use_fma) {
-  // float(q + 1) is float(q) + 1 exactly: pixel coordinates are at most 16384
-  // (a frame's side, scene/stereo.cpp), far below 2^24.
-  const Float4 x = splat4(float(qx)) + Float4{0, 1, 0, 1};
-  const Float4 y = splat4(float(qy)) + Float4{0, 0, 1, 1};
-  Float4 zp;
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (use_fma) {
-    zp = fma4_hw(splat4(t.dzdy), y, fma4_hw(splat4(t.dzdx), x, splat4(t.z0)));
-  } else
+  if (use_fma) return plane_depth_fma(t, qx, qy);
 #endif
-  {
-    (void)use_fma;
-    for (int p = 0; p < 4; ++p) zp[p] = std::fma(t.dzdy, y[p], std::fma(t.dzdx, x[p], t.z0));
-  }
-  const Float4 one = splat4(1.0f), zero = splat4(0.0f);
-  const Float4 m = one < zp ? one : zp;
-  return m < zero ? zero : m;
+  (void)use_fma;
+  Float4 x, y, zp;
+  quad_xy(qx, qy, x, y);
+  for (int p = 0; p < 4; ++p) zp[p] = std::fma(t.dzdy, y[p], std::fma(t.dzdx, x[p], t.z0));
+  return clamp_depth(zp);
 }
 
 // Per-tile rasterisation and shading. A tile is drawn in buffers of its own
@@ -282,11 +293,11 @@ class TileRasterizer {
   size_t in_tile(int x, int y) const { return size_t((y - m_ty * kTileSize) * kTileSize + (x - m_tx * kTileSize)); }
 
   // The framebuffer line (within the tile) that holds pixel (x, y), and
-  // every pixel of its quad.
-  uint32_t line_of_pixel(int x, int y) const {
-    const int lx = x - m_tx * kTileSize, ly = y - m_ty * kTileSize;
-    return uint32_t(((ly >> m_block_shift_y) << (kTileShift - m_block_shift_x)) + (lx >> m_block_shift_x));
+  // every pixel of its quad: line_row(y) + line_column(x).
+  uint32_t line_row(int y) const {
+    return uint32_t(((y - m_ty * kTileSize) >> m_block_shift_y) << (kTileShift - m_block_shift_x));
   }
+  uint32_t line_column(int x) const { return uint32_t((x - m_tx * kTileSize) >> m_block_shift_x); }
 
   // Triangle t's three edge values at the quad's four pixels (pixel p of
   // edge i in e[i][p], as base + {0, a, b, a + b} from base = a qx + b qy
@@ -406,8 +417,17 @@ class TileRasterizer {
       }
 #endif
 
+    // Pixels outside [x0, x1] x [y0, y1] are left out: only the first quad
+    // of a row (qx0 < x0 when x0 is odd: its left column) and the last
+    // (qx0 + 1 > x1 when x1 is even: its right column) have any in x, and
+    // only the first and last rows in y.
+    const int qx_last = x1 & ~1;
+    const unsigned keep_first_x = (x0 & 1) ? ~0x5u : ~0u, keep_last_x = (x1 & 1) ? ~0u : ~0xau;
     for (int qy = qy0; qy <= y1; qy += 2) {
       const int64_t row[3] = {t.b[0] * qy + t.c[0], t.b[1] * qy + t.c[1], t.b[2] * qy + t.c[2]};
+      const unsigned keep_y = (qy < y0 ? ~0x3u : ~0u) & (qy + 1 > y1 ? ~0xcu : ~0u);
+      // The row's part of the quads' framebuffer lines (line_row()).
+      const uint32_t row_line = line_row(qy);
       for (int qx = qx0; qx <= x1; qx += 2) {
         // Edge values at the quad's four pixels: (qx,qy) (qx+1,qy) (qx,qy+1) (qx+1,qy+1).
         int64_t e[3][4];
@@ -417,10 +437,7 @@ class TileRasterizer {
         else
 #endif
           mask = edge_values(t, qx, row, e);
-        if (qx < x0) mask &= ~0x5u;
-        if (qx + 1 > x1) mask &= ~0xau;
-        if (qy < y0) mask &= ~0x3u;
-        if (qy + 1 > y1) mask &= ~0xcu;
+        mask &= keep_y & (qx == qx0 ? keep_first_x : ~0u) & (qx == qx_last ? keep_last_x : ~0u);
         if (!mask) continue;
         m_cur.covered += pixels_in(mask);
 
@@ -454,7 +471,7 @@ class TileRasterizer {
         // covered pixels' are used).
         const Float4 z = plane_depth(t, qx, qy, m_fma);
 
-        const uint32_t quad_line = 1u << line_of_pixel(qx, qy);
+        const uint32_t quad_line = 1u << (row_line + line_column(qx));
         // Pixel p's index in the tile's buffers is quad_pix + kPixelOffset[p]
         // (the quad lies in the tile: tiles start at even coordinates).
         const size_t quad_pix = in_tile(qx, qy);
@@ -473,7 +490,8 @@ class TileRasterizer {
         detail::QuadLines* lines = record ? &m_quad_lines : nullptr;
         // Each pixel's colour as one vector of its channels (r, g, b, a).
         Float4 c[4];
-        for (int p = 0; p < 4; ++p) c[p] = Float4{255, 255, 255, 255};
+        if (shade)
+          for (int p = 0; p < 4; ++p) c[p] = Float4{255, 255, 255, 255};
         bool first = true;
         const bool deluxe = pass.shading == Shading::deluxe;
         for (size_t li = 0; li < pp.layers.size(); ++li) {
@@ -489,7 +507,8 @@ class TileRasterizer {
             const bool again =
                 L.texture->shape != 0 && L.texture->shape == m_plan_shape && same_bits(tu, m_plan_u) && same_bits(tv, m_plan_v);
             if (!again) {
-              const detail::Footprint f = footprint_of(*L.texture, tu, tv);
+              // Its lines depend on the levels alone, not their weights.
+              const detail::Footprint f = footprint_of<true>(*L.texture, tu, tv);
               if (f.probes != 1) {
                 for (int p = 0; p < 4; ++p)
                   if (live & (1u << p)) detail::sample_lines(*L.texture, tu[p], tv[p], f, lines, m_cur.samples);
@@ -635,10 +654,12 @@ class TileRasterizer {
   }
 
   // A quad's footprint on a texture from its four pixels' coordinates
-  // (pixel 0's right and lower neighbours give the derivatives).
+  // (pixel 0's right and lower neighbours give the derivatives); with
+  // `levels_only`, a level of detail of the same levels (detail::footprint).
+  template <bool levels_only = false>
   detail::Footprint footprint_of(const detail::SamplerTexture& tex, Float4 tu, Float4 tv) const {
     const detail::Derivs d{tu[1] - tu[0], tv[1] - tv[0], tu[2] - tu[0], tv[2] - tv[0]};
-    return detail::footprint(tex, d, m_settings.max_anisotropy);
+    return detail::footprint<levels_only>(tex, d, m_settings.max_anisotropy);
   }
 
   // Pixel p's vertex colour (the first four varyings).

@@ -528,20 +528,49 @@ struct Footprint {
   float du = 0, dv = 0;  // the major axis, in texture units (probes > 1)
 };
 
+// A level of detail that choose_levels() turns into the levels, and their
+// count, that std::log2(x) would give, without the logarithm where x's
+// exponent decides them; not log2(x) itself (the second level's weight
+// differs), so only for the trace alone, which records lines and counts
+// lookups but never filters. A normal x = 2^e (1 + m) with m in [2^-12,
+// 1 - 2^-12] has log2(x) in (e, e + 1), at least 3.5e-4 from both ends;
+// glibc's log2f is within an ulp (at most 2^-16 where |log2(x)| < 128), so
+// it too lies strictly between e and e + 1 (checked for every one of the
+// 2,129,666,302 floats in that range), as e + 0.5 does: on the same side of
+// 0 and of every level, with the same integer part and a fraction that is
+// not 0. Anything else (near a power of two, zero, subnormal, negative,
+// infinite, NaN) takes std::log2. log2f was 3% of the trace pass's
+// instructions (docs/performance.md, "The trace pass without log2f").
+inline float lod_for_levels(float x) {
+  uint32_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const uint32_t exponent = bits >> 23;  // with the sign bit: a negative x is out of range
+  const uint32_t mantissa = bits & 0x7fffffu;
+  if (exponent - 1u < 254u && mantissa - (1u << 11) <= (1u << 23) - (1u << 12)) return float(int(exponent) - 127) + 0.5f;
+  return std::log2(x);
+}
+
+// With `levels_only`, the footprint's `lambda` is lod_for_levels()'s: the
+// same levels as the footprint's own level of detail, for the trace alone.
+template <bool levels_only = false>
 inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_aniso) {
+  const auto lod = [](float x) {
+    if constexpr (levels_only) return lod_for_levels(x);
+    else return std::log2(x);
+  };
   const float w0 = float(t.levels[0].width), h0 = float(t.levels[0].height);
   const float px = std::sqrt((d.dudx * w0) * (d.dudx * w0) + (d.dvdx * h0) * (d.dvdx * h0));
   const float py = std::sqrt((d.dudy * w0) * (d.dudy * w0) + (d.dvdy * h0) * (d.dvdy * h0));
   const float pmax = std::max(px, py);
   Footprint f;
   if (max_aniso <= 1 || !t.mipmapped) {
-    f.lambda = pmax > 0 ? std::log2(pmax) : -1.0f;
+    f.lambda = pmax > 0 ? lod(pmax) : -1.0f;
     return f;
   }
   const float pmin = std::min(px, py);
   const float ratio = pmin > 0 ? pmax / pmin : float(max_aniso);
   f.probes = std::clamp(int(std::ceil(ratio)), 1, max_aniso);
-  f.lambda = pmax > 0 ? std::log2(pmax / float(f.probes)) : -1.0f;
+  f.lambda = pmax > 0 ? lod(pmax / float(f.probes)) : -1.0f;
   f.du = px >= py ? d.dudx : d.dudy;
   f.dv = px >= py ? d.dvdx : d.dvdy;
   return f;
