@@ -380,9 +380,29 @@ class TileRasterizer {
 #endif
   }
 
-  // The tile's stored depths at a quad's four pixels, from pixel 0's index.
+  // The tile's stored depths at a quad's four pixels, from pixel 0's index:
+  // two pairs of neighbours in a row.
   Float4 quad_depths(size_t pix) const {
+#if defined(__SSE2__)
+    const __m128 top = _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(m_depth + pix));
+    return Float4(_mm_loadh_pi(top, reinterpret_cast<const __m64*>(m_depth + pix + kTileSize)));
+#else
     return Float4{m_depth[pix], m_depth[pix + 1], m_depth[pix + kTileSize], m_depth[pix + kTileSize + 1]};
+#endif
+  }
+
+  // Writes the depths `z` of a quad's pixels in `live` (bit p for pixel p),
+  // from pixel 0's index.
+  void store_depths(size_t pix, Float4 z, unsigned live) {
+#if defined(__SSE2__)
+    if (live == 0xfu) {  // most quads: two pairs
+      _mm_storel_pi(reinterpret_cast<__m64*>(m_depth + pix), __m128(z));
+      _mm_storeh_pi(reinterpret_cast<__m64*>(m_depth + pix + kTileSize), __m128(z));
+      return;
+    }
+#endif
+    for (int p = 0; p < 4; ++p)
+      if (live & (1u << p)) m_depth[pix + kPixelOffset[p]] = z[p];
   }
 
   void raster(const SetupTri& t) {
@@ -441,6 +461,25 @@ class TileRasterizer {
         if (!mask) continue;
         m_cur.covered += pixels_in(mask);
 
+        // Depth from the plane, evaluated and clamped as llvmpipe does (only
+        // covered pixels' are used), and the early depth test, before
+        // anything is interpolated: a third of the covered quads of
+        // oa:ctf_inyard's frame fail it (performance.md).
+        const Float4 z = plane_depth(t, qx, qy, m_fma);
+
+        const uint32_t quad_line = 1u << (row_line + line_column(qx));
+        // Pixel p's index in the tile's buffers is quad_pix + kPixelOffset[p]
+        // (the quad lies in the tile: tiles start at even coordinates).
+        const size_t quad_pix = in_tile(qx, qy);
+        unsigned live = mask;
+        if (early_z && test_depth) {
+          // Every covered pixel reads its depth line (the quad's), and each
+          // keeps its own result: the quad's pixels are different pixels.
+          m_cur.depth_read_mask |= quad_line;
+          live &= depths_passing(pass.depth_func, z, quad_depths(quad_pix));
+          if (!live) continue;
+        }
+
         // Barycentrics and interpolated values at all four pixels (helpers
         // included: they provide the derivatives), pixel p in lane p. Each
         // lane does the per-pixel scalar operations in their order (no fused
@@ -467,22 +506,7 @@ class TileRasterizer {
           const int n = pp.coloured ? kColourVaryings : kLitVaryings;
           for (int k = 0; k < n; ++k) m_lit4[k] = (b0 * L.a[0][k] + b1 * L.a[1][k] + b2 * L.a[2][k]) * w;
         }
-        // Depth from the plane, evaluated and clamped as llvmpipe does (only
-        // covered pixels' are used).
-        const Float4 z = plane_depth(t, qx, qy, m_fma);
 
-        const uint32_t quad_line = 1u << (row_line + line_column(qx));
-        // Pixel p's index in the tile's buffers is quad_pix + kPixelOffset[p]
-        // (the quad lies in the tile: tiles start at even coordinates).
-        const size_t quad_pix = in_tile(qx, qy);
-        unsigned live = mask;
-        if (early_z && test_depth) {
-          // Every covered pixel reads its depth line (the quad's), and each
-          // keeps its own result: the quad's pixels are different pixels.
-          m_cur.depth_read_mask |= quad_line;
-          live &= depths_passing(pass.depth_func, z, quad_depths(quad_pix));
-          if (!live) continue;
-        }
         ++m_cur.quads;
         m_cur.shaded += pixels_in(live);
 
@@ -588,8 +612,7 @@ class TileRasterizer {
           // passed the early depth test (or has none) and is written, what
           // the loop below does pixel by pixel.
           if (pass.depth_write && live) {
-            for (int p = 0; p < 4; ++p)
-              if (live & (1u << p)) m_depth[quad_pix + kPixelOffset[p]] = z[p];
+            store_depths(quad_pix, z, live);
             m_cur.depth_write_mask |= quad_line;
           }
           m_cur.passed += pixels_in(live);
