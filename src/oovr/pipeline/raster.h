@@ -437,10 +437,10 @@ class TileRasterizer {
       }
 #endif
 
-    // Pixels outside [x0, x1] x [y0, y1] are left out: only the first quad
-    // of a row (qx0 < x0 when x0 is odd: its left column) and the last
-    // (qx0 + 1 > x1 when x1 is even: its right column) have any in x, and
-    // only the first and last rows in y.
+    // Pixels outside [x0, x1] x [y0, y1] are left out: in x only a row's
+    // first quad has any (its left column, when x0 is odd: qx0 < x0) and its
+    // last (its right column, when x1 is even: qx_last = x1); in y only the
+    // first and last rows.
     const int qx_last = x1 & ~1;
     const unsigned keep_first_x = (x0 & 1) ? ~0x5u : ~0u, keep_last_x = (x1 & 1) ? ~0u : ~0xau;
     for (int qy = qy0; qy <= y1; qy += 2) {
