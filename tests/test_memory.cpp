@@ -218,7 +218,7 @@ void expect_reference_answers(bool wrap, int ways) {
 }
 
 TEST(Cache, EveryAccessAnswersAsAReferenceLruAndFifoWould) {
-  for (int ways : {1, 2, 3, 4, 5, 8, 16}) expect_reference_answers(false, ways);
+  for (int ways : {1, 2, 3, 4, 5, 8, 12, 16, 32, 64}) expect_reference_answers(false, ways);
 }
 
 TEST(Cache, ItsCountersRenumberedWhereTheyWouldWrapKeepEveryAnswer) { expect_reference_answers(true, 4); }

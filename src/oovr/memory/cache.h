@@ -193,6 +193,23 @@ class Cache {
       mask &= ~1u;
       return mask ? std::countr_zero(mask) : 0;
     }
+    if constexpr (W == 0) {
+      // Any other multiple of four ways (ideal's 64-way L2, a study's 8 or
+      // 32), four at a time, the first match in order: a block of 4k ways
+      // is 32 bytes or a multiple of 64, so every load is 16-byte aligned.
+      if (ways % 4 == 0) {
+        const __m128i t = _mm_set1_epi32(int(uint32_t(tag)));
+        for (int k = 0; k < ways; k += 4) {
+          const __m128 a = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + k)));
+          const __m128 b = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + k + 2)));
+          unsigned mask = unsigned(_mm_movemask_ps(
+              _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_castps_si128(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))), t))));
+          if (k == 0) mask &= ~1u;
+          if (mask) return k + std::countr_zero(mask);
+        }
+        return 0;
+      }
+    }
 #endif
     for (int i = 1; i < ways; ++i)
       if (entry_tag(e[i]) == tag) return i;
