@@ -554,6 +554,10 @@ inline float lod_for_levels(float x) {
 // same levels as the footprint's own level of detail, for the trace alone.
 template <bool levels_only = false>
 inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_aniso) {
+  // A texture without mipmaps (a lightmap) is sampled at level 0 whatever
+  // the level of detail (choose_levels), by one isotropic probe: nothing to
+  // compute. Half the layers of a lit game level's surfaces are lightmaps.
+  if (!t.mipmapped) return Footprint{};
   const auto lod = [](float x) {
     if constexpr (levels_only) return lod_for_levels(x);
     else return std::log2(x);
@@ -563,7 +567,7 @@ inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_ani
   const float py = std::sqrt((d.dudy * w0) * (d.dudy * w0) + (d.dvdy * h0) * (d.dvdy * h0));
   const float pmax = std::max(px, py);
   Footprint f;
-  if (max_aniso <= 1 || !t.mipmapped) {
+  if (max_aniso <= 1) {
     f.lambda = pmax > 0 ? lod(pmax) : -1.0f;
     return f;
   }
