@@ -205,6 +205,15 @@ TEST(Sampler, TheTraceAlonesLevelOfDetailChoosesTheLevelsLog2fWould) {
           << "x = " << x << " (bits " << std::hex << bits(x) << std::dec << "), max level " << t.max_level;
   }
   EXPECT_GT(fast, 15000);  // the exponent decided most of the 19,968 positive ones
+  // A footprint all but a line (its axes' ratio past INT_MAX, or infinite)
+  // takes the most probes; the ratio's conversion to int was undefined (x86
+  // gave one probe). Axes both infinite (a ratio of NaN) take one.
+  const detail::SamplerTexture& mipmapped = textures[3];
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(detail::footprint(mipmapped, detail::Derivs{1, 0, 1e-12f, 0}, 16).probes, 16);
+  EXPECT_EQ(detail::footprint(mipmapped, detail::Derivs{inf, 0, 1e-3f, 0}, 16).probes, 16);
+  EXPECT_EQ(detail::footprint(mipmapped, detail::Derivs{inf, 0, inf, 0}, 16).probes, 1);
+  EXPECT_EQ(detail::footprint(mipmapped, detail::Derivs{1, 0, 0.25f, 0}, 16).probes, 4);
   for (int i = 0; i < 200000; ++i) {
     const auto any = [&] { return float(int32_t(rng() % 2000001) - 1000000) / float(1u << (rng() % 30)); };
     const detail::Derivs d{any(), any(), any(), any()};

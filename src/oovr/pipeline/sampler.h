@@ -573,7 +573,10 @@ inline Footprint footprint(const SamplerTexture& t, const Derivs& d, int max_ani
   }
   const float pmin = std::min(px, py);
   const float ratio = pmin > 0 ? pmax / pmin : float(max_aniso);
-  f.probes = std::clamp(int(std::ceil(ratio)), 1, max_aniso);
+  // ceil(ratio) capped at max_aniso before it is converted: a ratio past
+  // INT_MAX (a footprint all but a line) does not convert (x86 made it
+  // INT_MIN, one probe). A NaN ratio takes one probe.
+  f.probes = ratio >= float(max_aniso) ? max_aniso : ratio > 1.0f ? int(std::ceil(ratio)) : 1;
   f.lambda = pmax > 0 ? lod(pmax / float(f.probes)) : -1.0f;
   f.du = px >= py ? d.dudx : d.dudy;
   f.dv = px >= py ? d.dvdx : d.dvdy;

@@ -18,6 +18,10 @@ namespace oovr {
 
 // 2: fetch-only layers (Combine::fetch, a captured GLSL program's textures)
 //    are sampled, not combined, and cost what the program computes with them.
-inline constexpr uint32_t kPipelineVersion = 2;
+// 3: an anisotropic footprint whose axes' ratio is past INT_MAX or infinite
+//    takes the most probes (its conversion to int was undefined: one probe
+//    on x86-64). No reference frame, and no frame of the paper's scenes at
+//    its resolutions, has one; a cache may hold a trace of a frame that does.
+inline constexpr uint32_t kPipelineVersion = 3;
 
 }  // namespace oovr
