@@ -540,7 +540,7 @@ struct Footprint {
 // 0 and of every level, with the same integer part and a fraction that is
 // not 0. Anything else (near a power of two, zero, subnormal, negative,
 // infinite, NaN) takes std::log2. log2f was 3% of the trace pass's
-// instructions (docs/performance.md, "The trace pass without log2f").
+// instructions (docs/performance.md, "The trace pass without `log2f`, ...").
 inline float lod_for_levels(float x) {
   uint32_t bits;
   std::memcpy(&bits, &x, sizeof bits);
