@@ -163,6 +163,16 @@ class Cache {
 #endif
     move_on(e, ways - 1);
   }
+#if defined(__SSE2__)
+  // Entries k to k + 3 whose tag (low 32 bits) is `t`'s lanes, as four
+  // all-ones or zero lanes in order: two 16-byte-aligned loads, a shuffle
+  // taking each entry's low word, a compare.
+  [[gnu::always_inline]] static __m128i tags_equal4(const uint64_t* e, int k, __m128i t) {
+    const __m128 a = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + k)));
+    const __m128 b = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + k + 2)));
+    return _mm_cmpeq_epi32(_mm_castps_si128(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))), t);
+  }
+#endif
   // The first of a set's ways 1 to `ways` - 1 whose entry holds `tag`
   // (below kEmpty), or 0 when none does. A miss in a 16-way
   // set compared every way one by one, 6% of a replay's instructions; with
@@ -170,17 +180,12 @@ class Cache {
   template <int W>
   [[gnu::always_inline]] static int find_after_first(const uint64_t* e, int ways, uint64_t tag) {
 #if defined(__SSE2__)
+    const __m128i t = _mm_set1_epi32(int(uint32_t(tag)));
     if constexpr (W == 4 || W == 16) {
       // The blocks start at a 64-byte boundary and are 32 or 128 bytes
       // (block_bytes()), so every load is 16-byte aligned.
-      const __m128i t = _mm_set1_epi32(int(uint32_t(tag)));
       __m128i eq[W / 4];
-      for (int k = 0; k < W / 4; ++k) {
-        const __m128 a = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + 4 * k)));
-        const __m128 b = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + 4 * k + 2)));
-        // The low 32 bits of entries 4k to 4k + 3, in order.
-        eq[k] = _mm_cmpeq_epi32(_mm_castps_si128(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))), t);
-      }
+      for (int k = 0; k < W / 4; ++k) eq[k] = tags_equal4(e, 4 * k, t);
       unsigned mask;
       if constexpr (W == 4) {
         mask = unsigned(_mm_movemask_ps(_mm_castsi128_ps(eq[0])));
@@ -193,22 +198,16 @@ class Cache {
       mask &= ~1u;
       return mask ? std::countr_zero(mask) : 0;
     }
-    if constexpr (W == 0) {
-      // Any other multiple of four ways (ideal's 64-way L2, a study's 8 or
-      // 32), four at a time, the first match in order: a block of 4k ways
-      // is 32 bytes or a multiple of 64, so every load is 16-byte aligned.
-      if (ways % 4 == 0) {
-        const __m128i t = _mm_set1_epi32(int(uint32_t(tag)));
-        for (int k = 0; k < ways; k += 4) {
-          const __m128 a = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + k)));
-          const __m128 b = _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(e + k + 2)));
-          unsigned mask = unsigned(_mm_movemask_ps(
-              _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_castps_si128(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))), t))));
-          if (k == 0) mask &= ~1u;
-          if (mask) return k + std::countr_zero(mask);
-        }
-        return 0;
+    // Any other multiple of four ways (ideal's 64-way L2, a study's 8 or
+    // 32), four at a time, the first match in order: a block of 4k ways is
+    // 32 bytes or a multiple of 64, so every load is 16-byte aligned.
+    if (ways % 4 == 0) {
+      for (int k = 0; k < ways; k += 4) {
+        unsigned mask = unsigned(_mm_movemask_ps(_mm_castsi128_ps(tags_equal4(e, k, t))));
+        if (k == 0) mask &= ~1u;
+        if (mask) return k + std::countr_zero(mask);
       }
+      return 0;
     }
 #endif
     for (int i = 1; i < ways; ++i)
