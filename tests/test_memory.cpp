@@ -59,16 +59,10 @@ struct Fixture {
   }
 };
 
-TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
-  // FrameSim::replay leaves a record's repeats out of its L1 reads
-  // (FrameTrace::tex_lines_without_repeats): the re-reads of a set's last
-  // line with any policy, and with LRU the sure hits read again before the
-  // set may miss. A cache of 4 sets of 4 ways fed 3,000 random records
-  // whole, and one fed them without their repeats: after every record the
-  // same misses and the same lines held, with every policy. The records
-  // re-read the line just read (50%), cycle among 2 to 6 lines of one set
-  // (40%: the alternating layers the LRU rule is for) and draw from 80.
-  constexpr int kSets = 4, kWays = 4;
+// ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds with a cache of
+// `ways` ways.
+void records_without_repeats_hit_and_hold_the_same(int ways) {
+  constexpr int kSets = 4;
   FrameTrace trace;
   Rng rng(11);
   for (int r = 0; r < 3000; ++r) {
@@ -92,18 +86,18 @@ TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
   // the sets, so a line's set is its index's.
   const auto line_of = [](TexLine l) { return uint64_t(tex_line_texture(l)) * 1024 + tex_line_index(l); };
   const auto simple = trace.tex_lines_without_repeats(kSets);
-  const auto with_lru = trace.tex_lines_without_repeats(kSets, kWays);
+  const auto with_lru = trace.tex_lines_without_repeats(kSets, ways);
   ASSERT_NE(simple, nullptr);
   ASSERT_NE(with_lru, nullptr);
-  // Each rule leaves lines out, the LRU rule more (here 29,105 and 24,006
-  // of 74,100 stay).
+  // Each rule leaves lines out, the LRU rule more (30,990 of 74,100 stay by
+  // the first; by both 29,646, 27,368 and 26,666 with 2, 4 and 8 ways).
   EXPECT_LT(simple->lines.size(), trace.tex_lines.size() * 3 / 4);
-  EXPECT_LT(with_lru->lines.size(), simple->lines.size() * 9 / 10);
+  EXPECT_LT(with_lru->lines.size(), simple->lines.size() * 97 / 100);
   for (const char* policy : {"lru", "fifo", "random"}) {
     const auto& kept = std::string(policy) == "lru" ? with_lru : simple;
     CacheSpec spec;
-    spec.size = Bytes{kSets * kWays * kLine};
-    spec.ways = kWays;
+    spec.size = Bytes{uint64_t(kSets * ways) * kLine};
+    spec.ways = ways;
     spec.replacement = policy;
     Cache whole(spec, kLine, "test"), filtered(spec, kLine, "test");
     uint64_t misses = 0;
@@ -125,7 +119,24 @@ TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
               << policy << ", record " << r << ", line " << tex << ":" << index;
       misses += miss_whole.size();
     }
-    EXPECT_GT(misses, 10000u) << policy << ": the records must miss, or the order of the sets would not be tested";
+    EXPECT_GT(misses, 5000u) << policy << ": the records must miss, or the order of the sets would not be tested";
+  }
+}
+
+TEST(Cache, ARecordsRepeatsLeftOutChangeNoHitNorWhatTheCacheHolds) {
+  // FrameSim::replay leaves a record's repeats out of its L1 reads
+  // (FrameTrace::tex_lines_without_repeats): the re-reads of a set's last
+  // line with any policy, and with LRU the sure hits read again before the
+  // set may miss. A cache of 4 sets fed 3,000 random records
+  // whole, and one fed them without their repeats: after every record the
+  // same misses and the same lines held, with every policy. The records
+  // re-read the line just read (50%), cycle among 2 to 6 lines of one set
+  // (40%: the alternating layers the LRU rule is for) and draw from 80.
+  // Four ways (Table 1's L1), two and eight. That the filter leaves out all
+  // it may is Trace.TextureLinesWithoutRepeatsAreWhatTheRulesSay's.
+  for (const int ways : {4, 2, 8}) {
+    SCOPED_TRACE(std::to_string(ways) + " ways");
+    records_without_repeats_hit_and_hold_the_same(ways);
   }
 }
 

@@ -120,7 +120,7 @@ class RepeatFilter {
       if (at == depth) at = -1;
       m_sure[i] = at >= 0;
       if (at < 0) at = depth < ways ? depth++ : ways - 1;
-      for (int w = at; w > 0; --w) stack[w] = stack[w - 1];
+      move_down(stack, at);
       stack[0] = l;
     }
     // Backwards: per set, the lines read after this read with only sure
@@ -147,6 +147,23 @@ class RepeatFilter {
   }
 
  private:
+  // Moves stack[0 .. at) one place down. Element by element up to four
+  // ways (Table 1's L1): GCC makes the loop a call to memmove, whose wide
+  // stores the next search of the set cannot take its lines from (a store
+  // forwarding stall), and a material's layers alternate in one set, so
+  // that search is often the next line's; that was most of this filter's
+  // time on nexuiz:strength (docs/performance.md).
+  static void move_down(TexLine* stack, int at) {
+    switch (at) {
+      case 0: return;
+      case 3: stack[3] = stack[2]; [[fallthrough]];
+      case 2: stack[2] = stack[1]; [[fallthrough]];
+      case 1: stack[1] = stack[0]; return;
+      default:
+        for (int w = at; w > 0; --w) stack[w] = stack[w - 1];
+    }
+  }
+
   uint64_t m_mask;
   int m_ways;
   std::vector<TexLine> m_last;
