@@ -18,6 +18,7 @@
 #include "oovr/scene/builtin.h"
 #include "oovr/timing/gpm_model.h"
 #include "test_util.h"
+#include "texture_records.h"
 #include "traffic_totals.h"
 
 namespace oovr {
@@ -65,23 +66,12 @@ void records_without_repeats_hit_and_hold_the_same(int ways) {
   constexpr int kSets = 4;
   FrameTrace trace;
   Rng rng(11);
-  for (int r = 0; r < 3000; ++r) {
-    TileWork t;
-    t.tex_begin = trace.tex_lines.size();
-    const uint32_t n = 1 + rng.below(48);
-    const uint32_t set = rng.below(kSets), width = 2 + rng.below(5), texture = rng.below(2);
-    TexLine previous = make_tex_line(0, 0);
-    for (uint32_t i = 0; i < n; ++i) {
-      const uint32_t how = rng.below(10);
-      const TexLine l = how < 5   ? previous
-                        : how < 9 ? make_tex_line(texture, set + kSets * rng.below(width))
-                                  : make_tex_line(rng.below(2), rng.below(40));
-      trace.tex_lines.push_back(l);
-      previous = l;
-    }
-    t.tex_count = n;
-    trace.tiles.push_back(t);
-  }
+  test::RandomRecords records;
+  records.records = 3000;
+  records.sets = kSets;
+  records.fewest = 1;
+  records.spread = 48;
+  test::add_random_records(trace, rng, records);
   // The cache's line of a texture line: each texture's base a multiple of
   // the sets, so a line's set is its index's.
   const auto line_of = [](TexLine l) { return uint64_t(tex_line_texture(l)) * 1024 + tex_line_index(l); };

@@ -12,6 +12,7 @@
 #include "oovr/core/rng.h"
 #include "oovr/scene/builtin.h"
 #include "test_util.h"
+#include "texture_records.h"
 
 namespace oovr {
 namespace {
@@ -302,23 +303,15 @@ TEST(Trace, TextureLinesWithoutRepeatsAreWhatTheRulesSay) {
   constexpr uint64_t kSets = 8;
   FrameTrace t;
   Rng rng(7);
-  for (int r = 0; r < 2000; ++r) {
-    TileWork w;
-    w.tex_begin = t.tex_lines.size();
-    const uint32_t n = rng.below(64);
-    const uint32_t set = rng.below(kSets), width = 2 + rng.below(9), texture = rng.below(3);
-    TexLine previous = make_tex_line(0, 0);
-    for (uint32_t i = 0; i < n; ++i) {
-      const uint32_t how = rng.below(10);
-      const TexLine l = how < 4   ? previous
-                        : how < 9 ? make_tex_line(texture, set + kSets * rng.below(width))
-                                  : make_tex_line(rng.below(3), rng.below(100));
-      t.tex_lines.push_back(l);
-      previous = l;
-    }
-    w.tex_count = n;
-    t.tiles.push_back(w);
-  }
+  test::RandomRecords records;
+  records.records = 2000;
+  records.sets = kSets;
+  records.spread = 64;
+  records.repeats_in_ten = 4;
+  records.widths = 9;
+  records.textures = 3;
+  records.any_lines = 100;
+  test::add_random_records(t, rng, records);
   // A record or two of one line read many times: the repeats the majority,
   // so that the list is kept whatever the ways.
   for (int r = 0; r < 2; ++r) {
