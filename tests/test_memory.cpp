@@ -66,12 +66,7 @@ void records_without_repeats_hit_and_hold_the_same(int ways) {
   constexpr int kSets = 4;
   FrameTrace trace;
   Rng rng(11);
-  test::RandomRecords records;
-  records.records = 3000;
-  records.sets = kSets;
-  records.fewest = 1;
-  records.spread = 48;
-  test::add_random_records(trace, rng, records);
+  test::add_random_records(trace, rng, {.records = 3000, .sets = kSets, .fewest = 1, .spread = 48});
   // The cache's line of a texture line: each texture's base a multiple of
   // the sets, so a line's set is its index's.
   const auto line_of = [](TexLine l) { return uint64_t(tex_line_texture(l)) * 1024 + tex_line_index(l); };

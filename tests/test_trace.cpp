@@ -303,15 +303,8 @@ TEST(Trace, TextureLinesWithoutRepeatsAreWhatTheRulesSay) {
   constexpr uint64_t kSets = 8;
   FrameTrace t;
   Rng rng(7);
-  test::RandomRecords records;
-  records.records = 2000;
-  records.sets = kSets;
-  records.spread = 64;
-  records.repeats_in_ten = 4;
-  records.widths = 9;
-  records.textures = 3;
-  records.any_lines = 100;
-  test::add_random_records(t, rng, records);
+  test::add_random_records(
+      t, rng, {.records = 2000, .sets = kSets, .spread = 64, .repeats_in_ten = 4, .widths = 9, .textures = 3, .any_lines = 100});
   // A record or two of one line read many times: the repeats the majority,
   // so that the list is kept whatever the ways.
   for (int r = 0; r < 2; ++r) {
